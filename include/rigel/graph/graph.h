@@ -1,0 +1,299 @@
+#pragma once
+// The dependency graph: nodes with typed attributes, connections between
+// plugs, dirty propagation, pull evaluation, a compiled parallel schedule,
+// observers and undoable transactions. It replaces the parts of Maya's DG
+// that the seed systems stand on.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/graph/node_type.h"
+#include "rigel/graph/uuid.h"
+#include "rigel/graph/value.h"
+
+namespace rigel::graph {
+
+// A handle to a node in one Graph. A deleted node's handle goes stale (its
+// generation no longer matches) and never aliases a later node.
+struct NodeId {
+  std::uint32_t index = 0xffffffffu;
+  std::uint32_t generation = 0;
+  bool is_valid() const { return index != 0xffffffffu; }
+  friend bool operator==(const NodeId&, const NodeId&) = default;
+};
+
+// node.attr or node.attr[element].
+struct Plug {
+  NodeId node;
+  AttrIndex attr = kNoAttr;
+  std::int32_t element = -1;  // -1: the whole attribute
+  friend bool operator==(const Plug&, const Plug&) = default;
+};
+
+struct Connection {
+  Plug src;
+  Plug dst;
+};
+
+class Graph;
+
+class Node {
+ public:
+  NodeId id() const { return id_; }
+  const Uuid& uuid() const { return uuid_; }
+  const std::string& name() const { return name_; }
+  const NodeType& type() const { return *type_; }
+  // The stored value: for inputs what was set or last pulled, for outputs
+  // what compute last wrote. Use Graph::evaluate() for an up-to-date value.
+  const Value& value(AttrIndex attr) const { return values_[attr]; }
+  bool is_dirty(AttrIndex attr) const { return dirty_[attr] != 0; }
+  const std::map<std::string, std::string>& tags() const { return tags_; }
+  // nullptr when the tag is not set.
+  const std::string* tag_find(const std::string& key) const;
+  // Position in creation order (kept across undo/redo); files list nodes in it.
+  std::uint64_t order() const { return order_; }
+  // Connections into and out of this node.
+  std::span<const Connection> inputs() const { return inputs_; }
+  std::span<const Connection> outputs() const { return outputs_; }
+
+ private:
+  friend class Graph;
+  friend class ComputeContext;
+  NodeId id_;
+  Uuid uuid_;
+  std::string name_;
+  const NodeType* type_ = nullptr;
+  std::vector<Value> values_;
+  std::vector<std::uint8_t> dirty_;
+  std::map<std::string, std::string> tags_;
+  std::uint64_t order_ = 0;
+  std::vector<Connection> inputs_;
+  std::vector<Connection> outputs_;
+  std::uint64_t visit_ = 0;  // traversal mark (Graph::visit_epoch_)
+};
+
+// What a compute function sees: its node's inputs (already pulled) and
+// outputs to write. Only touches its own node, so nodes compute in parallel.
+class ComputeContext {
+ public:
+  ComputeContext(Node& node, double time) : node_(node), time_(time) {}
+  const Node& node() const { return node_; }
+  double time() const { return time_; }
+  const Value& input(AttrIndex attr) const { return node_.values_[attr]; }
+  template <typename T>
+  const T& get(AttrIndex attr) const { return std::get<T>(node_.values_[attr]); }
+  template <typename T>
+  void set(AttrIndex attr, T&& value) { node_.values_[attr] = std::forward<T>(value); }
+  Value& output(AttrIndex attr) { return node_.values_[attr]; }
+
+ private:
+  Node& node_;
+  double time_;
+};
+
+// Notified after each change. Observers must not edit the graph from a
+// callback; they may read it.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void node_added(const Graph&, NodeId) {}
+  // Called before the node goes away, so it can still be read.
+  virtual void node_removed(const Graph&, NodeId) {}
+  virtual void node_renamed(const Graph&, NodeId, const std::string& /*old_name*/) {}
+  virtual void attribute_changed(const Graph&, const Plug&) {}
+  virtual void connection_made(const Graph&, const Connection&) {}
+  virtual void connection_broken(const Graph&, const Connection&) {}
+  virtual void tag_changed(const Graph&, NodeId, const std::string& /*key*/) {}
+  virtual void selection_changed(const Graph&) {}
+  virtual void time_changed(const Graph&) {}
+};
+
+enum class Execution { kSerial, kParallel };
+
+class Graph {
+ public:
+  explicit Graph(std::shared_ptr<const Registry> registry);
+  ~Graph();
+  Graph(const Graph&) = delete;
+  Graph& operator=(const Graph&) = delete;
+
+  const Registry& registry() const { return *registry_; }
+
+  // ---- nodes ---------------------------------------------------------------
+  // Creates a node. A name already taken gets a numeric suffix ("arm" ->
+  // "arm1"); an empty name becomes the type name. `uuid` nil means generate.
+  Result<NodeId> create_node(std::string_view type, std::string_view name, Uuid uuid = Uuid());
+  // Deletes a node after breaking its connections; its children become roots.
+  Status delete_node(NodeId node);
+  // Fails if the name is taken by another node or is not a valid name.
+  Status rename(NodeId node, std::string_view name);
+  // nullptr for a stale id.
+  const Node* node(NodeId id) const;
+  // Invalid NodeId when no node has that name / uuid.
+  NodeId find(std::string_view name) const;
+  NodeId find(const Uuid& uuid) const;
+  // Every node, in creation order.
+  std::vector<NodeId> nodes() const;
+  std::size_t node_count() const { return by_uuid_.size(); }
+  // Names must be non-empty, printable, without whitespace, '[' or ']'.
+  static bool is_valid_name(std::string_view name);
+
+  // ---- plugs ---------------------------------------------------------------
+  // Parses "node.attr" or "node.attr[3]" (node names may contain dots).
+  Result<Plug> plug_find(std::string_view path) const;
+  Result<Plug> plug_find(NodeId node, std::string_view attr, std::int32_t element = -1) const;
+  std::string plug_name(const Plug& plug) const;
+  // The declared type of what flows through the plug (an element is scalar).
+  AttrType plug_type(const Plug& plug) const;
+
+  // ---- values --------------------------------------------------------------
+  // Sets an unconnected input (or an element of an array input). The value
+  // must have the plug's type; an enum accepts its index.
+  Status set_value(const Plug& plug, Value value);
+  // Pulls: evaluates whatever the plug depends on that is dirty.
+  Result<Value> evaluate(const Plug& plug);
+  // Fast path for callers that know the plug is valid.
+  const Value& evaluate(NodeId node, AttrIndex attr);
+
+  // ---- connections ---------------------------------------------------------
+  // src may be any attribute, dst must be an input. Types must match (an
+  // element of an array matches the scalar type; int and enum match). A
+  // destination has one source; a connection that would close a cycle is
+  // refused with a message naming the nodes on the cycle.
+  Status connect(const Plug& src, const Plug& dst);
+  Status disconnect(const Plug& src, const Plug& dst);
+  // Breaks whatever feeds `dst`; ok if nothing does.
+  Status disconnect_input(const Plug& dst);
+  std::optional<Plug> source(const Plug& dst) const;
+  // Every connection, sorted by destination (node order, attr, element).
+  std::vector<Connection> connections() const;
+
+  // ---- hierarchy -----------------------------------------------------------
+  // Makes `parent` (invalid NodeId: none) the parent of `child`: connects
+  // parent's world output to child's parent input. Refuses cycles.
+  Status set_parent(NodeId child, NodeId parent);
+  // Invalid when `child` has no parent.
+  NodeId parent(NodeId child) const;
+  // Children in creation order.
+  std::vector<NodeId> children(NodeId parent) const;
+
+  // ---- tags ----------------------------------------------------------------
+  Status set_tag(NodeId node, const std::string& key, const std::string& value);
+  Status remove_tag(NodeId node, const std::string& key);
+
+  // ---- time and selection (not undoable) -----------------------------------
+  double time() const { return time_; }  // seconds
+  void set_time(double seconds);
+  double fps() const { return fps_; }
+  Status set_fps(double fps);
+  const std::vector<NodeId>& selection() const { return selection_; }
+  // Stale ids are dropped.
+  void select(std::vector<NodeId> nodes);
+
+  // ---- evaluation ----------------------------------------------------------
+  // Evaluates every dirty node on the compiled schedule. Serial and parallel
+  // give bit-identical results.
+  void evaluate_all(Execution execution = Execution::kParallel);
+  // Bumped on every node or connection change; schedules key on it.
+  std::uint64_t topology_generation() const { return topology_generation_; }
+  // Number of levels and nodes of the compiled schedule (compiles if needed).
+  std::size_t schedule_level_count();
+
+  // ---- undo ----------------------------------------------------------------
+  // Groups edits into one undo step; nests (the outermost commit closes it).
+  void begin_transaction(std::string label);
+  void commit_transaction();
+  // Undoes the edits since the innermost open begin_transaction and closes it.
+  void rollback_transaction();
+  bool in_transaction() const { return !open_.empty(); }
+  bool can_undo() const { return !undo_stack_.empty(); }
+  bool can_redo() const { return !redo_stack_.empty(); }
+  // Label of the step undo()/redo() would apply; empty when none.
+  std::string undo_label() const;
+  std::string redo_label() const;
+  // Return false when there is nothing to undo/redo or a transaction is open.
+  bool undo();
+  bool redo();
+  // Forgets all undo and redo steps (after loading a file, say).
+  void clear_history();
+  std::size_t undo_count() const { return undo_stack_.size(); }
+
+  // ---- observers -----------------------------------------------------------
+  void add_observer(Observer* observer);
+  void remove_observer(Observer* observer);
+
+ private:
+  struct Edit;
+  struct Step;
+  struct Schedule;
+  Node* node_mut(NodeId id);
+  Result<NodeId> create_node_impl(const NodeType& type, std::string name, Uuid uuid, std::uint64_t order);
+  Status delete_node_impl(NodeId id);
+  Status connect_impl(const Plug& src, const Plug& dst);
+  void disconnect_impl(const Plug& src, const Plug& dst);
+  Status check_connection(const Plug& src, const Plug& dst) const;
+  std::string unique_name(std::string_view wanted) const;
+  void record(Edit edit);
+  void apply(const Edit& edit, bool forward);
+  void dirty_downstream(NodeId node, AttrIndex attr);
+  void dirty_outputs(Node& node);
+  void update_node(Node& node);
+  void pull(NodeId node);
+  Value plug_value(const Plug& plug) const;
+  void topology_changed();
+  const Schedule& schedule();
+  template <typename Fn>
+  void notify(Fn&& fn);
+
+  std::shared_ptr<const Registry> registry_;
+  std::vector<std::unique_ptr<Node>> slots_;
+  std::vector<std::uint32_t> generations_;
+  std::vector<std::uint32_t> free_slots_;
+  std::unordered_map<std::string, NodeId> by_name_;
+  std::unordered_map<Uuid, NodeId, UuidHash> by_uuid_;
+  std::vector<NodeId> time_dependent_;
+  std::uint64_t next_order_ = 0;
+  std::uint64_t topology_generation_ = 0;
+  std::unique_ptr<Schedule> schedule_;
+  double time_ = 0.0;
+  double fps_ = 24.0;
+  std::vector<NodeId> selection_;
+  std::vector<Observer*> observers_;
+  // Undo: open transactions hold the index of their first edit in `pending_`.
+  std::vector<std::unique_ptr<Step>> undo_stack_;
+  std::vector<std::unique_ptr<Step>> redo_stack_;
+  std::unique_ptr<Step> pending_;
+  std::vector<std::size_t> open_;
+  bool replaying_ = false;
+  std::uint64_t visit_epoch_ = 0;
+};
+
+// Opens a transaction for its lifetime (commits in the destructor unless
+// rolled back).
+class Transaction {
+ public:
+  Transaction(Graph& graph, std::string label) : graph_(graph) { graph_.begin_transaction(std::move(label)); }
+  ~Transaction() {
+    if (open_) graph_.commit_transaction();
+  }
+  Transaction(const Transaction&) = delete;
+  Transaction& operator=(const Transaction&) = delete;
+  void rollback() {
+    if (open_) graph_.rollback_transaction();
+    open_ = false;
+  }
+
+ private:
+  Graph& graph_;
+  bool open_ = true;
+};
+
+}  // namespace rigel::graph

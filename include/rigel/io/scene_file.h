@@ -1,0 +1,44 @@
+#pragma once
+// The .rigel scene file: JSON, versioned, holding every node (uuid, name,
+// type, parent, storable attribute values that differ from the default,
+// tags), every connection, the frame rate and the current time.
+//
+//   { "rigel": "scene", "version": 1, "fps": 24, "time": 0,
+//     "nodes": [ { "name": "hips", "type": "joint", "uuid": "...",
+//                  "parent": "root", "attrs": { "translate": [0, 1, 0] },
+//                  "tags": { "side": "C" } } ],
+//     "connections": [ { "src": "a.worldMatrix", "dst": "b.offsetParentMatrix" } ] }
+//
+// Angles are degrees (as stored in the attributes), quaternions [x, y, z, w],
+// matrices 16 numbers column-major, enums by name, non-finite numbers as the
+// strings "nan", "inf", "-inf". Parents and connections name nodes by name
+// (unique within a file); identity across renames is the uuid.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "rigel/base/status.h"
+#include "rigel/scene/scene.h"
+
+namespace rigel::io {
+
+inline constexpr int kSceneFormatVersion = 1;
+
+// Parses a scene from text. `source` names it in error messages ("file.rigel").
+// Errors name the place: "file.rigel:12:5: ..." for syntax, and a path such
+// as "file.rigel: nodes[3] (hips).attrs.translate: ..." for content.
+Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source);
+Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path);
+
+// Serialises a scene (evaluates it first so that connected array elements
+// hold current values). Deterministic: the same scene gives the same text.
+std::string write_scene(scene::Scene& scene);
+// Writes atomically: a temporary file beside `path`, flushed, then renamed.
+Status save_scene(scene::Scene& scene, const std::filesystem::path& path);
+
+// Writes `content` to `path` atomically (used by every rigel writer).
+Status write_file_atomic(const std::filesystem::path& path, std::string_view content);
+
+}  // namespace rigel::io

@@ -1,0 +1,48 @@
+# Shared by scripts/demo and scripts/test: install missing Debian packages,
+# configure and build. Sourced, not run.
+
+# Debian 12 packages rigel builds with. Keep in sync with CMakeLists.txt.
+RIGEL_PACKAGES=(
+  g++ make cmake
+  libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev
+  libgtest-dev libbenchmark-dev
+)
+
+rigel_log() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }
+
+# Installs whichever of the given packages are missing (apt-get, as root or
+# through sudo). Quick when everything is there: one dpkg-query.
+rigel_ensure_packages() {
+  local missing=() pkg
+  for pkg in "$@"; do
+    if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$pkg")
+    fi
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  rigel_log "installing ${missing[*]}"
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null; then sudo=(sudo); else
+      echo "rigel: missing packages: ${missing[*]}; run as root or install them with apt-get" >&2
+      return 1
+    fi
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -q
+  "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+rigel_jobs() { nproc 2>/dev/null || echo 2; }
+
+# rigel_build DIR [cmake options...]: configure (once) and build.
+rigel_build() {
+  local dir=$1
+  shift
+  if [ ! -f "$dir/CMakeCache.txt" ]; then
+    cmake -S . -B "$dir" "$@" >/dev/null
+  else
+    cmake "$dir" "$@" >/dev/null
+  fi
+  cmake --build "$dir" -j "$(rigel_jobs)"
+}

@@ -1,0 +1,477 @@
+#include "rigel/io/scene_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+namespace rigel::io {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using graph::AttrIndex;
+using graph::AttrSpec;
+using graph::AttrType;
+using graph::Graph;
+using graph::NodeId;
+using graph::Plug;
+using graph::Value;
+using graph::ValueType;
+using math::Mat4;
+using math::Quat;
+using math::Vec3;
+
+// ---- encoding --------------------------------------------------------------
+
+Json encode_double(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+
+Json encode_doubles(const double* d, int n) {
+  Json a = Json::array();
+  for (int i = 0; i < n; ++i) a.push_back(encode_double(d[i]));
+  return a;
+}
+
+Json encode_scalar(const Value& v, const AttrSpec& spec) {
+  return std::visit(
+      [&](const auto& x) -> Json {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>) {
+          return x;
+        } else if constexpr (std::is_same_v<T, std::int64_t>) {
+          if (spec.type.value == ValueType::kEnum && x >= 0 && x < static_cast<std::int64_t>(spec.enum_names.size()))
+            return spec.enum_names[static_cast<std::size_t>(x)];
+          return x;
+        } else if constexpr (std::is_same_v<T, double>) {
+          return encode_double(x);
+        } else if constexpr (std::is_same_v<T, Vec3>) {
+          return encode_doubles(x.data(), 3);
+        } else if constexpr (std::is_same_v<T, Quat>) {
+          return encode_doubles(x.coeffs().data(), 4);
+        } else if constexpr (std::is_same_v<T, Mat4>) {
+          return encode_doubles(x.data(), 16);  // Eigen is column-major, as glTF
+        } else {
+          return nullptr;
+        }
+      },
+      v);
+}
+
+Json encode_value(const Value& v, const AttrSpec& spec) {
+  if (!spec.type.array) return encode_scalar(v, spec);
+  Json a = Json::array();
+  for (std::size_t i = 0; i < graph::array_size(v); ++i) a.push_back(encode_scalar(graph::array_element(v, spec.type, i), spec));
+  return a;
+}
+
+bool is_scalar(const Json& j) { return !j.is_array() && !j.is_object(); }
+
+// Objects one key per line; arrays of scalars on one line (a vector, a
+// quaternion, a matrix), other arrays one element per line. Diffable.
+void emit(const Json& j, int indent, std::string& out) {
+  const std::string pad(static_cast<std::size_t>(indent), ' ');
+  if (j.is_object()) {
+    if (j.empty()) {
+      out += "{}";
+      return;
+    }
+    out += "{\n";
+    bool first = true;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (!first) out += ",\n";
+      first = false;
+      out += pad + "  " + Json(it.key()).dump() + ": ";
+      emit(it.value(), indent + 2, out);
+    }
+    out += "\n" + pad + "}";
+  } else if (j.is_array()) {
+    bool flat = std::all_of(j.begin(), j.end(), is_scalar);
+    if (j.empty() || flat) {
+      out += "[";
+      for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
+      out += "]";
+      return;
+    }
+    out += "[\n";
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      out += pad + "  ";
+      emit(j[i], indent + 2, out);
+      out += i + 1 < j.size() ? ",\n" : "\n";
+    }
+    out += pad + "]";
+  } else {
+    out += j.dump();
+  }
+}
+
+bool is_hierarchy(const Graph& g, const graph::Connection& c) {
+  const graph::NodeType& s = g.node(c.src.node)->type();
+  const graph::NodeType& d = g.node(c.dst.node)->type();
+  return c.src.element < 0 && c.dst.element < 0 && c.src.attr == s.world_output() && c.dst.attr == d.parent_input();
+}
+
+// ---- decoding --------------------------------------------------------------
+
+Result<double> decode_double(const Json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const auto& s = j.get_ref<const std::string&>();
+    if (s == "nan") return std::nan("");
+    if (s == "inf") return HUGE_VAL;
+    if (s == "-inf") return -HUGE_VAL;
+  }
+  return error(ErrorCode::kParseError, "expected a number, got " + j.dump());
+}
+
+Status decode_doubles(const Json& j, double* out, int n) {
+  if (!j.is_array() || j.size() != static_cast<std::size_t>(n))
+    return error(ErrorCode::kParseError, "expected an array of " + std::to_string(n) + " numbers, got " +
+                                             (j.is_array() ? std::to_string(j.size()) + " elements" : j.dump()));
+  for (int i = 0; i < n; ++i) {
+    Result<double> d = decode_double(j[static_cast<std::size_t>(i)]);
+    if (!d) return d.status().with_context("[" + std::to_string(i) + "]");
+    out[i] = *d;
+  }
+  return Status::ok();
+}
+
+Result<Value> decode_scalar(const Json& j, const AttrSpec& spec) {
+  switch (spec.type.value) {
+    case ValueType::kMessage:
+      return error(ErrorCode::kParseError, "message attributes hold no value");
+    case ValueType::kBool:
+      if (!j.is_boolean()) return error(ErrorCode::kParseError, "expected true or false, got " + j.dump());
+      return Value(j.get<bool>());
+    case ValueType::kInt:
+      if (!j.is_number_integer()) return error(ErrorCode::kParseError, "expected an integer, got " + j.dump());
+      return Value(j.get<std::int64_t>());
+    case ValueType::kEnum: {
+      if (j.is_number_integer()) {
+        auto v = j.get<std::int64_t>();
+        if (v >= 0 && v < static_cast<std::int64_t>(spec.enum_names.size())) return Value(v);
+      } else if (j.is_string()) {
+        for (std::size_t i = 0; i < spec.enum_names.size(); ++i)
+          if (spec.enum_names[i] == j.get_ref<const std::string&>()) return Value(static_cast<std::int64_t>(i));
+      }
+      std::string names;
+      for (const auto& n : spec.enum_names) names += (names.empty() ? "" : ", ") + n;
+      return error(ErrorCode::kParseError, "expected one of " + names + ", got " + j.dump());
+    }
+    case ValueType::kDouble: {
+      Result<double> d = decode_double(j);
+      if (!d) return d.status();
+      return Value(*d);
+    }
+    case ValueType::kDouble3: {
+      Vec3 v;
+      if (Status s = decode_doubles(j, v.data(), 3); !s) return s;
+      return Value(v);
+    }
+    case ValueType::kQuat: {
+      Quat q;
+      if (Status s = decode_doubles(j, q.coeffs().data(), 4); !s) return s;
+      return Value(q);
+    }
+    case ValueType::kMatrix: {
+      Mat4 m;
+      if (Status s = decode_doubles(j, m.data(), 16); !s) return s;
+      return Value(m);
+    }
+    case ValueType::kString:
+      if (!j.is_string()) return error(ErrorCode::kParseError, "expected a string, got " + j.dump());
+      return Value(j.get<std::string>());
+  }
+  return error(ErrorCode::kParseError, "unknown type");
+}
+
+Result<Value> decode_value(const Json& j, const AttrSpec& spec) {
+  if (!spec.type.array) return decode_scalar(j, spec);
+  if (!j.is_array()) return error(ErrorCode::kParseError, "expected an array of " + graph::type_name({spec.type.value, false}) + ", got " + j.dump());
+  Value array = graph::zero_value(spec.type);
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    Result<Value> e = decode_scalar(j[i], spec);
+    if (!e) return e.status().with_context("[" + std::to_string(i) + "]");
+    graph::array_set_element(array, spec.type, i, *e);
+  }
+  return array;
+}
+
+std::string line_column(std::string_view text, std::size_t byte) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+Status check_keys(const Json& object, std::initializer_list<const char*> allowed) {
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    bool known = false;
+    for (const char* a : allowed) known |= it.key() == a;
+    if (!known) {
+      std::string list;
+      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      return error(ErrorCode::kParseError, "unknown key '" + it.key() + "' (expected " + list + ")");
+    }
+  }
+  return Status::ok();
+}
+
+class Loader {
+ public:
+  explicit Loader(const std::string& source) : source_(source) {}
+
+  Result<std::unique_ptr<scene::Scene>> load(const Json& root) {
+    auto scene = std::make_unique<scene::Scene>();
+    Graph& g = scene->graph();
+    if (!root.is_object()) return fail("", "a scene file is a JSON object");
+    if (Status s = check_keys(root, {"rigel", "version", "fps", "time", "nodes", "connections"}); !s) return fail("", s);
+    if (!root.contains("rigel") || root["rigel"] != "scene") return fail("rigel", "not a rigel scene file (expected \"rigel\": \"scene\")");
+    if (!root.contains("version") || !root["version"].is_number_integer()) return fail("version", "missing or not an integer");
+    const auto version = root["version"].get<std::int64_t>();
+    if (version < 1 || version > kSceneFormatVersion)
+      return error(ErrorCode::kUnsupported, source_ + ": version " + std::to_string(version) +
+                                                " is not supported (this build reads versions 1 to " +
+                                                std::to_string(kSceneFormatVersion) + ")");
+    if (root.contains("fps")) {
+      if (!root["fps"].is_number()) return fail("fps", "expected a number");
+      if (Status s = g.set_fps(root["fps"].get<double>()); !s) return fail("fps", s);
+    }
+    if (root.contains("time")) {
+      if (!root["time"].is_number() || !std::isfinite(root["time"].get<double>())) return fail("time", "expected a finite number of seconds");
+      g.set_time(root["time"].get<double>());
+    }
+    const Json empty = Json::array();
+    const Json& nodes = root.contains("nodes") ? root["nodes"] : empty;
+    if (!nodes.is_array()) return fail("nodes", "expected an array");
+
+    // Pass 1: create every node, so parents and connections can refer forward.
+    std::vector<NodeId> ids;
+    std::unordered_map<std::string, std::size_t> index_of;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const Json& n = nodes[i];
+      const std::string where = "nodes[" + std::to_string(i) + "]";
+      if (!n.is_object()) return fail(where, "expected an object");
+      if (Status s = check_keys(n, {"name", "type", "uuid", "parent", "attrs", "tags"}); !s) return fail(where, s);
+      if (!n.contains("name") || !n["name"].is_string()) return fail(where + ".name", "missing or not a string");
+      if (!n.contains("type") || !n["type"].is_string()) return fail(where + ".type", "missing or not a string");
+      const std::string name = n["name"].get<std::string>();
+      const std::string named = where + " (" + name + ")";
+      if (auto it = index_of.find(name); it != index_of.end())
+        return fail(named + ".name", "duplicate node name (also nodes[" + std::to_string(it->second) + "])");
+      graph::Uuid uuid;
+      if (n.contains("uuid")) {
+        std::optional<graph::Uuid> parsed = n["uuid"].is_string() ? graph::Uuid::parse(n["uuid"].get<std::string>()) : std::nullopt;
+        if (!parsed || parsed->is_nil()) return fail(named + ".uuid", "not a UUID: " + n["uuid"].dump());
+        if (g.find(*parsed).is_valid()) return fail(named + ".uuid", "duplicate uuid " + parsed->str());
+        uuid = *parsed;
+      }
+      if (!Graph::is_valid_name(name)) return fail(named + ".name", "invalid node name (printable, no spaces or brackets)");
+      Result<NodeId> id = g.create_node(n["type"].get<std::string>(), name, uuid);
+      if (!id) return fail(named + ".type", id.status());
+      ids.push_back(*id);
+      index_of.emplace(name, i);
+    }
+    // Pass 2: attributes, tags, parents.
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const Json& n = nodes[i];
+      const std::string named = "nodes[" + std::to_string(i) + "] (" + n["name"].get<std::string>() + ")";
+      const graph::NodeType& type = g.node(ids[i])->type();
+      if (n.contains("attrs")) {
+        const Json& attrs = n["attrs"];
+        if (!attrs.is_object()) return fail(named + ".attrs", "expected an object");
+        for (auto it = attrs.begin(); it != attrs.end(); ++it) {
+          const std::string where = named + ".attrs." + it.key();
+          AttrIndex a = type.attr_find(it.key());
+          if (a == graph::kNoAttr) return fail(where, "node type '" + type.name() + "' has no attribute '" + it.key() + "'");
+          const AttrSpec& spec = type.attr(a);
+          if (!(spec.flags & graph::kInput) || !(spec.flags & graph::kStorable)) return fail(where, "this attribute is not stored in files");
+          Result<Value> v = decode_value(it.value(), spec);
+          if (!v) return fail(where, v.status());
+          if (Status s = g.set_value(Plug{ids[i], a, -1}, std::move(*v)); !s) return fail(where, s);
+        }
+      }
+      if (n.contains("tags")) {
+        const Json& tags = n["tags"];
+        if (!tags.is_object()) return fail(named + ".tags", "expected an object of strings");
+        for (auto it = tags.begin(); it != tags.end(); ++it) {
+          if (!it.value().is_string()) return fail(named + ".tags." + it.key(), "expected a string");
+          if (Status s = g.set_tag(ids[i], it.key(), it.value().get<std::string>()); !s) return fail(named + ".tags", s);
+        }
+      }
+      if (n.contains("parent")) {
+        if (!n["parent"].is_string()) return fail(named + ".parent", "expected a node name");
+        NodeId parent = g.find(n["parent"].get<std::string>());
+        if (!parent.is_valid()) return fail(named + ".parent", "no node named '" + n["parent"].get<std::string>() + "'");
+        if (Status s = g.set_parent(ids[i], parent); !s) return fail(named + ".parent", s);
+      }
+    }
+    // Pass 3: connections.
+    if (root.contains("connections")) {
+      const Json& connections = root["connections"];
+      if (!connections.is_array()) return fail("connections", "expected an array");
+      for (std::size_t i = 0; i < connections.size(); ++i) {
+        const Json& c = connections[i];
+        const std::string where = "connections[" + std::to_string(i) + "]";
+        if (!c.is_object()) return fail(where, "expected an object with src and dst");
+        if (Status s = check_keys(c, {"src", "dst"}); !s) return fail(where, s);
+        Plug ends[2];
+        const char* keys[2] = {"src", "dst"};
+        for (int k = 0; k < 2; ++k) {
+          if (!c.contains(keys[k]) || !c[keys[k]].is_string()) return fail(where + "." + keys[k], "missing or not a string");
+          Result<Plug> p = g.plug_find(c[keys[k]].get<std::string>());
+          if (!p) return fail(where + "." + keys[k], p.status());
+          ends[k] = *p;
+        }
+        if (Status s = g.connect(ends[0], ends[1]); !s) return fail(where, s);
+      }
+    }
+    g.clear_history();
+    return scene;
+  }
+
+ private:
+  Status fail(const std::string& where, const std::string& message) const {
+    return error(ErrorCode::kParseError, source_ + (where.empty() ? "" : ": " + where) + ": " + message);
+  }
+  Status fail(const std::string& where, const Status& status) const {
+    return Status(status.code() == ErrorCode::kOk ? ErrorCode::kParseError : status.code(),
+                  source_ + (where.empty() ? "" : ": " + where) + ": " + status.message());
+  }
+
+  std::string source_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source) {
+  Json root;
+  try {
+    root = Json::parse(text.begin(), text.end());
+  } catch (const Json::parse_error& e) {
+    std::string what = e.what();
+    // Drop nlohmann's "[json.exception.parse_error.101] parse error at line 1, column 2: " prefix;
+    // we say where ourselves.
+    if (auto colon = what.find(": "); colon != std::string::npos && what.find("parse error") != std::string::npos)
+      what = what.substr(colon + 2);
+    return error(ErrorCode::kParseError, source + ":" + line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + what);
+  }
+  return Loader(source).load(root);
+}
+
+Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return error(ErrorCode::kIoError, path.string() + ": cannot open: " + std::strerror(errno));
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) return error(ErrorCode::kIoError, path.string() + ": read failed");
+  return parse_scene(buffer.str(), path.string());
+}
+
+std::string write_scene(scene::Scene& scene) {
+  Graph& g = scene.graph();
+  g.evaluate_all();
+  Json root;
+  root["rigel"] = "scene";
+  root["version"] = kSceneFormatVersion;
+  root["fps"] = g.fps();
+  root["time"] = g.time();
+  Json nodes = Json::array();
+  for (NodeId id : g.nodes()) {
+    const graph::Node& n = *g.node(id);
+    Json jn;
+    jn["name"] = n.name();
+    jn["type"] = n.type().name();
+    jn["uuid"] = n.uuid().str();
+    if (NodeId p = g.parent(id); p.is_valid()) jn["parent"] = g.node(p)->name();
+    Json attrs = Json::object();
+    for (AttrIndex a = 0; a < n.type().attr_count(); ++a) {
+      const AttrSpec& spec = n.type().attr(a);
+      if (!(spec.flags & graph::kInput) || !(spec.flags & graph::kStorable)) continue;
+      if (spec.type.value == ValueType::kMessage) continue;
+      if (g.source(Plug{id, a, -1})) continue;  // the connection restores it
+      if (graph::values_identical(n.value(a), spec.default_value)) continue;
+      attrs[spec.name] = encode_value(n.value(a), spec);
+    }
+    if (!attrs.empty()) jn["attrs"] = std::move(attrs);
+    if (!n.tags().empty()) {
+      Json tags = Json::object();
+      for (const auto& [k, v] : n.tags()) tags[k] = v;
+      jn["tags"] = std::move(tags);
+    }
+    nodes.push_back(std::move(jn));
+  }
+  root["nodes"] = std::move(nodes);
+  Json connections = Json::array();
+  for (const graph::Connection& c : g.connections()) {
+    if (is_hierarchy(g, c)) continue;
+    Json jc;
+    jc["src"] = g.plug_name(c.src);
+    jc["dst"] = g.plug_name(c.dst);
+    connections.push_back(std::move(jc));
+  }
+  root["connections"] = std::move(connections);
+  std::string out;
+  emit(root, 0, out);
+  out += "\n";
+  return out;
+}
+
+Status write_file_atomic(const std::filesystem::path& path, std::string_view content) {
+  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  std::string name = ".";
+  name.append(path.filename().string()).append(".tmp-XXXXXX");
+  std::string temp = (dir / name).string();
+  int fd = mkstemp(temp.data());
+  if (fd < 0) return error(ErrorCode::kIoError, path.string() + ": cannot write: " + std::strerror(errno));
+  auto fail = [&](const char* what) {
+    int saved = errno;
+    ::close(fd);
+    ::unlink(temp.c_str());
+    return error(ErrorCode::kIoError, path.string() + ": " + what + ": " + std::strerror(saved));
+  };
+  std::size_t done = 0;
+  while (done < content.size()) {
+    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return fail("write failed");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fchmod(fd, 0644) != 0) return fail("chmod failed");
+  if (::fsync(fd) != 0) return fail("fsync failed");
+  if (::close(fd) != 0) {
+    int saved = errno;
+    ::unlink(temp.c_str());
+    return error(ErrorCode::kIoError, path.string() + ": close failed: " + std::strerror(saved));
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    int saved = errno;
+    ::unlink(temp.c_str());
+    return error(ErrorCode::kIoError, path.string() + ": rename failed: " + std::strerror(saved));
+  }
+  return Status::ok();
+}
+
+Status save_scene(scene::Scene& scene, const std::filesystem::path& path) {
+  return write_file_atomic(path, write_scene(scene));
+}
+
+}  // namespace rigel::io

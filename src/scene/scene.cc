@@ -1,0 +1,108 @@
+#include "rigel/scene/scene.h"
+
+#include "rigel/math/transform.h"
+
+namespace rigel::scene {
+
+Scene::Scene() : Scene(default_registry()) {}
+Scene::Scene(std::shared_ptr<const graph::Registry> registry) : graph_(std::move(registry)) {}
+
+Result<NodeId> Scene::create(std::string_view type, std::string_view name, NodeId parent) {
+  graph::Transaction transaction(graph_, "create " + std::string(name));
+  Result<NodeId> id = graph_.create_node(type, name);
+  if (!id) return id;
+  if (parent.is_valid()) {
+    if (Status s = graph_.set_parent(*id, parent); !s) {
+      transaction.rollback();
+      return s;
+    }
+  }
+  return id;
+}
+
+bool Scene::is_transform(NodeId id) const {
+  const graph::Node* n = graph_.node(id);
+  return n && is_transform_type(n->type());
+}
+
+std::vector<NodeId> Scene::roots() const {
+  std::vector<NodeId> result;
+  for (NodeId id : graph_.nodes()) {
+    if (is_transform(id) && !graph_.parent(id).is_valid()) result.push_back(id);
+  }
+  return result;
+}
+
+std::vector<NodeId> Scene::hierarchy() const {
+  std::vector<NodeId> result;
+  std::vector<NodeId> stack;
+  std::vector<NodeId> top = roots();
+  stack.assign(top.rbegin(), top.rend());
+  while (!stack.empty()) {
+    NodeId id = stack.back();
+    stack.pop_back();
+    result.push_back(id);
+    std::vector<NodeId> kids = graph_.children(id);
+    stack.insert(stack.end(), kids.rbegin(), kids.rend());
+  }
+  return result;
+}
+
+int Scene::depth(NodeId id) const {
+  int d = 0;
+  for (NodeId p = graph_.parent(id); p.is_valid(); p = graph_.parent(p)) ++d;
+  return d;
+}
+
+Mat4 Scene::local_matrix(NodeId id) { return std::get<Mat4>(graph_.evaluate(id, xform::kMatrix)); }
+Mat4 Scene::world_matrix(NodeId id) { return std::get<Mat4>(graph_.evaluate(id, xform::kWorldMatrix)); }
+
+Status Scene::reparent(NodeId child, NodeId parent, bool keep_world) {
+  if (!is_transform(child)) return error(ErrorCode::kInvalidArgument, "reparent: the child is not a transform");
+  if (parent.is_valid() && !is_transform(parent)) return error(ErrorCode::kInvalidArgument, "reparent: the parent is not a transform");
+  if (!keep_world) return graph_.set_parent(child, parent);
+
+  const graph::Node& n = *graph_.node(child);
+  for (AttrIndex a : {xform::kRotateAxis, xform::kRotatePivot, xform::kRotatePivotTranslate, xform::kScalePivot,
+                      xform::kScalePivotTranslate}) {
+    if (!std::get<math::Vec3>(n.value(a)).isZero())
+      return error(ErrorCode::kInvalidArgument, "reparent '" + n.name() + "' keeping its world position: " +
+                                                    n.type().attr(a).name + " must be zero");
+  }
+  const AttrIndex jo = n.type().attr_find("jointOrient");
+  const bool has_orient = jo != graph::kNoAttr;
+  const Mat4 world = world_matrix(child);
+  graph::Transaction transaction(graph_, "reparent " + n.name());
+  if (Status s = graph_.set_parent(child, parent); !s) {
+    transaction.rollback();
+    return s;
+  }
+  const Mat4 parent_world = parent.is_valid() ? world_matrix(parent) : Mat4(Mat4::Identity());
+  const Mat4 offset = std::get<Mat4>(n.value(xform::kOffsetParentMatrix));
+  Mat4 local = math::affine_inverse(parent_world * offset) * world;
+  // The joint orient stays; the rotation absorbs the difference.
+  if (has_orient) {
+    Mat4 orient = math::rotation_matrix(math::euler_to_quat(math::to_radians(std::get<math::Vec3>(n.value(jo))), math::RotateOrder::kXYZ));
+    Mat4 t = local;
+    t.block<3, 1>(0, 3).setZero();
+    Mat4 rest = orient.transpose() * t;
+    rest.block<3, 1>(0, 3) = local.block<3, 1>(0, 3);
+    local = rest;
+  }
+  const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(n.value(xform::kRotateOrder)));
+  math::TransformParts parts = math::decompose_to_parts(local, order);
+  auto set = [&](AttrIndex a, graph::Value v) { return graph_.set_value(graph::Plug{child, a, -1}, std::move(v)); };
+  Status s = set(xform::kTranslate, parts.translate);
+  if (s) s = set(xform::kScale, parts.scale);
+  if (s) s = set(xform::kShear, parts.shear);
+  if (s) {
+    if (std::get<std::int64_t>(n.value(xform::kRotateMode)) == static_cast<std::int64_t>(math::RotateMode::kQuaternion))
+      s = set(xform::kRotateQuaternion, math::euler_to_quat(parts.rotate, order));
+    else
+      s = set(xform::kRotate, math::to_degrees(parts.rotate));
+  }
+  if (!s) transaction.rollback();
+  return s;
+}
+
+}  // namespace rigel::scene
