@@ -64,6 +64,8 @@ struct Graph::Schedule {
   std::uint64_t generation = ~std::uint64_t{0};
   std::vector<NodeId> order;             // parents before children, grouped by level
   std::vector<std::size_t> level_begin;  // offsets into order, plus a final end
+  std::vector<std::uint32_t> position;   // node slot index -> index in order
+  std::vector<std::uint32_t> level;      // index in order -> level
 };
 
 Graph::Graph(std::shared_ptr<const Registry> registry) : registry_(std::move(registry)) {}
@@ -176,6 +178,7 @@ Result<NodeId> Graph::create_node_impl(const NodeType& type, std::string name, U
   by_uuid_.emplace(uuid, id);
   if (type.time_dependent()) time_dependent_.push_back(id);
   slots_[index] = std::move(n);
+  if (!type.outputs().empty()) queue(*slots_[index]);
   next_order_ = std::max(next_order_, order + 1);
   topology_changed();
   return id;
@@ -310,37 +313,41 @@ Status Graph::set_value(const Plug& plug, Value value) {
   if (!n) return error(ErrorCode::kNotFound, "set: no such node (stale handle)");
   if (plug.attr >= n->type_->attr_count()) return error(ErrorCode::kNotFound, "set: no such attribute on '" + n->name_ + "'");
   const AttrSpec& spec = n->type_->attr(plug.attr);
-  const std::string where = plug_name(plug);
-  if (!(spec.flags & kInput)) return error(ErrorCode::kInvalidArgument, where + " is an output; it cannot be set");
-  if (plug.element >= 0 && !spec.type.array) return error(ErrorCode::kInvalidArgument, where + ": not an array");
-  if (plug.element >= kMaxElement) return error(ErrorCode::kInvalidArgument, where + ": index too large");
+  auto where = [&] { return plug_name(plug); };  // built only for errors
+  if (!(spec.flags & kInput)) return error(ErrorCode::kInvalidArgument, where() + " is an output; it cannot be set");
+  if (plug.element >= 0 && !spec.type.array) return error(ErrorCode::kInvalidArgument, where() + ": not an array");
+  if (plug.element >= kMaxElement) return error(ErrorCode::kInvalidArgument, where() + ": index too large");
   for (const Connection& c : n->inputs_) {
     if (c.dst.attr == plug.attr && (plug.element < 0 || c.dst.element < 0 || c.dst.element == plug.element))
-      return error(ErrorCode::kInvalidArgument, where + " is connected from " + plug_name(c.src) + "; disconnect it first");
+      return error(ErrorCode::kInvalidArgument, where() + " is connected from " + plug_name(c.src) + "; disconnect it first");
   }
   AttrType type = plug_type(plug);
   if (type.value == ValueType::kDouble && !type.array && std::holds_alternative<std::int64_t>(value))
     value = static_cast<double>(std::get<std::int64_t>(value));
   if (!value_has_type(value, type))
-    return error(ErrorCode::kInvalidArgument, where + " is a " + type_name(type) + "; got " + value_to_text(value));
+    return error(ErrorCode::kInvalidArgument, where() + " is a " + type_name(type) + "; got " + value_to_text(value));
   if (type.value == ValueType::kEnum) {
     auto check = [&](std::int64_t v) { return v >= 0 && v < static_cast<std::int64_t>(spec.enum_names.size()); };
     bool ok = type.array ? std::all_of(std::get<std::vector<std::int64_t>>(value).begin(),
                                        std::get<std::vector<std::int64_t>>(value).end(), check)
                          : check(std::get<std::int64_t>(value));
-    if (!ok) return error(ErrorCode::kInvalidArgument, where + ": enum value out of range");
+    if (!ok) return error(ErrorCode::kInvalidArgument, where() + ": enum value out of range");
   }
-  Value whole = n->values_[plug.attr];
-  if (plug.element >= 0) array_set_element(whole, spec.type, static_cast<std::size_t>(plug.element), value);
-  else whole = std::move(value);
+  Value whole;
+  if (plug.element >= 0) {
+    whole = n->values_[plug.attr];
+    array_set_element(whole, spec.type, static_cast<std::size_t>(plug.element), value);
+  } else {
+    whole = std::move(value);
+  }
   if (values_identical(whole, n->values_[plug.attr])) return Status::ok();
 
   Edit edit;
   edit.kind = Edit::Kind::kSet;
   edit.dst = PlugRef{n->uuid_, plug.attr, -1};
-  edit.before = n->values_[plug.attr];
-  edit.after = whole;
-  n->values_[plug.attr] = std::move(whole);
+  edit.before = std::move(n->values_[plug.attr]);
+  n->values_[plug.attr] = whole;
+  edit.after = std::move(whole);
   dirty_downstream(plug.node, plug.attr);
   record(std::move(edit));
   notify([&](Observer& o) { o.attribute_changed(*this, plug); });
@@ -383,6 +390,7 @@ void Graph::dirty_downstream(NodeId start, AttrIndex attr) {
     work.pop_back();
     if (n->dirty_[a]) continue;
     n->dirty_[a] = 1;
+    queue(*n);
     push_downstream(*n, a);
   }
 }
@@ -391,6 +399,7 @@ void Graph::dirty_outputs(Node& n) {
   for (AttrIndex o : n.type_->outputs()) {
     if (n.dirty_[o]) continue;
     n.dirty_[o] = 1;
+    queue(n);
     dirty_downstream(n.id_, o);
   }
 }
@@ -412,12 +421,37 @@ void Graph::update_node(Node& n) {
     }
   }
   for (const Connection& c : n.inputs_) n.dirty_[c.dst.attr] = 0;
+  // Every attribute is clean after this: connected inputs were refreshed,
+  // unconnected inputs are never dirty, and outputs are computed below.
+  n.queued_ = false;
   bool compute = false;
   for (AttrIndex o : n.type_->outputs()) compute |= n.dirty_[o] != 0;
   if (!compute) return;
   ComputeContext context(n, time_);
   n.type_->compute()(context);
   for (AttrIndex o : n.type_->outputs()) n.dirty_[o] = 0;
+}
+
+void Graph::queue(Node& n) {
+  if (n.queued_) return;
+  n.queued_ = true;
+  dirty_nodes_.push_back(n.id_);
+  // Pulls clean nodes without taking them off the list; drop those entries
+  // before the list outgrows the graph.
+  if (dirty_nodes_.size() > 2 * by_uuid_.size() + 64) {
+    std::erase_if(dirty_nodes_, [&](NodeId id) {
+      const Node* m = node(id);
+      return !m || !m->queued_;
+    });
+    // A node cleaned and dirtied again appears twice; keep the first.
+    const std::uint64_t epoch = ++visit_epoch_;
+    std::erase_if(dirty_nodes_, [&](NodeId id) {
+      Node* m = slots_[id.index].get();
+      if (m->visit_ == epoch) return true;
+      m->visit_ = epoch;
+      return false;
+    });
+  }
 }
 
 void Graph::pull(NodeId start) {
@@ -479,7 +513,14 @@ const Graph::Schedule& Graph::schedule() {
   for (std::size_t l = 1; l < s.level_begin.size(); ++l) s.level_begin[l] += s.level_begin[l - 1];
   s.order.assign(all.size(), NodeId{});
   std::vector<std::size_t> fill(s.level_begin.begin(), s.level_begin.end() - 1);
-  for (std::size_t i = 0; i < all.size(); ++i) s.order[fill[level[i]]++] = all[i];
+  s.position.assign(slots_.size(), 0);
+  s.level.assign(all.size(), 0);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::size_t at = fill[level[i]]++;
+    s.order[at] = all[i];
+    s.position[all[i].index] = static_cast<std::uint32_t>(at);
+    s.level[at] = level[i];
+  }
   s.generation = topology_generation_;
   return s;
 }
@@ -487,26 +528,42 @@ const Graph::Schedule& Graph::schedule() {
 std::size_t Graph::schedule_level_count() { return schedule().level_begin.size() - 1; }
 
 void Graph::evaluate_all(Execution execution) {
+  if (dirty_nodes_.empty()) return;
   const Schedule& s = schedule();
-  auto run = [&](std::size_t i) {
-    Node& n = *slots_[s.order[i].index];
-    for (std::uint8_t d : n.dirty_) {
-      if (d) {
-        update_node(n);
-        return;
-      }
+  // Only queued nodes, in schedule order: an edit costs what it dirtied,
+  // not the size of the graph.
+  std::vector<std::uint32_t> work;
+  if (dirty_nodes_.size() * 8 > s.order.size()) {
+    for (std::size_t i = 0; i < s.order.size(); ++i) {
+      if (slots_[s.order[i].index]->queued_) work.push_back(static_cast<std::uint32_t>(i));
     }
+  } else {
+    work.reserve(dirty_nodes_.size());
+    for (NodeId id : dirty_nodes_) {
+      const Node* n = node(id);
+      if (n && n->queued_) work.push_back(s.position[id.index]);
+    }
+    std::sort(work.begin(), work.end());
+    work.erase(std::unique(work.begin(), work.end()), work.end());
+  }
+  dirty_nodes_.clear();
+  auto run = [&](std::size_t k) {
+    Node& n = *slots_[s.order[work[k]].index];
+    if (n.queued_) update_node(n);
   };
-  for (std::size_t l = 0; l + 1 < s.level_begin.size(); ++l) {
-    std::size_t begin = s.level_begin[l], end = s.level_begin[l + 1];
+  // Queued nodes of one level never read each other: run a large level in parallel.
+  for (std::size_t begin = 0; begin < work.size();) {
+    std::size_t end = begin + 1;
+    while (end < work.size() && s.level[work[end]] == s.level[work[begin]]) ++end;
     if (execution == Execution::kSerial || end - begin < kParallelMinLevel) {
-      for (std::size_t i = begin; i < end; ++i) run(i);
+      for (std::size_t k = begin; k < end; ++k) run(k);
     } else {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, kParallelGrain),
                         [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i != r.end(); ++i) run(i);
+                          for (std::size_t k = r.begin(); k != r.end(); ++k) run(k);
                         });
     }
+    begin = end;
   }
 }
 
@@ -591,6 +648,7 @@ Status Graph::connect_impl(const Plug& src, const Plug& dst) {
   topology_changed();
   if (!d.dirty_[dst.attr]) {
     d.dirty_[dst.attr] = 1;
+    queue(d);
     dirty_downstream(dst.node, dst.attr);
   }
   return Status::ok();
@@ -792,7 +850,7 @@ void Graph::record(Edit edit) {
       case Edit::Kind::kTag: step->label = "tag " + edit.key; break;
     }
     step->edits.push_back(std::move(edit));
-    undo_stack_.push_back(std::move(step));
+    push_undo(std::move(step));
     return;
   }
   pending_->edits.push_back(std::move(edit));
@@ -812,13 +870,24 @@ void Graph::apply(const Edit& e, bool forward) {
   };
   auto remove = [&](const Uuid& u) {
     NodeId id = id_of(u);
+    // As delete_node(): the selection drops the node (and says so) before
+    // node_removed.
+    if (std::erase(selection_, id) != 0) notify([&](Observer& o) { o.selection_changed(*this); });
     notify([&](Observer& o) { o.node_removed(*this, id); });
-    std::erase(selection_, id);
     (void)delete_node_impl(id);
   };
   auto set_whole = [&](const PlugRef& r, const Value& v) {
     Plug p = plug_of(r);
-    node_mut(p.node)->values_[p.attr] = v;
+    Node& n = *node_mut(p.node);
+    n.values_[p.attr] = v;
+    // `v` was recorded when the edit was made, when elements of this array
+    // fed by other connections may have been stale (dirty, not yet pulled).
+    // Mark the attribute dirty so that those elements are pulled again
+    // rather than served stale from the restored copy.
+    if (std::any_of(n.inputs_.begin(), n.inputs_.end(), [&](const Connection& c) { return c.dst.attr == p.attr; })) {
+      n.dirty_[p.attr] = 1;
+      queue(n);
+    }
     dirty_downstream(p.node, p.attr);
     notify([&](Observer& o) { o.attribute_changed(*this, Plug{p.node, p.attr, -1}); });
   };
@@ -893,7 +962,7 @@ void Graph::commit_transaction() {
   if (open_.empty()) return;
   open_.pop_back();
   if (!open_.empty()) return;
-  if (!pending_->edits.empty()) undo_stack_.push_back(std::move(pending_));
+  if (!pending_->edits.empty()) push_undo(std::move(pending_));
   pending_.reset();
 }
 
@@ -931,6 +1000,21 @@ bool Graph::redo() {
   replaying_ = false;
   undo_stack_.push_back(std::move(step));
   return true;
+}
+
+void Graph::push_undo(std::unique_ptr<Step> step) {
+  undo_stack_.push_back(std::move(step));
+  if (undo_stack_.size() > undo_limit_) {
+    // Drop the oldest quarter at once so trimming is amortised O(1).
+    std::size_t drop = std::max<std::size_t>(1, undo_stack_.size() - undo_limit_ * 3 / 4);
+    undo_stack_.erase(undo_stack_.begin(), undo_stack_.begin() + static_cast<std::ptrdiff_t>(drop));
+  }
+}
+
+void Graph::set_undo_limit(std::size_t steps) {
+  undo_limit_ = std::max<std::size_t>(1, steps);
+  if (undo_stack_.size() > undo_limit_)
+    undo_stack_.erase(undo_stack_.begin(), undo_stack_.end() - static_cast<std::ptrdiff_t>(undo_limit_));
 }
 
 void Graph::clear_history() {

@@ -22,7 +22,9 @@ template <typename E>
 struct IsVector<std::vector<E>> : std::true_type {};
 
 bool doubles_identical(const double* a, const double* b, std::size_t n) {
-  return std::memcmp(a, b, n * sizeof(double)) == 0;
+  // An empty std::vector's data() may be null, and memcmp with a null
+  // pointer is undefined even for zero bytes.
+  return n == 0 || std::memcmp(a, b, n * sizeof(double)) == 0;
 }
 
 struct IdenticalVisitor {

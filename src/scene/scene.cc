@@ -1,5 +1,7 @@
 #include "rigel/scene/scene.h"
 
+#include <cmath>
+
 #include "rigel/math/transform.h"
 
 namespace rigel::scene {
@@ -61,6 +63,12 @@ Status Scene::reparent(NodeId child, NodeId parent, bool keep_world) {
   if (!is_transform(child)) return error(ErrorCode::kInvalidArgument, "reparent: the child is not a transform");
   if (parent.is_valid() && !is_transform(parent)) return error(ErrorCode::kInvalidArgument, "reparent: the parent is not a transform");
   if (!keep_world) return graph_.set_parent(child, parent);
+  // Already under `parent` (or already a root): a no-op, as set_parent() is.
+  // Decomposing and rewriting the channels anyway would record an undo step
+  // and drift them by rounding on every call.
+  const bool in_place = parent.is_valid() ? graph_.parent(child) == parent
+                                          : !graph_.source(graph::Plug{child, xform::kParentMatrix, -1}).has_value();
+  if (in_place) return Status::ok();
 
   const graph::Node& n = *graph_.node(child);
   for (AttrIndex a : {xform::kRotateAxis, xform::kRotatePivot, xform::kRotatePivotTranslate, xform::kScalePivot,
@@ -79,7 +87,13 @@ Status Scene::reparent(NodeId child, NodeId parent, bool keep_world) {
   }
   const Mat4 parent_world = parent.is_valid() ? world_matrix(parent) : Mat4(Mat4::Identity());
   const Mat4 offset = std::get<Mat4>(n.value(xform::kOffsetParentMatrix));
-  Mat4 local = math::affine_inverse(parent_world * offset) * world;
+  const Mat4 above = parent_world * offset;
+  if (!(std::abs(above.topLeftCorner<3, 3>().determinant()) > 1e-12)) {
+    transaction.rollback();
+    return error(ErrorCode::kInvalidArgument, "reparent '" + n.name() +
+                                                  "' keeping its world position: the new parent's world matrix is singular (zero scale?)");
+  }
+  Mat4 local = math::affine_inverse(above) * world;
   // The joint orient stays; the rotation absorbs the difference.
   if (has_orient) {
     Mat4 orient = math::rotation_matrix(math::euler_to_quat(math::to_radians(std::get<math::Vec3>(n.value(jo))), math::RotateOrder::kXYZ));

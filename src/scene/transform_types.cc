@@ -1,5 +1,7 @@
 #include "rigel/scene/transform_types.h"
 
+#include <algorithm>
+
 #include "rigel/graph/graph.h"
 #include "rigel/math/transform.h"
 
@@ -78,12 +80,18 @@ std::vector<AttrSpec> transform_attrs() {
   return attrs;
 }
 
+// An enum fed by an int connection may be out of range: clamp it.
+template <typename E>
+E read_enum(const ComputeContext& c, AttrIndex attr, int count) {
+  return static_cast<E>(std::clamp<std::int64_t>(c.get<std::int64_t>(attr), 0, count - 1));
+}
+
 math::TransformParts read_parts(const ComputeContext& c) {
   math::TransformParts p;
   p.translate = c.get<Vec3>(xform::kTranslate);
   p.rotate = math::to_radians(c.get<Vec3>(xform::kRotate));
-  p.rotate_order = static_cast<math::RotateOrder>(c.get<std::int64_t>(xform::kRotateOrder));
-  p.rotate_mode = static_cast<math::RotateMode>(c.get<std::int64_t>(xform::kRotateMode));
+  p.rotate_order = read_enum<math::RotateOrder>(c, xform::kRotateOrder, math::kRotateOrderCount);
+  p.rotate_mode = read_enum<math::RotateMode>(c, xform::kRotateMode, 2);
   p.rotate_quaternion = c.get<Quat>(xform::kRotateQuaternion);
   p.scale = c.get<Vec3>(xform::kScale);
   p.shear = c.get<Vec3>(xform::kShear);
@@ -95,19 +103,30 @@ math::TransformParts read_parts(const ComputeContext& c) {
   return p;
 }
 
-void write_matrices(ComputeContext& c, const math::TransformParts& parts) {
-  Mat4 local = math::compose(parts);
-  Mat4 world = math::world_matrix(c.get<Mat4>(xform::kParentMatrix), c.get<Mat4>(xform::kOffsetParentMatrix), local);
-  std::get<Mat4>(c.output(xform::kMatrix)) = local;
-  std::get<Mat4>(c.output(xform::kWorldMatrix)) = world;
+// The world matrix from the stored local matrix. When only the parent moved
+// (the usual case while posing), the local matrix is clean and is not
+// composed again: that is most of a hierarchy's evaluation cost.
+void write_world(ComputeContext& c) {
+  const Mat4& parent = c.get<Mat4>(xform::kParentMatrix);
+  const Mat4& offset = c.get<Mat4>(xform::kOffsetParentMatrix);
+  const Mat4& local = c.get<Mat4>(xform::kMatrix);
+  Mat4& world = std::get<Mat4>(c.output(xform::kWorldMatrix));
+  if (offset == Mat4::Identity()) world.noalias() = parent * local;
+  else world = math::world_matrix(parent, offset, local);
 }
 
-void compute_transform(ComputeContext& c) { write_matrices(c, read_parts(c)); }
+void compute_transform(ComputeContext& c) {
+  if (c.node().is_dirty(xform::kMatrix)) std::get<Mat4>(c.output(xform::kMatrix)) = math::compose(read_parts(c));
+  write_world(c);
+}
 
 void compute_joint(ComputeContext& c) {
-  math::TransformParts parts = read_parts(c);
-  parts.joint_orient = math::to_radians(c.get<Vec3>(joint_attr::kJointOrient));
-  write_matrices(c, parts);
+  if (c.node().is_dirty(xform::kMatrix)) {
+    math::TransformParts parts = read_parts(c);
+    parts.joint_orient = math::to_radians(c.get<Vec3>(joint_attr::kJointOrient));
+    std::get<Mat4>(c.output(xform::kMatrix)) = math::compose(parts);
+  }
+  write_world(c);
 }
 
 graph::NodeTypeSpec transform_spec(std::string name, std::string description, graph::ComputeFn compute) {

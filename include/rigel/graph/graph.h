@@ -78,6 +78,7 @@ class Node {
   std::vector<Connection> inputs_;
   std::vector<Connection> outputs_;
   std::uint64_t visit_ = 0;  // traversal mark (Graph::visit_epoch_)
+  bool queued_ = false;      // in Graph::dirty_nodes_: some attribute is dirty
 };
 
 // What a compute function sees: its node's inputs (already pulled) and
@@ -170,7 +171,9 @@ class Graph {
   // refused with a message naming the nodes on the cycle.
   Status connect(const Plug& src, const Plug& dst);
   Status disconnect(const Plug& src, const Plug& dst);
-  // Breaks whatever feeds `dst`; ok if nothing does.
+  // Breaks the connection into exactly `dst` (a whole attribute, or one
+  // element); ok if nothing feeds it. Element connections into an array are
+  // separate plugs: disconnect them by element.
   Status disconnect_input(const Plug& dst);
   std::optional<Plug> source(const Plug& dst) const;
   // Every connection, sorted by destination (node order, attr, element).
@@ -224,6 +227,9 @@ class Graph {
   bool redo();
   // Forgets all undo and redo steps (after loading a file, say).
   void clear_history();
+  // Most undo steps kept; the oldest go first. Default kDefaultUndoLimit.
+  void set_undo_limit(std::size_t steps);
+  static constexpr std::size_t kDefaultUndoLimit = 10000;
   std::size_t undo_count() const { return undo_stack_.size(); }
 
   // ---- observers -----------------------------------------------------------
@@ -246,6 +252,8 @@ class Graph {
   void dirty_downstream(NodeId node, AttrIndex attr);
   void dirty_outputs(Node& node);
   void update_node(Node& node);
+  void queue(Node& node);
+  void push_undo(std::unique_ptr<Step> step);
   void pull(NodeId node);
   Value plug_value(const Plug& plug) const;
   void topology_changed();
@@ -274,6 +282,10 @@ class Graph {
   std::vector<std::size_t> open_;
   bool replaying_ = false;
   std::uint64_t visit_epoch_ = 0;
+  // Nodes with a dirty attribute, so evaluate_all() visits only those. May
+  // hold stale or clean entries (skipped); compacted when it grows.
+  std::vector<NodeId> dirty_nodes_;
+  std::size_t undo_limit_ = kDefaultUndoLimit;
 };
 
 // Opens a transaction for its lifetime (commits in the destructor unless

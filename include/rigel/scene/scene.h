@@ -44,8 +44,9 @@ class Scene {
 
   // Parents `child` under `parent` (invalid: the world). With keep_world the
   // child's local channels are rewritten so it stays where it is (Maya's
-  // default); its pivots, rotate axis and joint orient must be zero then,
-  // otherwise the call fails.
+  // default); its pivots and rotate axis must be zero then, otherwise the
+  // call fails. A joint keeps its joint orient; the rotation absorbs the
+  // difference. Fails when the new parent's world matrix is singular.
   Status reparent(NodeId child, NodeId parent, bool keep_world);
 
   // Frame-based time over the graph's seconds: frame = seconds * fps.
