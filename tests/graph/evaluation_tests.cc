@@ -392,5 +392,27 @@ TEST(Evaluation, schedule__is_recompiled_when_topology_changes) {
   empty.evaluate_all();
 }
 
+TEST(Evaluation, evaluate_all__after_many_pulls_still_finds_every_dirty_node) {
+  // Pulls clean nodes without taking them off the dirty list; the list is
+  // compacted when it grows. Whatever is dirty must still be evaluated.
+  Graph graph(test_registry());
+  NodeId a = make(graph, "add", "a");
+  NodeId b = make(graph, "add", "b");
+  NodeId c = make(graph, "add", "c");
+  ASSERT_TRUE(link(graph, a, "sum", b, "a").is_ok()) << "connect";
+  ASSERT_TRUE(link(graph, b, "sum", c, "a").is_ok()) << "connect";
+  for (int i = 1; i <= 500; ++i) {
+    ASSERT_TRUE(graph.set_value(plug(graph, a, "a"), static_cast<double>(i)).is_ok()) << "set a.a";
+    EXPECT_EQ(eval_double(graph, b, "sum"), static_cast<double>(i)) << "pulling b cleans a and b, not c";
+  }
+  const long before = g_add_computes.load();
+  graph.evaluate_all();
+  EXPECT_EQ(g_add_computes.load() - before, 1) << "only c was still dirty";
+  EXPECT_EQ(std::get<double>(graph.node(c)->value(graph.node(c)->type().attr_find("sum"))), 500.0)
+      << "evaluate_all brought c up to date";
+  graph.evaluate_all();
+  EXPECT_EQ(g_add_computes.load() - before, 1) << "a second evaluate_all finds nothing dirty";
+}
+
 }  // namespace
 }  // namespace rigel::graph
