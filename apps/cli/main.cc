@@ -86,17 +86,17 @@ struct EvalArgs {
 };
 
 int run_eval(const EvalArgs& args) {
+  // A non-finite --frame/--time is a bad option value, like --frame abc: a
+  // usage error (exit 2), checked before the scene is read.
+  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time))) {
+    std::cerr << "rigel: " << (args.frame ? "--frame" : "--time") << " must be a finite number\n";
+    return kExitUsage;
+  }
   auto scene = rigel::io::load_scene(args.scene);
   if (!scene) return fail(scene.status());
   rigel::scene::Scene& s = **scene;
-  if (args.frame) {
-    if (!std::isfinite(*args.frame)) return fail(rigel::error(rigel::ErrorCode::kInvalidArgument, "--frame must be a finite number"));
-    s.set_frame(*args.frame);
-  }
-  if (args.time) {
-    if (!std::isfinite(*args.time)) return fail(rigel::error(rigel::ErrorCode::kInvalidArgument, "--time must be a finite number"));
-    s.graph().set_time(*args.time);
-  }
+  if (args.frame) s.set_frame(*args.frame);
+  if (args.time) s.graph().set_time(*args.time);
   auto report = rigel::io::eval_report(s);
   if (args.json) {
     std::cout << report.dump() << "\n";

@@ -111,7 +111,7 @@ std::vector<NodeId> Graph::nodes() const {
 }
 
 bool Graph::is_valid_name(std::string_view name) {
-  if (name.empty() || name.size() > 1024) return false;
+  if (name.empty() || name.size() > 1024 || !is_valid_utf8(name)) return false;
   for (char c : name) {
     auto u = static_cast<unsigned char>(c);
     if (u < 0x21 || u == 0x7f || c == '[' || c == ']') return false;
@@ -326,6 +326,12 @@ Status Graph::set_value(const Plug& plug, Value value) {
     value = static_cast<double>(std::get<std::int64_t>(value));
   if (!value_has_type(value, type))
     return error(ErrorCode::kInvalidArgument, where() + " is a " + type_name(type) + "; got " + value_to_text(value));
+  if (const auto* text = std::get_if<std::string>(&value); text && !is_valid_utf8(*text))
+    return error(ErrorCode::kInvalidArgument, where() + ": strings must be UTF-8 text");
+  if (const auto* texts = std::get_if<std::vector<std::string>>(&value)) {
+    for (const std::string& t : *texts)
+      if (!is_valid_utf8(t)) return error(ErrorCode::kInvalidArgument, where() + ": strings must be UTF-8 text");
+  }
   if (type.value == ValueType::kEnum) {
     auto check = [&](std::int64_t v) { return v >= 0 && v < static_cast<std::int64_t>(spec.enum_names.size()); };
     bool ok = type.array ? std::all_of(std::get<std::vector<std::int64_t>>(value).begin(),
@@ -420,7 +426,19 @@ void Graph::update_node(Node& n) {
       else array_set_element(dst, n.type_->attr(c.dst.attr).type, static_cast<std::size_t>(c.dst.element), v);
     }
   }
-  for (const Connection& c : n.inputs_) n.dirty_[c.dst.attr] = 0;
+  for (const Connection& c : n.inputs_) {
+    if (!n.dirty_[c.dst.attr]) continue;
+    n.dirty_[c.dst.attr] = 0;
+    // An int may feed an enum: keep the enum within its names, as set_value does.
+    const AttrSpec& spec = n.type_->attr(c.dst.attr);
+    if (spec.type.value == ValueType::kEnum) {
+      const auto top = static_cast<std::int64_t>(spec.enum_names.size()) - 1;
+      Value& v = n.values_[c.dst.attr];
+      if (auto* one = std::get_if<std::int64_t>(&v)) *one = std::clamp<std::int64_t>(*one, 0, top);
+      else if (auto* many = std::get_if<std::vector<std::int64_t>>(&v))
+        for (std::int64_t& e : *many) e = std::clamp<std::int64_t>(e, 0, top);
+    }
+  }
   // Every attribute is clean after this: connected inputs were refreshed,
   // unconnected inputs are never dirty, and outputs are computed below.
   n.queued_ = false;
@@ -773,6 +791,8 @@ Status Graph::set_tag(NodeId id, const std::string& key, const std::string& valu
   Node* n = node_mut(id);
   if (!n) return error(ErrorCode::kNotFound, "tag: no such node (stale handle)");
   if (key.empty()) return error(ErrorCode::kInvalidArgument, "tag on '" + n->name_ + "': the key is empty");
+  if (!is_valid_utf8(key) || !is_valid_utf8(value))
+    return error(ErrorCode::kInvalidArgument, "tag on '" + n->name_ + "': keys and values must be UTF-8 text");
   auto it = n->tags_.find(key);
   if (it != n->tags_.end() && it->second == value) return Status::ok();
   Edit edit;

@@ -358,6 +358,30 @@ class Loader {
   std::string source_;
 };
 
+// Accepts everything and remembers where a parse stopped. nlohmann reports
+// some failures without a position (a number beyond the range of a double
+// throws out_of_range, not parse_error); a second pass with this finds it.
+class ErrorLocator : public nlohmann::json_sax<Json> {
+ public:
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&, const Json::exception&) override {
+    byte = position;
+    return false;
+  }
+  std::size_t byte = 0;
+};
+
 }  // namespace
 
 Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source) {
@@ -371,11 +395,24 @@ Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const s
     if (auto colon = what.find(": "); colon != std::string::npos && what.find("parse error") != std::string::npos)
       what = what.substr(colon + 2);
     return error(ErrorCode::kParseError, source + ":" + line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + what);
+  } catch (const Json::exception& e) {
+    // Any other nlohmann error (out_of_range.406: "number overflow parsing
+    // '1e999'") would otherwise escape to the caller and end the process.
+    std::string what = e.what();
+    if (auto bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
+    ErrorLocator locator;
+    (void)Json::sax_parse(text.begin(), text.end(), &locator);
+    return error(ErrorCode::kParseError,
+                 source + ":" + line_column(text, locator.byte == 0 ? 0 : locator.byte - 1) + ": " + what);
   }
   return Loader(source).load(root);
 }
 
 Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path) {
+  // An ifstream opens a directory and reads nothing, which would be reported
+  // as a syntax error at 1:1.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return error(ErrorCode::kIoError, path.string() + ": cannot open: is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) return error(ErrorCode::kIoError, path.string() + ": cannot open: " + std::strerror(errno));
   std::ostringstream buffer;
@@ -455,7 +492,10 @@ Status write_file_atomic(const std::filesystem::path& path, std::string_view con
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fchmod(fd, 0644) != 0) return fail("chmod failed");
+  // Keep the permissions of the file being replaced; a new file gets 0644.
+  struct stat existing;
+  const mode_t mode = ::stat(path.c_str(), &existing) == 0 ? (existing.st_mode & 07777) : 0644;
+  if (::fchmod(fd, mode) != 0) return fail("chmod failed");
   if (::fsync(fd) != 0) return fail("fsync failed");
   if (::close(fd) != 0) {
     int saved = errno;

@@ -1,5 +1,6 @@
 #include "rigel/scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "rigel/math/transform.h"
@@ -54,6 +55,12 @@ int Scene::depth(NodeId id) const {
   int d = 0;
   for (NodeId p = graph_.parent(id); p.is_valid(); p = graph_.parent(p)) ++d;
   return d;
+}
+
+double Scene::frame() const {
+  const double f = graph_.time() * graph_.fps();
+  const double whole = std::round(f);
+  return std::abs(f - whole) <= 1e-9 * std::max(1.0, std::abs(f)) ? whole : f;
 }
 
 Mat4 Scene::local_matrix(NodeId id) { return std::get<Mat4>(graph_.evaluate(id, xform::kMatrix)); }

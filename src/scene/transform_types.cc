@@ -71,12 +71,13 @@ std::vector<AttrSpec> transform_attrs() {
       channel("scalePivot", zero),
       channel("scalePivotTranslate", zero),
       input("offsetParentMatrix", kMatrixType, Mat4(Mat4::Identity()), 0, {"worldMatrix"}),
+      // Fed by the parent's worldMatrix; stored (when not identity) only on a
+      // root whose parentMatrix was set directly.
       input("parentMatrix", kMatrixType, Mat4(Mat4::Identity()), graph::kHidden, {"worldMatrix"}),
       input("visibility", {ValueType::kBool, false}, true, graph::kKeyable),
       output("matrix"),
       output("worldMatrix"),
   };
-  attrs[xform::kParentMatrix].flags &= ~graph::kStorable;  // the hierarchy restores it
   return attrs;
 }
 

@@ -64,6 +64,10 @@ Value array_element(const Value& array, AttrType type, std::size_t index);
 // must have the element type of `type`.
 void array_set_element(Value& array, AttrType type, std::size_t index, const Value& element);
 
+// True when `text` is well-formed UTF-8 (names, tags and strings must be:
+// files are JSON).
+bool is_valid_utf8(std::string_view text);
+
 // Short human-readable text of a value, for messages and `inspect`.
 std::string value_to_text(const Value& value);
 

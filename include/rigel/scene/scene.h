@@ -49,8 +49,10 @@ class Scene {
   // difference. Fails when the new parent's world matrix is singular.
   Status reparent(NodeId child, NodeId parent, bool keep_world);
 
-  // Frame-based time over the graph's seconds: frame = seconds * fps.
-  double frame() const { return graph_.time() * graph_.fps(); }
+  // Frame-based time over the graph's seconds: frame = seconds * fps,
+  // snapped to the nearest whole frame when within rounding error of it
+  // (31 / 120 * 120 is 31.000000000000004 in doubles).
+  double frame() const;
   void set_frame(double frame) { graph_.set_time(frame / graph_.fps()); }
 
  private:

@@ -1,0 +1,26 @@
+#include "rigel/ops/registry.h"
+
+#include <cassert>
+
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::ops {
+
+Status register_ops_types(graph::Registry& registry) {
+  (void)registry;
+  return Status::ok();
+}
+
+std::shared_ptr<const graph::Registry> default_registry() {
+  static const std::shared_ptr<const graph::Registry> registry = [] {
+    auto r = std::make_shared<graph::Registry>();
+    Status s = scene::register_scene_types(*r);
+    if (s) s = register_ops_types(*r);
+    assert(s.is_ok() && "the built-in node types must register");
+    (void)s;
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace rigel::ops

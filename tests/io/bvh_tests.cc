@@ -1,0 +1,174 @@
+// BVH parsing: the real CMU file, hand-written files with known answers, and
+// malformed files that must be refused with the line that is wrong.
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+
+#include "io_test_util.h"
+#include "rigel/io/bvh.h"
+#include "rigel/math/rotation.h"
+
+namespace rigel::io {
+namespace {
+
+using testing::source_dir;
+
+const char* kSmall = R"(HIERARCHY
+ROOT hips
+{
+  OFFSET 0 1 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT spine
+  {
+    OFFSET 0 0.5 0
+    CHANNELS 3 Xrotation Yrotation Zrotation
+    End Site
+    {
+      OFFSET 0 0.25 0
+    }
+  }
+}
+MOTION
+Frames: 2
+Frame Time: 0.04
+1 2 3 10 20 30 40 50 60
+4 5 6 11 21 31 41 51 61
+)";
+
+TEST(Bvh, parse__small_file_gives_joints_channels_and_motion) {
+  Result<BvhFile> r = parse_bvh(kSmall, "small.bvh");
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  const BvhFile& f = *r;
+  ASSERT_EQ(f.joints.size(), 3u) << "hips, spine and spine's end site";
+  EXPECT_EQ(f.joints[0].name, "hips") << "root name";
+  EXPECT_EQ(f.joints[0].parent, -1) << "the root has no parent";
+  EXPECT_EQ(f.joints[1].parent, 0) << "spine is under hips";
+  EXPECT_TRUE(f.joints[2].end_site) << "the End Site is kept as a joint";
+  EXPECT_EQ(f.joints[2].name, "spine_end") << "an End Site is named after its parent";
+  EXPECT_EQ(f.joints[1].offset, math::Vec3(0, 0.5, 0)) << "offsets are read as written";
+  EXPECT_EQ(f.channel_count, 9u) << "6 + 3 channels";
+  EXPECT_EQ(f.joints[1].first_channel, 6u) << "spine's channels follow the root's";
+  EXPECT_EQ(f.frame_count, 2u) << "two frames";
+  EXPECT_DOUBLE_EQ(f.frame_time, 0.04) << "Frame Time";
+  EXPECT_EQ(f.value(1, 8), 61.0) << "last value of the last row";
+  EXPECT_EQ(f.joints[2].line, 10u) << "joints remember their line";
+}
+
+TEST(Bvh, rotate_order__follows_the_channel_order) {
+  Result<BvhFile> r = parse_bvh(kSmall, "small.bvh");
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  // "Z X Y" is R = Rz * Rx * Ry: Y applies first -> yxz.
+  EXPECT_EQ(bvh_rotate_order(r->joints[0]), static_cast<int>(math::RotateOrder::kYXZ)) << "Z X Y listed -> yxz";
+  // "X Y Z" is R = Rx * Ry * Rz: Z applies first -> zyx.
+  EXPECT_EQ(bvh_rotate_order(r->joints[1]), static_cast<int>(math::RotateOrder::kZYX)) << "X Y Z listed -> zyx";
+  BvhJoint only_z;
+  only_z.channels = {BvhChannel::kZrotation};
+  EXPECT_EQ(bvh_rotate_order(only_z), static_cast<int>(math::RotateOrder::kZXY)) << "missing axes come after the present one";
+}
+
+TEST(Bvh, parse__cmu_file_with_mixed_rotation_orders) {
+  Result<BvhFile> r = load_bvh((source_dir() / "tests/data/bvh/cmu_131_01.bvh").string());
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  EXPECT_EQ(r->frame_count, 994u) << "the file says Frames: 994";
+  EXPECT_NEAR(r->frame_time, 1.0 / 120.0, 1e-6) << "120 fps";
+  EXPECT_EQ(r->motion.size(), std::size_t{994} * r->channel_count) << "every row is complete";
+  int xyz = 0, yxz = 0;
+  for (const BvhJoint& j : r->joints) {
+    if (j.end_site) continue;
+    int order = bvh_rotate_order(j);
+    xyz += order == static_cast<int>(math::RotateOrder::kXYZ);
+    yxz += order == static_cast<int>(math::RotateOrder::kYXZ);
+  }
+  EXPECT_GT(xyz, 0) << "some joints list Z Y X rotations";
+  EXPECT_GT(yxz, 0) << "and some list Z X Y: the file mixes orders";
+  EXPECT_EQ(r->joints[0].name, "Hips") << "the root";
+}
+
+struct Bad {
+  std::string text;
+  std::string where;  // expected "file:line"
+  std::string what;   // expected substring
+};
+
+TEST(Bvh, parse__malformed_files_name_the_line) {
+  const std::vector<Bad> cases = {
+      {"", "bad.bvh:1:", "expected 'HIERARCHY'"},
+      {"HIERARCHY\n", "bad.bvh:1:", "ROOT"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0\n}\n", "bad.bvh:5:", "expected a finite number for OFFSET"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\n", "bad.bvh:5:", "unknown channel 'Wrotation'"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Xrotation\n}\n", "bad.bvh:5:", "repeated"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 7 Xrotation\n}\n", "bad.bvh:5:", "count must be 0 to 6"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 nan 0\n}\nMOTION\nFrames: 0\nFrame Time: 1\n", "bad.bvh:4:", "finite number"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n", "bad.bvh:4:", "not closed"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n}\n}\nMOTION\n", "bad.bvh:6:", "unbalanced '}'"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n}\n", "bad.bvh:5:", "expected 'MOTION'"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n1\n",
+       "bad.bvh:10:", "expected 2 frames x 1 channels"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0\n1\n",
+       "bad.bvh:9:", "Frame Time must be positive"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\ninf\n",
+       "bad.bvh:10:", "finite number for motion value"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nEnd Site\n{\nOFFSET 0 0 0\nJOINT b\n{\nOFFSET 0 0 0\n}\n}\n}\nMOTION\n",
+       "bad.bvh:8:", "End Site cannot have children"},
+      {"HIERARCHY\nJOINT a\n", "bad.bvh:2:", "ROOT"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nROOT b\n", "bad.bvh:5:", "ROOT inside another joint"},
+      {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n}\nMOTION\nFrames: -1\n", "bad.bvh:7:", "whole number"},
+  };
+  for (const Bad& c : cases) {
+    Result<BvhFile> r = parse_bvh(c.text, "bad.bvh");
+    ASSERT_FALSE(r.is_ok()) << "should be refused:\n" << c.text;
+    const std::string& m = r.status().message();
+    EXPECT_NE(m.find(c.where), std::string::npos) << "message should name " << c.where << ": " << m;
+    EXPECT_NE(m.find(c.what), std::string::npos) << "message should say '" << c.what << "': " << m;
+  }
+}
+
+TEST(Bvh, parse__deep_nesting_is_refused_not_a_stack_overflow) {
+  std::string text = "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n";
+  for (int i = 0; i < 1200; ++i) text.append("JOINT j").append(std::to_string(i)).append("\n{\nOFFSET 0 0 0\n");
+  Result<BvhFile> r = parse_bvh(text, "deep.bvh");
+  ASSERT_FALSE(r.is_ok()) << "1,200 levels should be refused";
+  EXPECT_NE(r.status().message().find("nested deeper"), std::string::npos) << r.status().message();
+}
+
+TEST(Bvh, parse__truncations_and_random_mutations_never_crash) {
+  const std::string text = kSmall;
+  for (std::size_t n = 0; n < text.size(); ++n) {
+    Result<BvhFile> r = parse_bvh(text.substr(0, n), "cut.bvh");
+    if (!r.is_ok()) {
+      EXPECT_FALSE(r.status().message().empty()) << "a refusal says why (cut at " << n << ")";
+    }
+  }
+  std::mt19937 rng(131);
+  for (int i = 0; i < 3000; ++i) {
+    std::string m = text;
+    int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits && !m.empty(); ++e) {
+      std::size_t at = rng() % m.size();
+      switch (rng() % 4) {
+        case 0: m[at] = static_cast<char>(rng() % 256); break;
+        case 1: m.erase(at, 1 + rng() % 8); break;
+        case 2: m.insert(at, m.substr(rng() % m.size(), 1 + rng() % 16)); break;
+        default: m.insert(at, 1, (rng() % 2) ? '{' : '}'); break;
+      }
+    }
+    Result<BvhFile> r = parse_bvh(m, "fuzz.bvh");
+    if (r.is_ok()) {
+      EXPECT_EQ(r->motion.size(), std::size_t{r->frame_count} * r->channel_count) << "an accepted file is consistent";
+    } else {
+      EXPECT_FALSE(r.status().message().empty()) << "a refusal says why";
+    }
+  }
+}
+
+TEST(Bvh, load__missing_file_is_an_io_error) {
+  Result<BvhFile> r = load_bvh("/nonexistent/walk.bvh");
+  ASSERT_FALSE(r.is_ok()) << "no such file";
+  EXPECT_EQ(r.status().code(), ErrorCode::kIoError) << "reported as an i/o error";
+  EXPECT_NE(r.status().message().find("/nonexistent/walk.bvh"), std::string::npos) << "naming the path";
+}
+
+}  // namespace
+}  // namespace rigel::io
