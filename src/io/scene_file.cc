@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigel/ops/registry.h"
+
 namespace rigel::io {
 namespace {
 
@@ -235,10 +237,11 @@ Status check_keys(const Json& object, std::initializer_list<const char*> allowed
 
 class Loader {
  public:
-  explicit Loader(const std::string& source) : source_(source) {}
+  Loader(const std::string& source, std::shared_ptr<const graph::Registry> registry)
+      : source_(source), registry_(registry ? std::move(registry) : ops::default_registry()) {}
 
   Result<std::unique_ptr<scene::Scene>> load(const Json& root) {
-    auto scene = std::make_unique<scene::Scene>();
+    auto scene = std::make_unique<scene::Scene>(registry_);
     Graph& g = scene->graph();
     if (!root.is_object()) return fail("", "a scene file is a JSON object");
     if (Status s = check_keys(root, {"rigel", "version", "fps", "time", "nodes", "connections"}); !s) return fail("", s);
@@ -356,6 +359,7 @@ class Loader {
   }
 
   std::string source_;
+  std::shared_ptr<const graph::Registry> registry_;
 };
 
 // Accepts everything and remembers where a parse stopped. nlohmann reports
@@ -384,7 +388,8 @@ class ErrorLocator : public nlohmann::json_sax<Json> {
 
 }  // namespace
 
-Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source) {
+Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source,
+                                                  std::shared_ptr<const graph::Registry> registry) {
   Json root;
   try {
     root = Json::parse(text.begin(), text.end());
@@ -405,10 +410,11 @@ Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const s
     return error(ErrorCode::kParseError,
                  source + ":" + line_column(text, locator.byte == 0 ? 0 : locator.byte - 1) + ": " + what);
   }
-  return Loader(source).load(root);
+  return Loader(source, std::move(registry)).load(root);
 }
 
-Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path) {
+Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path,
+                                                 std::shared_ptr<const graph::Registry> registry) {
   // An ifstream opens a directory and reads nothing, which would be reported
   // as a syntax error at 1:1.
   std::error_code ec;
@@ -418,7 +424,7 @@ Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& pa
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) return error(ErrorCode::kIoError, path.string() + ": read failed");
-  return parse_scene(buffer.str(), path.string());
+  return parse_scene(buffer.str(), path.string(), std::move(registry));
 }
 
 std::string write_scene(scene::Scene& scene) {

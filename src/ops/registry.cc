@@ -2,12 +2,13 @@
 
 #include <cassert>
 
+#include "rigel/ops/anim/nodes.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::ops {
 
 Status register_ops_types(graph::Registry& registry) {
-  (void)registry;
+  if (Status s = anim::register_anim_types(registry); !s) return s;
   return Status::ok();
 }
 

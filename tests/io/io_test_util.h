@@ -161,7 +161,7 @@ inline ::testing::AssertionResult graphs_identical(Graph& a, Graph& b) {
     if (x.uuid() != y.uuid())
       return ::testing::AssertionFailure() << where << ": uuid " << x.uuid().str() << " vs " << y.uuid().str();
     if (x.name() != y.name()) return ::testing::AssertionFailure() << where << ": name vs '" << y.name() << "'";
-    if (&x.type() != &y.type())
+    if (x.type().name() != y.type().name() || x.type().attr_count() != y.type().attr_count())
       return ::testing::AssertionFailure() << where << ": type " << x.type().name() << " vs " << y.type().name();
     if (x.tags() != y.tags()) return ::testing::AssertionFailure() << where << ": tags differ";
     for (graph::AttrIndex k = 0; k < x.type().attr_count(); ++k) {

@@ -29,8 +29,12 @@ inline constexpr int kSceneFormatVersion = 1;
 // Parses a scene from text. `source` names it in error messages ("file.rigel").
 // Errors name the place: "file.rigel:12:5: ..." for syntax, and a path such
 // as "file.rigel: nodes[3] (hips).attrs.translate: ..." for content.
-Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source);
-Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path);
+// Node types come from `registry` (default: every type this build knows,
+// ops::default_registry()).
+Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source,
+                                                  std::shared_ptr<const graph::Registry> registry = nullptr);
+Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path,
+                                                 std::shared_ptr<const graph::Registry> registry = nullptr);
 
 // Serialises a scene (evaluates it first so that connected array elements
 // hold current values). Deterministic: the same scene gives the same text.

@@ -1,0 +1,81 @@
+#pragma once
+// Graph node types for animation: curves driven by time (animCurve), curves
+// driven by any attribute (drivenKey: Maya's set-driven keys, seed 004), and
+// glTF tracks (animCurveVec3, animCurveQuat). Each node stores its keys in
+// its own input attributes and calls the kernels of curve.h / track.h.
+//
+// No per-node cache. A node has nothing but attributes, and an unconnected
+// input carries no dirty flag, so a compute cannot tell whether the keys
+// changed since the last one; every compute therefore validates the key
+// arrays (O(keys), no allocation) and evaluates with a binary search over
+// the key times plus the (at most four) keys around the time
+// (evaluate_arrays). A hidden cursor attribute was considered and left out:
+// it would save only the O(log keys) search while the validation stays
+// O(keys). Playback of many channels at the kernel's speed goes through
+// SampleCurvesJob / SampleTracksJob on compiled curves instead.
+//
+// Bad key data never crashes a compute: the node writes 0 (zero / the
+// identity rotation for tracks) to `output` and the reason, naming the key
+// ("keys[3].time: 1 is before keys[2].time 2 ..."), to its hidden `error`
+// output, which is empty while the keys are valid.
+
+#include "rigel/base/status.h"
+#include "rigel/graph/node_type.h"
+
+namespace rigel::ops::anim {
+
+using graph::AttrIndex;
+
+inline constexpr const char* kAnimCurveType = "animCurve";
+inline constexpr const char* kDrivenKeyType = "drivenKey";
+inline constexpr const char* kAnimCurveVec3Type = "animCurveVec3";
+inline constexpr const char* kAnimCurveQuatType = "animCurveQuat";
+
+// animCurve (time-dependent: reads the graph's time, in seconds) and
+// drivenKey share these attributes, in this order. The arrays are
+// CurveArrays: keyTimes and keyValues one entry per key; the others empty
+// (defaults: auto tangents, slope 0, weight 1/3) or one entry per key.
+namespace curve_attr {
+enum : AttrIndex {
+  kKeyTimes = 0,    // double[]: seconds (animCurve) or input units (drivenKey), increasing
+  kKeyValues,       // double[]: the curve's unit (degrees for an angle channel)
+  kInTangentType,   // enum[]: fixed linear flat step stepNext spline clamped plateau auto
+  kOutTangentType,  // enum[]
+  kInSlope,         // double[]: fixed tangents' slopes, value units per time unit
+  kOutSlope,        // double[]
+  kInWeight,        // double[]: weighted curves' handle lengths, fraction of the span
+  kOutWeight,       // double[]
+  kWeighted,        // bool
+  kPreInfinity,     // enum: constant linear cycle cycleOffset oscillate
+  kPostInfinity,    // enum
+  kOutput,          // output double: the curve's value
+  kError,           // output string, hidden: why the keys are invalid, or empty
+  kCount
+};
+}  // namespace curve_attr
+
+namespace driven_key_attr {
+// drivenKey's driver: connect any double attribute (or set it).
+enum : AttrIndex { kInput = curve_attr::kCount, kCount };
+}  // namespace driven_key_attr
+
+// animCurveVec3 (translate/scale, double3) and animCurveQuat (rotation,
+// quaternion): TrackArrays, time-dependent.
+namespace track_attr {
+enum : AttrIndex {
+  kKeyTimes = 0,   // double[]: seconds, increasing
+  kKeyValues,      // double3[] or quat[]
+  kInTangents,     // double3[] or quat[]: cubic spline only (glTF a_k), else empty
+  kOutTangents,    // double3[] or quat[]: cubic spline only (glTF b_k), else empty
+  kInterpolation,  // enum: step linear cubicSpline (default linear)
+  kOutput,         // output double3 or quat
+  kError,          // output string, hidden
+  kCount
+};
+}  // namespace track_attr
+
+// Adds animCurve, drivenKey, animCurveVec3 and animCurveQuat to `registry`.
+// Fails if one of the names is taken.
+Status register_anim_types(graph::Registry& registry);
+
+}  // namespace rigel::ops::anim

@@ -1,0 +1,224 @@
+#include "rigel/ops/anim/nodes.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "anim_test_util.h"
+#include "rigel/graph/graph.h"
+#include "rigel/ops/anim/curve.h"
+#include "rigel/ops/anim/track.h"
+#include "rigel/scene/scene.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::ops::anim {
+namespace {
+
+using graph::Graph;
+using graph::NodeId;
+using graph::Plug;
+using graph::Value;
+using math::Mat4;
+using math::Quat;
+using math::Vec3;
+using testing::succeeded;
+
+constexpr double kTight = 1e-12;
+
+// Scene types plus the anim types (ops::default_registry() gains them when
+// the ops registry calls register_anim_types).
+std::shared_ptr<const graph::Registry> registry() {
+  static const std::shared_ptr<const graph::Registry> r = [] {
+    auto reg = std::make_shared<graph::Registry>();
+    EXPECT_TRUE(succeeded(scene::register_scene_types(*reg)));
+    EXPECT_TRUE(succeeded(register_anim_types(*reg)));
+    return reg;
+  }();
+  return r;
+}
+
+class AnimNodes : public ::testing::Test {
+ protected:
+  AnimNodes() : scene_(registry()) {}
+
+  NodeId create(const char* type, const char* name) {
+    Result<NodeId> id = scene_.create(type, name);
+    EXPECT_TRUE(succeeded(id.status()));
+    return id ? *id : NodeId{};
+  }
+  void set(NodeId node, graph::AttrIndex attr, Value value) {
+    ASSERT_TRUE(succeeded(graph().set_value(Plug{node, attr, -1}, std::move(value))));
+  }
+  void connect(NodeId src, graph::AttrIndex src_attr, NodeId dst, graph::AttrIndex dst_attr) {
+    ASSERT_TRUE(succeeded(graph().connect(Plug{src, src_attr, -1}, Plug{dst, dst_attr, -1})));
+  }
+  template <typename T>
+  T value(NodeId node, graph::AttrIndex attr) {
+    return std::get<T>(graph().evaluate(node, attr));
+  }
+  Graph& graph() { return scene_.graph(); }
+
+  scene::Scene scene_;
+};
+
+TEST_F(AnimNodes, register__declares_four_types_once) {
+  for (const char* name : {kAnimCurveType, kDrivenKeyType, kAnimCurveVec3Type, kAnimCurveQuatType}) {
+    const graph::NodeType* type = registry()->find(name);
+    ASSERT_NE(type, nullptr) << name;
+  }
+  EXPECT_TRUE(registry()->find(kAnimCurveType)->time_dependent()) << "animCurve reads the graph's time";
+  EXPECT_FALSE(registry()->find(kDrivenKeyType)->time_dependent()) << "a driven key depends on its input only";
+  EXPECT_EQ(registry()->find(kAnimCurveType)->attr_count(), curve_attr::kCount);
+  EXPECT_EQ(registry()->find(kDrivenKeyType)->attr_find("input"), driven_key_attr::kInput);
+  EXPECT_EQ(registry()->find(kAnimCurveQuatType)->attr_find("output"), track_attr::kOutput);
+  EXPECT_EQ(registry()->find(kAnimCurveType)->attr_find("postInfinity"), curve_attr::kPostInfinity);
+  graph::Registry again;
+  ASSERT_TRUE(succeeded(register_anim_types(again)));
+  EXPECT_FALSE(register_anim_types(again).is_ok()) << "registering the names twice should fail";
+}
+
+TEST_F(AnimNodes, anim_curve__drives_joint_channel_with_set_time) {
+  const NodeId curve = create(kAnimCurveType, "radius_curve");
+  const NodeId joint = create(scene::kJointType, "hip");
+  set(curve, curve_attr::kKeyTimes, std::vector<double>{0, 1});
+  set(curve, curve_attr::kKeyValues, std::vector<double>{1, 3});
+  set(curve, curve_attr::kInTangentType, std::vector<std::int64_t>{1, 1});   // linear
+  set(curve, curve_attr::kOutTangentType, std::vector<std::int64_t>{1, 1});
+  connect(curve, curve_attr::kOutput, joint, scene::joint_attr::kRadius);
+  graph().set_time(0.5);
+  EXPECT_DOUBLE_EQ(value<double>(joint, scene::joint_attr::kRadius), 2.0);
+  graph().set_time(0.25);
+  EXPECT_DOUBLE_EQ(value<double>(joint, scene::joint_attr::kRadius), 1.5) << "set_time dirties the curve";
+  graph().set_time(5.0);
+  EXPECT_DOUBLE_EQ(value<double>(joint, scene::joint_attr::kRadius), 3.0) << "constant post-infinity";
+  set(curve, curve_attr::kPostInfinity, std::int64_t{static_cast<int>(Infinity::kLinear)});
+  EXPECT_DOUBLE_EQ(value<double>(joint, scene::joint_attr::kRadius), 3.0)
+      << "linear infinity of a linear end key is level (Maya)";
+  EXPECT_TRUE(value<std::string>(curve, curve_attr::kError).empty()) << "valid keys report no error";
+}
+
+TEST_F(AnimNodes, anim_curve_vec3__drives_joint_translate_with_set_time) {
+  const NodeId track = create(kAnimCurveVec3Type, "hip_translate");
+  const NodeId joint = create(scene::kJointType, "hip");
+  set(track, track_attr::kKeyTimes, std::vector<double>{0, 2});
+  set(track, track_attr::kKeyValues, std::vector<Vec3>{Vec3(0, 1, 0), Vec3(4, 1, -2)});
+  connect(track, track_attr::kOutput, joint, scene::xform::kTranslate);
+  for (double t : {0.0, 0.5, 1.0, 2.0, 3.0}) {
+    graph().set_time(t);
+    const Mat4 world = scene_.world_matrix(joint);
+    const double s = std::min(t, 2.0) / 2.0;
+    EXPECT_NEAR((world.topRightCorner<3, 1>() - Vec3(4 * s, 1, -2 * s)).norm(), 0.0, kTight) << "t = " << t;
+  }
+}
+
+TEST_F(AnimNodes, anim_curve_quat__drives_joint_rotation_with_set_time) {
+  const NodeId track = create(kAnimCurveQuatType, "hip_rotate");
+  const NodeId joint = create(scene::kJointType, "hip");
+  const Quat q0 = Quat::Identity(), q1(Eigen::AngleAxisd(math::kPi / 2, Vec3::UnitZ()));
+  set(track, track_attr::kKeyTimes, std::vector<double>{0, 1});
+  set(track, track_attr::kKeyValues, std::vector<Quat>{q0, q1});
+  set(joint, scene::xform::kRotateMode, std::int64_t{1});  // quaternion
+  connect(track, track_attr::kOutput, joint, scene::xform::kRotateQuaternion);
+  graph().set_time(0.5);
+  const Mat4 world = scene_.world_matrix(joint);
+  const Eigen::Matrix3d expected = Eigen::AngleAxisd(math::kPi / 4, Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_NEAR((world.topLeftCorner<3, 3>() - expected).norm(), 0.0, 1e-12) << "slerp midpoint: 45 degrees about Z";
+}
+
+TEST_F(AnimNodes, driven_key__follows_its_input_attribute) {
+  const NodeId driver = create(scene::kJointType, "driver");
+  const NodeId driven = create(scene::kJointType, "driven");
+  const NodeId sdk = create(kDrivenKeyType, "sdk");
+  // Set-driven key: driver radius 0 -> 10 maps to driven radius 1 -> 2, linear.
+  set(sdk, curve_attr::kKeyTimes, std::vector<double>{0, 10});
+  set(sdk, curve_attr::kKeyValues, std::vector<double>{1, 2});
+  set(sdk, curve_attr::kInTangentType, std::vector<std::int64_t>{1, 1});
+  set(sdk, curve_attr::kOutTangentType, std::vector<std::int64_t>{1, 1});
+  connect(driver, scene::joint_attr::kRadius, sdk, driven_key_attr::kInput);
+  connect(sdk, curve_attr::kOutput, driven, scene::joint_attr::kRadius);
+  for (double x : {0.0, 2.5, 5.0, 10.0, 20.0}) {
+    set(driver, scene::joint_attr::kRadius, x);
+    EXPECT_DOUBLE_EQ(value<double>(driven, scene::joint_attr::kRadius), 1.0 + std::min(x, 10.0) / 10.0) << "input " << x;
+  }
+  graph().set_time(3.0);
+  set(driver, scene::joint_attr::kRadius, 5.0);
+  EXPECT_DOUBLE_EQ(value<double>(driven, scene::joint_attr::kRadius), 1.5) << "time plays no part in a driven key";
+}
+
+TEST_F(AnimNodes, anim_curve__equals_compiled_curve) {
+  testing::Random random(17);
+  const std::vector<Key> keys = random.keys(12);
+  const CurveSettings settings{.weighted = true, .pre_infinity = Infinity::kOscillate, .post_infinity = Infinity::kCycleOffset};
+  Result<AnimCurve> compiled = AnimCurve::build(keys, settings);
+  ASSERT_TRUE(succeeded(compiled.status()));
+  const NodeId curve = create(kAnimCurveType, "curve");
+  std::vector<double> times, values, in_slopes, out_slopes, in_weights, out_weights;
+  std::vector<std::int64_t> in_types, out_types;
+  for (const Key& k : keys) {
+    times.push_back(k.time);
+    values.push_back(k.value);
+    in_types.push_back(static_cast<std::int64_t>(k.in_type));
+    out_types.push_back(static_cast<std::int64_t>(k.out_type));
+    in_slopes.push_back(k.in_slope);
+    out_slopes.push_back(k.out_slope);
+    in_weights.push_back(k.in_weight);
+    out_weights.push_back(k.out_weight);
+  }
+  set(curve, curve_attr::kKeyTimes, times);
+  set(curve, curve_attr::kKeyValues, values);
+  set(curve, curve_attr::kInTangentType, in_types);
+  set(curve, curve_attr::kOutTangentType, out_types);
+  set(curve, curve_attr::kInSlope, in_slopes);
+  set(curve, curve_attr::kOutSlope, out_slopes);
+  set(curve, curve_attr::kInWeight, in_weights);
+  set(curve, curve_attr::kOutWeight, out_weights);
+  set(curve, curve_attr::kWeighted, true);
+  set(curve, curve_attr::kPreInfinity, std::int64_t{static_cast<int>(settings.pre_infinity)});
+  set(curve, curve_attr::kPostInfinity, std::int64_t{static_cast<int>(settings.post_infinity)});
+  for (int frame = -48; frame < 400; frame += 7) {
+    graph().set_time(frame / 24.0);
+    EXPECT_EQ(value<double>(curve, curve_attr::kOutput), compiled->evaluate(frame / 24.0)) << "frame " << frame;
+  }
+}
+
+TEST_F(AnimNodes, anim_curve__bad_keys_give_zero_and_an_error_naming_the_key) {
+  const NodeId curve = create(kAnimCurveType, "curve");
+  set(curve, curve_attr::kKeyTimes, std::vector<double>{0, 2, 1});
+  set(curve, curve_attr::kKeyValues, std::vector<double>{5, 5, 5});
+  graph().set_time(0.5);
+  EXPECT_EQ(value<double>(curve, curve_attr::kOutput), 0.0) << "invalid keys evaluate to 0, never crash";
+  EXPECT_NE(value<std::string>(curve, curve_attr::kError).find("keys[2].time: 1 is before keys[1].time 2"), std::string::npos)
+      << value<std::string>(curve, curve_attr::kError);
+  set(curve, curve_attr::kKeyTimes, std::vector<double>{0, 1, 2});
+  EXPECT_EQ(value<double>(curve, curve_attr::kOutput), 5.0);
+  EXPECT_TRUE(value<std::string>(curve, curve_attr::kError).empty()) << "fixing the keys clears the error";
+  set(curve, curve_attr::kKeyValues, std::vector<double>{5, 5});
+  EXPECT_EQ(value<double>(curve, curve_attr::kOutput), 0.0);
+  EXPECT_NE(value<std::string>(curve, curve_attr::kError).find("keyValues has 2 entries but keyTimes has 3"), std::string::npos);
+}
+
+TEST_F(AnimNodes, anim_curve_quat__bad_keys_give_identity_and_an_error) {
+  const NodeId track = create(kAnimCurveQuatType, "rot");
+  set(track, track_attr::kKeyTimes, std::vector<double>{0, 1});
+  set(track, track_attr::kKeyValues, std::vector<Quat>{Quat::Identity(), Quat(0, 0, 0, 0)});
+  EXPECT_TRUE(value<Quat>(track, track_attr::kOutput).coeffs() == Quat::Identity().coeffs());
+  EXPECT_NE(value<std::string>(track, track_attr::kError).find("keyValues[1]"), std::string::npos);
+  set(track, track_attr::kInterpolation, std::int64_t{static_cast<int>(Interpolation::kCubicSpline)});
+  set(track, track_attr::kKeyValues, std::vector<Quat>{Quat::Identity(), Quat::Identity()});
+  EXPECT_NE(value<std::string>(track, track_attr::kError).find("inTangents has 0 entries"), std::string::npos)
+      << "cubic tracks need tangents";
+}
+
+TEST_F(AnimNodes, anim_curve__empty_curve_outputs_zero) {
+  const NodeId curve = create(kAnimCurveType, "curve");
+  graph().set_time(1.0);
+  EXPECT_EQ(value<double>(curve, curve_attr::kOutput), 0.0);
+  EXPECT_TRUE(value<std::string>(curve, curve_attr::kError).empty()) << "no keys is valid";
+  const NodeId track = create(kAnimCurveVec3Type, "track");
+  EXPECT_TRUE(value<Vec3>(track, track_attr::kOutput) == Vec3::Zero());
+}
+
+}  // namespace
+}  // namespace rigel::ops::anim
