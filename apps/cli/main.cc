@@ -1,7 +1,9 @@
 // The rigel command line: a thin driver over the library (STYLE.md §8).
 // Exit status: 0 success, 1 invalid input, 2 usage error (DESIGN.md).
 
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -9,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "rigel/io/bvh_import.h"
 #include "rigel/io/report.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/transform.h"
@@ -116,6 +119,39 @@ int run_eval(const EvalArgs& args) {
   return 0;
 }
 
+// ---- import ------------------------------------------------------------------
+
+struct ImportArgs {
+  std::string input;
+  std::string output;
+  double scale = 1.0;
+  bool skip_end_sites = false;
+};
+
+int run_import(const ImportArgs& args) {
+  std::string ext = std::filesystem::path(args.input).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".bvh") {
+    std::cerr << "rigel: " << args.input << ": unsupported file type '" << ext << "' (this build imports .bvh)\n";
+    return kExitInvalidInput;
+  }
+  if (!(args.scale > 0.0) || !std::isfinite(args.scale)) {
+    std::cerr << "rigel: --scale must be a positive number\n";
+    return kExitUsage;
+  }
+  auto file = rigel::io::load_bvh(args.input);
+  if (!file) return fail(file.status());
+  rigel::io::BvhImportOptions options;
+  options.scale = args.scale;
+  options.skip_end_sites = args.skip_end_sites;
+  auto scene = rigel::io::import_bvh(*file, options);
+  if (!scene) return fail(scene.status());
+  if (Status s = rigel::io::save_scene(**scene, args.output); !s) return fail(s);
+  std::cerr << "rigel: imported " << file->joints.size() << " joints, " << file->frame_count << " frames at "
+            << (*scene)->graph().fps() << " fps into " << args.output << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -137,6 +173,13 @@ int main(int argc, char** argv) {
   eval_cmd->add_flag("--json", eval.json,
                      "Print {\"frame\", \"time\", \"nodes\": {NAME: {\"t\", \"q\", \"s\"}}} (world space)");
 
+  ImportArgs import;
+  CLI::App* import_cmd = app.add_subcommand("import", "Import a character or motion (.bvh) into a scene file");
+  import_cmd->add_option("CHARACTER", import.input, "File to import (.bvh)")->required();
+  import_cmd->add_option("-o,--output", import.output, "Scene file to write (.rigel)")->required();
+  import_cmd->add_option("--scale", import.scale, "Multiply lengths by this (e.g. 0.0254: inches to metres); default 1, units kept");
+  import_cmd->add_flag("--skip-end-sites", import.skip_end_sites, "Do not create joints for BVH End Sites");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -146,6 +189,7 @@ int main(int argc, char** argv) {
   try {
     if (*inspect_cmd) return run_inspect(inspect);
     if (*eval_cmd) return run_eval(eval);
+    if (*import_cmd) return run_import(import);
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something
     // does, report it as an error instead of crashing.

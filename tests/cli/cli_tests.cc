@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -313,6 +315,52 @@ TEST(CliInvalidInput, empty_file__exits_1_naming_line_one) {
   EXPECT_EQ(r.exit_code, 1) << "an empty file is invalid input: " << r;
   EXPECT_TRUE(contains(r.err, path.string() + ":1:1:")) << "stderr names line 1: " << r;
   EXPECT_TRUE(r.out.empty()) << "nothing on stdout: " << r;
+}
+
+TEST(CliImport, import_bvh__writes_a_scene_that_evaluates_the_motion) {
+  TempDir dir;
+  const std::string out = (dir.path() / "walk.rigel").string();
+  const std::string bvh = (source_dir() / "tests/data/bvh/cmu_131_01.bvh").string();
+  const CliRun imported = rigel({"import", bvh, "-o", out});
+  ASSERT_TRUE(imported.exited && imported.exit_code == 0) << "import should succeed: " << imported;
+  EXPECT_TRUE(contains(imported.err, "994 frames at 120 fps")) << "import reports what it read: " << imported;
+  const CliRun first = rigel({"eval", out, "--frame", "0", "--json"});
+  const CliRun later = rigel({"eval", out, "--frame", "300", "--json"});
+  ASSERT_TRUE(first.exited && first.exit_code == 0 && later.exited && later.exit_code == 0) << first << later;
+  const Json a = Json::parse(first.out), b = Json::parse(later.out);
+  EXPECT_EQ(b["time"], 2.5) << "frame 300 at 120 fps";
+  EXPECT_NE(a["nodes"]["LeftKnee"]["t"], b["nodes"]["LeftKnee"]["t"]) << "the motion moves the knee between frames";
+  // The bundled example was made from the same file at frame 300 by a
+  // separate script (examples/make_cmu_skeleton.py): they must agree.
+  const CliRun bundled = rigel({"eval", example(), "--json"});
+  ASSERT_TRUE(bundled.exited && bundled.exit_code == 0) << bundled;
+  const Json e = Json::parse(bundled.out);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(b["nodes"]["LeftKnee"]["t"][k].get<double>(), e["nodes"]["LeftKnee"]["t"][k].get<double>(), 1e-9)
+        << "rigel import and the example generator agree on the knee at frame 300";
+  }
+}
+
+TEST(CliImport, import__bad_input_and_usage) {
+  TempDir dir;
+  const std::string out = (dir.path() / "x.rigel").string();
+  const CliRun missing_output = rigel({"import", (source_dir() / "tests/data/bvh/cmu_131_01.bvh").string()});
+  EXPECT_TRUE(missing_output.exited && missing_output.exit_code == 2) << "-o is required: " << missing_output;
+  const CliRun unsupported = rigel({"import", example(), "-o", out});
+  EXPECT_TRUE(unsupported.exited && unsupported.exit_code == 1) << "a .rigel is not importable: " << unsupported;
+  EXPECT_TRUE(contains(unsupported.err, "unsupported file type")) << unsupported;
+  const std::string bad = (dir.path() / "bad.bvh").string();
+  {
+    std::ofstream f(bad);
+    f << "HIERARCHY\nROOT a\n{\nOFFSET 0 0\n}\n";
+  }
+  const CliRun malformed = rigel({"import", bad, "-o", out});
+  EXPECT_TRUE(malformed.exited && malformed.exit_code == 1) << "a malformed BVH is invalid input: " << malformed;
+  EXPECT_TRUE(contains(malformed.err, "bad.bvh:5:")) << "the message names the line: " << malformed;
+  EXPECT_TRUE(malformed.out.empty()) << "nothing on stdout";
+  EXPECT_FALSE(std::filesystem::exists(out)) << "no scene is written when the import fails";
+  const CliRun bad_scale = rigel({"import", (source_dir() / "tests/data/bvh/cmu_131_01.bvh").string(), "-o", out, "--scale", "-1"});
+  EXPECT_TRUE(bad_scale.exited && bad_scale.exit_code == 2) << "a negative scale is a usage error: " << bad_scale;
 }
 
 }  // namespace

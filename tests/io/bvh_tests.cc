@@ -3,11 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <string>
 
 #include "io_test_util.h"
 #include "rigel/io/bvh.h"
+#include "rigel/io/bvh_import.h"
 #include "rigel/math/rotation.h"
 
 namespace rigel::io {
@@ -168,6 +170,77 @@ TEST(Bvh, load__missing_file_is_an_io_error) {
   ASSERT_FALSE(r.is_ok()) << "no such file";
   EXPECT_EQ(r.status().code(), ErrorCode::kIoError) << "reported as an i/o error";
   EXPECT_NE(r.status().message().find("/nonexistent/walk.bvh"), std::string::npos) << "naming the path";
+}
+
+// Forward kinematics written straight from the BVH convention, without
+// rigel's transform code: each joint's local matrix is T(offset + position
+// channels) times the rotation channels multiplied in file order.
+std::vector<math::Mat4> naive_bvh_world(const BvhFile& f, std::uint32_t frame) {
+  std::vector<math::Mat4> world(f.joints.size());
+  for (std::size_t j = 0; j < f.joints.size(); ++j) {
+    const BvhJoint& joint = f.joints[j];
+    math::Mat4 local = math::Mat4::Identity();
+    math::Vec3 t = joint.offset;
+    math::Mat3 r = math::Mat3::Identity();
+    for (std::size_t k = 0; k < joint.channels.size(); ++k) {
+      const double v = f.value(frame, joint.first_channel + static_cast<std::uint32_t>(k));
+      const int axis = static_cast<int>(joint.channels[k]) % 3;
+      if (joint.channels[k] <= BvhChannel::kZposition) {
+        t[axis] += v;
+      } else {
+        const double a = v * math::kPi / 180.0, c = std::cos(a), s = std::sin(a);
+        math::Mat3 m = math::Mat3::Identity();
+        const int p = (axis + 1) % 3, q = (axis + 2) % 3;
+        m(p, p) = c;
+        m(p, q) = -s;
+        m(q, p) = s;
+        m(q, q) = c;
+        r = r * m;
+      }
+    }
+    local.topLeftCorner<3, 3>() = r;
+    local.topRightCorner<3, 1>() = t;
+    world[j] = joint.parent < 0 ? local : world[static_cast<std::size_t>(joint.parent)] * local;
+  }
+  return world;
+}
+
+TEST(BvhImport, cmu_walk__world_positions_match_naive_forward_kinematics) {
+  Result<BvhFile> f = load_bvh((source_dir() / "tests/data/bvh/cmu_131_01.bvh").string());
+  ASSERT_TRUE(f.is_ok()) << f.status().message();
+  Result<std::unique_ptr<scene::Scene>> imported = import_bvh(*f);
+  ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+  scene::Scene& s = **imported;
+  EXPECT_EQ(s.graph().fps(), 120.0) << "Frame Time 0.0083333 snaps to 120 fps";
+  for (std::uint32_t frame : {0u, 1u, 300u, 611u, 993u}) {
+    s.set_frame(frame);
+    const std::vector<math::Mat4> expected = naive_bvh_world(*f, frame);
+    for (std::size_t j = 0; j < f->joints.size(); ++j) {
+      graph::NodeId id = s.graph().find(f->joints[j].name);
+      ASSERT_TRUE(id.is_valid()) << "joint " << f->joints[j].name << " exists";
+      const math::Mat4 world = s.world_matrix(id);
+      EXPECT_TRUE(world.isApprox(expected[j], 1e-9) || (world - expected[j]).cwiseAbs().maxCoeff() < 1e-9)
+          << f->joints[j].name << " at frame " << frame << "\nrigel:\n" << world << "\nnaive:\n" << expected[j];
+    }
+  }
+}
+
+TEST(BvhImport, scale_and_end_sites_options) {
+  Result<BvhFile> f = parse_bvh(kSmall, "small.bvh");
+  ASSERT_TRUE(f.is_ok()) << f.status().message();
+  BvhImportOptions options;
+  options.scale = 0.5;
+  options.skip_end_sites = true;
+  Result<std::unique_ptr<scene::Scene>> imported = import_bvh(*f, options);
+  ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+  scene::Scene& s = **imported;
+  EXPECT_FALSE(s.graph().find("spine_end").is_valid()) << "End Sites skipped on request";
+  EXPECT_EQ(s.graph().fps(), 25.0) << "Frame Time 0.04 is 25 fps";
+  s.set_frame(1);
+  const math::Mat4 hips = s.world_matrix(s.graph().find("hips"));
+  EXPECT_NEAR(hips(1, 3), 0.5 * (1.0 + 5.0), 1e-12) << "offset plus position channel, both scaled";
+  options.scale = 0.0;
+  EXPECT_FALSE(import_bvh(*f, options).is_ok()) << "a zero scale is refused";
 }
 
 }  // namespace
