@@ -18,6 +18,23 @@ constexpr std::int32_t kMaxElement = 1 << 20;
 constexpr std::size_t kParallelMinLevel = 64;
 constexpr std::size_t kParallelGrain = 32;
 
+// Two plugs of one attribute that share data: whole vs element or
+// component, or the same element/component.
+bool overlaps(const Plug& a, const Plug& b) {
+  return a.node == b.node && a.attr == b.attr && (a.element < 0 || b.element < 0 || a.element == b.element) &&
+         (a.component < 0 || b.component < 0 || a.component == b.component);
+}
+
+// Writes `part` into the attribute value `whole` at the plug's element or
+// component (or replaces it for a whole plug).
+void write_part(Value& whole, AttrType type, const Plug& plug, const Value& part) {
+  if (plug.component >= 0) std::get<Vec3>(whole)[plug.component] = std::get<double>(part);
+  else if (plug.element >= 0) array_set_element(whole, type, static_cast<std::size_t>(plug.element), part);
+  else whole = part;
+}
+
+constexpr char kComponentSuffix[] = {'X', 'Y', 'Z'};
+
 bool types_compatible(AttrType a, AttrType b) {
   auto norm = [](AttrType t) {
     if (t.value == ValueType::kEnum) t.value = ValueType::kInt;
@@ -34,6 +51,7 @@ struct PlugRef {
   Uuid node;
   AttrIndex attr = kNoAttr;
   std::int32_t element = -1;
+  std::int8_t component = -1;
 };
 
 struct NodeSnapshot {
@@ -255,14 +273,28 @@ Result<Plug> Graph::plug_find(NodeId id, std::string_view attr_name, std::int32_
   const Node* n = node(id);
   if (!n) return error(ErrorCode::kNotFound, "no such node (stale handle)");
   AttrIndex attr = n->type_->attr_find(attr_name);
+  std::int8_t component = -1;
+  if (attr == kNoAttr && attr_name.size() > 1) {
+    // "translateX": a component of a scalar double3 attribute.
+    for (std::int8_t k = 0; k < 3; ++k) {
+      if (attr_name.back() != kComponentSuffix[k]) continue;
+      AttrIndex base = n->type_->attr_find(attr_name.substr(0, attr_name.size() - 1));
+      if (base != kNoAttr && n->type_->attr(base).type == AttrType{ValueType::kDouble3, false}) {
+        attr = base;
+        component = k;
+      }
+    }
+  }
   if (attr == kNoAttr)
     return error(ErrorCode::kNotFound, "node '" + n->name_ + "' (" + n->type_->name() + ") has no attribute '" + std::string(attr_name) + "'");
   const AttrSpec& spec = n->type_->attr(attr);
+  if (component >= 0 && element >= 0)
+    return error(ErrorCode::kInvalidArgument, n->name_ + "." + std::string(attr_name) + " is not an array and takes no [index]");
   if (element >= 0 && !spec.type.array)
     return error(ErrorCode::kInvalidArgument, n->name_ + "." + spec.name + " is not an array and takes no [index]");
   if (element >= kMaxElement)
     return error(ErrorCode::kInvalidArgument, n->name_ + "." + spec.name + "[" + std::to_string(element) + "]: index too large");
-  return Plug{id, attr, element};
+  return Plug{id, attr, element, component};
 }
 
 Result<Plug> Graph::plug_find(std::string_view path) const {
@@ -290,6 +322,7 @@ std::string Graph::plug_name(const Plug& plug) const {
   const Node* n = node(plug.node);
   if (!n) return "<deleted>";
   std::string name = n->name_ + "." + (plug.attr < n->type_->attr_count() ? n->type_->attr(plug.attr).name : "?");
+  if (plug.component >= 0 && plug.component < 3) name += kComponentSuffix[plug.component];
   if (plug.element >= 0) name += "[" + std::to_string(plug.element) + "]";
   return name;
 }
@@ -297,11 +330,13 @@ std::string Graph::plug_name(const Plug& plug) const {
 AttrType Graph::plug_type(const Plug& plug) const {
   AttrType type = node(plug.node)->type_->attr(plug.attr).type;
   if (plug.element >= 0) type.array = false;
+  if (plug.component >= 0) type = AttrType{ValueType::kDouble, false};
   return type;
 }
 
 Value Graph::plug_value(const Plug& plug) const {
   const Node& n = *node(plug.node);
+  if (plug.component >= 0) return std::get<Vec3>(n.values_[plug.attr])[plug.component];
   if (plug.element < 0) return n.values_[plug.attr];
   return array_element(n.values_[plug.attr], n.type_->attr(plug.attr).type, static_cast<std::size_t>(plug.element));
 }
@@ -317,8 +352,10 @@ Status Graph::set_value(const Plug& plug, Value value) {
   if (!(spec.flags & kInput)) return error(ErrorCode::kInvalidArgument, where() + " is an output; it cannot be set");
   if (plug.element >= 0 && !spec.type.array) return error(ErrorCode::kInvalidArgument, where() + ": not an array");
   if (plug.element >= kMaxElement) return error(ErrorCode::kInvalidArgument, where() + ": index too large");
+  if (plug.component >= 3 || (plug.component >= 0 && spec.type != AttrType{ValueType::kDouble3, false}))
+    return error(ErrorCode::kInvalidArgument, where() + ": components exist only on double3 attributes");
   for (const Connection& c : n->inputs_) {
-    if (c.dst.attr == plug.attr && (plug.element < 0 || c.dst.element < 0 || c.dst.element == plug.element))
+    if (overlaps(c.dst, plug))
       return error(ErrorCode::kInvalidArgument, where() + " is connected from " + plug_name(c.src) + "; disconnect it first");
   }
   AttrType type = plug_type(plug);
@@ -340,9 +377,9 @@ Status Graph::set_value(const Plug& plug, Value value) {
     if (!ok) return error(ErrorCode::kInvalidArgument, where() + ": enum value out of range");
   }
   Value whole;
-  if (plug.element >= 0) {
+  if (plug.element >= 0 || plug.component >= 0) {
     whole = n->values_[plug.attr];
-    array_set_element(whole, spec.type, static_cast<std::size_t>(plug.element), value);
+    write_part(whole, spec.type, plug, value);
   } else {
     whole = std::move(value);
   }
@@ -366,6 +403,8 @@ Result<Value> Graph::evaluate(const Plug& plug) {
   if (plug.attr >= n->type_->attr_count()) return error(ErrorCode::kNotFound, "evaluate: no such attribute on '" + n->name_ + "'");
   if (plug.element >= 0 && !n->type_->attr(plug.attr).type.array)
     return error(ErrorCode::kInvalidArgument, plug_name(plug) + ": not an array");
+  if (plug.component >= 3 || (plug.component >= 0 && n->type_->attr(plug.attr).type != AttrType{ValueType::kDouble3, false}))
+    return error(ErrorCode::kInvalidArgument, plug_name(plug) + ": components exist only on double3 attributes");
   evaluate(plug.node, plug.attr);
   return plug_value(plug);
 }
@@ -416,14 +455,10 @@ void Graph::update_node(Node& n) {
     if (!n.dirty_[c.dst.attr]) continue;
     const Node& src = *slots_[c.src.node.index];
     Value& dst = n.values_[c.dst.attr];
-    if (c.dst.element < 0 && c.src.element < 0) {
+    if (c.dst.element < 0 && c.src.element < 0 && c.dst.component < 0 && c.src.component < 0) {
       dst = src.values_[c.src.attr];
     } else {
-      Value v = c.src.element < 0 ? src.values_[c.src.attr]
-                                   : array_element(src.values_[c.src.attr], src.type_->attr(c.src.attr).type,
-                                                   static_cast<std::size_t>(c.src.element));
-      if (c.dst.element < 0) dst = std::move(v);
-      else array_set_element(dst, n.type_->attr(c.dst.attr).type, static_cast<std::size_t>(c.dst.element), v);
+      write_part(dst, n.type_->attr(c.dst.attr).type, c.dst, plug_value(c.src));
     }
   }
   for (const Connection& c : n.inputs_) {
@@ -600,6 +635,8 @@ Status Graph::check_connection(const Plug& src, const Plug& dst) const {
     if (p->element >= 0 && !n->type_->attr(p->attr).type.array)
       return error(ErrorCode::kInvalidArgument, plug_name(*p) + ": not an array");
     if (p->element >= kMaxElement) return error(ErrorCode::kInvalidArgument, plug_name(*p) + ": index too large");
+    if (p->component >= 3 || (p->component >= 0 && (p->element >= 0 || n->type_->attr(p->attr).type != AttrType{ValueType::kDouble3, false})))
+      return error(ErrorCode::kInvalidArgument, plug_name(*p) + ": components exist only on double3 attributes");
   }
   const std::string what = "cannot connect " + plug_name(src) + " -> " + plug_name(dst);
   if (!(d->type_->attr(dst.attr).flags & kInput))
@@ -608,7 +645,7 @@ Status Graph::check_connection(const Plug& src, const Plug& dst) const {
   if (!types_compatible(st, dt))
     return error(ErrorCode::kInvalidArgument, what + ": types differ (" + type_name(st) + " -> " + type_name(dt) + ")");
   for (const Connection& c : d->inputs_) {
-    if (c.dst.attr == dst.attr && (dst.element < 0 || c.dst.element < 0 || c.dst.element == dst.element))
+    if (overlaps(c.dst, dst))
       return error(ErrorCode::kAlreadyExists, what + ": " + plug_name(c.dst) + " is already connected from " + plug_name(c.src));
   }
   // Cycle: is the source node downstream of the destination node?
@@ -649,8 +686,8 @@ Status Graph::connect(const Plug& src, const Plug& dst) {
   if (Status s = check_connection(src, dst); !s) return s;
   Edit edit;
   edit.kind = Edit::Kind::kConnect;
-  edit.src = PlugRef{node(src.node)->uuid_, src.attr, src.element};
-  edit.dst = PlugRef{node(dst.node)->uuid_, dst.attr, dst.element};
+  edit.src = PlugRef{node(src.node)->uuid_, src.attr, src.element, src.component};
+  edit.dst = PlugRef{node(dst.node)->uuid_, dst.attr, dst.element, dst.component};
   edit.before = node(dst.node)->values_[dst.attr];
   if (Status s = connect_impl(src, dst); !s) return s;
   record(std::move(edit));
@@ -684,8 +721,8 @@ Status Graph::disconnect(const Plug& src, const Plug& dst) {
   evaluate(dst.node, dst.attr);
   Edit edit;
   edit.kind = Edit::Kind::kDisconnect;
-  edit.src = PlugRef{node(src.node)->uuid_, src.attr, src.element};
-  edit.dst = PlugRef{d->uuid_, dst.attr, dst.element};
+  edit.src = PlugRef{node(src.node)->uuid_, src.attr, src.element, src.component};
+  edit.dst = PlugRef{d->uuid_, dst.attr, dst.element, dst.component};
   disconnect_impl(src, dst);
   edit.after = node(dst.node)->values_[dst.attr];
   record(std::move(edit));
@@ -725,7 +762,7 @@ std::vector<Connection> Graph::connections() const {
     if (slot) all.insert(all.end(), slot->inputs_.begin(), slot->inputs_.end());
   }
   auto key = [&](const Connection& c) {
-    return std::make_tuple(node(c.dst.node)->order_, c.dst.attr, c.dst.element);
+    return std::make_tuple(node(c.dst.node)->order_, c.dst.attr, c.dst.element, c.dst.component);
   };
   std::sort(all.begin(), all.end(), [&](const Connection& a, const Connection& b) { return key(a) < key(b); });
   return all;
@@ -878,7 +915,7 @@ void Graph::record(Edit edit) {
 
 void Graph::apply(const Edit& e, bool forward) {
   auto id_of = [&](const Uuid& u) { return find(u); };
-  auto plug_of = [&](const PlugRef& r) { return Plug{id_of(r.node), r.attr, r.element}; };
+  auto plug_of = [&](const PlugRef& r) { return Plug{id_of(r.node), r.attr, r.element, r.component}; };
   auto restore = [&](const NodeSnapshot& s) {
     Result<NodeId> id = create_node_impl(*s.type, s.name, s.uuid, s.order);
     assert(id.is_ok());

@@ -120,7 +120,8 @@ void emit(const Json& j, int indent, std::string& out) {
 bool is_hierarchy(const Graph& g, const graph::Connection& c) {
   const graph::NodeType& s = g.node(c.src.node)->type();
   const graph::NodeType& d = g.node(c.dst.node)->type();
-  return c.src.element < 0 && c.dst.element < 0 && c.src.attr == s.world_output() && c.dst.attr == d.parent_input();
+  return c.src.element < 0 && c.dst.element < 0 && c.src.component < 0 && c.dst.component < 0 &&
+         c.src.attr == s.world_output() && c.dst.attr == d.parent_input();
 }
 
 // ---- decoding --------------------------------------------------------------

@@ -30,11 +30,14 @@ struct NodeId {
   friend bool operator==(const NodeId&, const NodeId&) = default;
 };
 
-// node.attr or node.attr[element].
+// node.attr, node.attr[element], or one component of a double3 attribute
+// (node.translateX: Maya's child attributes, so a scalar curve or driven key
+// can feed one channel).
 struct Plug {
   NodeId node;
   AttrIndex attr = kNoAttr;
-  std::int32_t element = -1;  // -1: the whole attribute
+  std::int32_t element = -1;   // -1: the whole attribute
+  std::int8_t component = -1;  // -1: all; 0, 1, 2: x, y, z of a scalar double3
   friend bool operator==(const Plug&, const Plug&) = default;
 };
 
@@ -148,11 +151,13 @@ class Graph {
   static bool is_valid_name(std::string_view name);
 
   // ---- plugs ---------------------------------------------------------------
-  // Parses "node.attr" or "node.attr[3]" (node names may contain dots).
+  // Parses "node.attr", "node.attr[3]" or "node.attrX" (a component of a
+  // double3 attribute, X/Y/Z appended to its name). Node names may contain dots.
   Result<Plug> plug_find(std::string_view path) const;
   Result<Plug> plug_find(NodeId node, std::string_view attr, std::int32_t element = -1) const;
   std::string plug_name(const Plug& plug) const;
-  // The declared type of what flows through the plug (an element is scalar).
+  // The declared type of what flows through the plug (an element is scalar,
+  // a component is a double).
   AttrType plug_type(const Plug& plug) const;
 
   // ---- values --------------------------------------------------------------
