@@ -15,6 +15,7 @@
 #include "rigel/io/report.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/transform.h"
+#include "rigel/ops/anim/clips.h"
 
 namespace {
 
@@ -85,6 +86,7 @@ struct EvalArgs {
   std::string scene;
   std::optional<double> frame;
   std::optional<double> time;
+  std::optional<std::string> clip;
   bool json = false;
 };
 
@@ -100,13 +102,31 @@ int run_eval(const EvalArgs& args) {
   rigel::scene::Scene& s = **scene;
   if (args.frame) s.set_frame(*args.frame);
   if (args.time) s.graph().set_time(*args.time);
+  // The clip that plays: --clip picks one of the scene's animClips (an
+  // imported glTF's animations), by name or index.
+  std::optional<std::string> clip_name;
+  if (const NodeId clips = rigel::ops::anim::find_clips_node(s.graph()); clips.is_valid()) {
+    if (args.clip) {
+      auto index = rigel::ops::anim::resolve_clip(s.graph(), clips, *args.clip);
+      if (!index) return fail(index.status().with_context(args.scene + ": --clip"));
+      if (Status st = rigel::ops::anim::set_active_clip(s.graph(), clips, *index); !st) return fail(st);
+    }
+    auto list = rigel::ops::anim::clips_of(s.graph(), clips);
+    if (!list) return fail(list.status().with_context(args.scene));
+    const auto active = std::get<std::int64_t>(s.graph().evaluate(clips, rigel::ops::anim::clips_attr::kActiveClip));
+    if (!list->empty()) clip_name = (*list)[static_cast<std::size_t>(active)].name;
+  } else if (args.clip) {
+    return fail(Status(rigel::ErrorCode::kNotFound, args.scene + ": --clip: the scene has no animation clips"));
+  }
   auto report = rigel::io::eval_report(s);
+  if (clip_name) report["clip"] = *clip_name;
   if (args.json) {
     std::cout << report.dump() << "\n";
     return 0;
   }
   rigel::graph::Graph& g = s.graph();
-  std::cout << "frame " << s.frame() << " (" << g.time() << " s), world space:\n";
+  std::cout << "frame " << s.frame() << " (" << g.time() << " s)" << (clip_name ? ", clip '" + *clip_name + "'" : "")
+            << ", world space:\n";
   for (NodeId id : s.hierarchy()) {
     const auto& t = report["nodes"][g.node(id)->name()];
     rigel::math::Quat q(t["q"][3].get<double>(), t["q"][0].get<double>(), t["q"][1].get<double>(), t["q"][2].get<double>());
@@ -170,6 +190,7 @@ int main(int argc, char** argv) {
   CLI::Option* frame = eval_cmd->add_option("--frame", eval.frame, "Frame to evaluate at (default: the scene's current time)");
   CLI::Option* time = eval_cmd->add_option("--time", eval.time, "Time in seconds to evaluate at");
   frame->excludes(time);
+  eval_cmd->add_option("--clip", eval.clip, "Animation clip to play, by name or index (default: the scene's active clip)");
   eval_cmd->add_flag("--json", eval.json,
                      "Print {\"frame\", \"time\", \"nodes\": {NAME: {\"t\", \"q\", \"s\"}}} (world space)");
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rigel/graph/graph.h"
+#include "rigel/ops/anim/clips.h"
 #include "rigel/ops/anim/curve.h"
 #include "rigel/ops/anim/track.h"
 
@@ -84,6 +85,73 @@ void write_error(ComputeContext& c, AttrIndex attr, const Status& status) {
   else message = status.message();
 }
 
+// ---- clips ------------------------------------------------------------------
+// (nodes.h, "Clips"): which keys a curve evaluates.
+
+// A per-key array must be empty or have one entry per key before it is cut
+// into clips (each clip's own validation then checks the rest).
+template <typename T>
+Status check_per_key(std::span<const T> array, std::size_t key_count, const char* name) {
+  if (array.empty() || array.size() == key_count) return Status::ok();
+  return error(ErrorCode::kInvalidArgument, std::string(name) + ": " + std::to_string(array.size()) + " entries for " +
+                         std::to_string(key_count) + " keys");
+}
+
+template <typename T>
+std::span<const T> cut(std::span<const T> array, std::size_t first, std::size_t count) {
+  return array.empty() ? array : array.subspan(first, count);
+}
+
+// clipOffsets checked: empty, or clip_count + 1 entries from 0 to key_count,
+// never decreasing.
+Status check_clip_offsets(std::span<const std::int64_t> offsets, std::size_t key_count) {
+  if (offsets.empty()) return Status::ok();
+  if (offsets.size() < 2) return error(ErrorCode::kInvalidArgument, "clipOffsets: needs at least 2 entries (0 and the key count)");
+  if (offsets.front() != 0) return error(ErrorCode::kInvalidArgument, "clipOffsets[0]: must be 0, not " + std::to_string(offsets.front()));
+  for (std::size_t i = 1; i < offsets.size(); ++i) {
+    if (offsets[i] < offsets[i - 1]) {
+      return error(ErrorCode::kInvalidArgument, "clipOffsets[" + std::to_string(i) + "]: " + std::to_string(offsets[i]) +
+                             " is less than clipOffsets[" + std::to_string(i - 1) + "]");
+    }
+  }
+  if (offsets.back() != static_cast<std::int64_t>(key_count)) {
+    return error(ErrorCode::kInvalidArgument, "clipOffsets[" + std::to_string(offsets.size() - 1) + "]: must be the key count " +
+                           std::to_string(key_count) + ", not " + std::to_string(offsets.back()));
+  }
+  return Status::ok();
+}
+
+// Validates every clip's keys with `validate_clip(first, count)`; then the
+// keys of the active clip as [first, first + count), or nullopt when the
+// active clip has none (the output is restValue).
+struct ClipKeys {
+  std::size_t first = 0;
+  std::size_t count = 0;
+};
+template <typename Validate>
+Result<std::optional<ClipKeys>> clip_keys(std::span<const std::int64_t> offsets, std::int64_t clip,
+                                          std::size_t key_count, const Validate& validate_clip) {
+  if (offsets.empty()) {
+    if (Status s = validate_clip(0, key_count); !s) return s;
+    return std::optional<ClipKeys>(ClipKeys{0, key_count});
+  }
+  const std::size_t clip_count = offsets.size() - 1;
+  for (std::size_t k = 0; k < clip_count; ++k) {
+    const auto first = static_cast<std::size_t>(offsets[k]);
+    const auto count = static_cast<std::size_t>(offsets[k + 1] - offsets[k]);
+    if (count == 0) continue;
+    if (Status s = validate_clip(first, count); !s) {
+      return error(ErrorCode::kInvalidArgument, "clip " + std::to_string(k) + " (keys from " + std::to_string(first) +
+                             "): " + s.message());
+    }
+  }
+  if (clip < 0 || static_cast<std::size_t>(clip) >= clip_count) return std::optional<ClipKeys>();
+  const auto first = static_cast<std::size_t>(offsets[static_cast<std::size_t>(clip)]);
+  const auto count = static_cast<std::size_t>(offsets[static_cast<std::size_t>(clip) + 1]) - first;
+  if (count == 0) return std::optional<ClipKeys>();
+  return std::optional<ClipKeys>(ClipKeys{first, count});
+}
+
 // Evaluates the curve in the node's attributes at `x` (time or input).
 void compute_curve_at(ComputeContext& c, double x) {
   namespace a = curve_attr;
@@ -104,28 +172,113 @@ void compute_curve_at(ComputeContext& c, double x) {
   write_error(c, a::kError, status);
 }
 
-void compute_anim_curve(ComputeContext& c) { compute_curve_at(c, c.time()); }
+void compute_anim_curve(ComputeContext& c) {
+  namespace a = curve_attr;
+  const auto& offsets = c.get<std::vector<std::int64_t>>(anim_curve_attr::kClipOffsets);
+  if (offsets.empty()) {
+    compute_curve_at(c, c.time());
+    return;
+  }
+  CurveArrays all;
+  all.times = c.get<std::vector<double>>(a::kKeyTimes);
+  all.values = c.get<std::vector<double>>(a::kKeyValues);
+  all.in_types = c.get<std::vector<std::int64_t>>(a::kInTangentType);
+  all.out_types = c.get<std::vector<std::int64_t>>(a::kOutTangentType);
+  all.in_slopes = c.get<std::vector<double>>(a::kInSlope);
+  all.out_slopes = c.get<std::vector<double>>(a::kOutSlope);
+  all.in_weights = c.get<std::vector<double>>(a::kInWeight);
+  all.out_weights = c.get<std::vector<double>>(a::kOutWeight);
+  all.settings.weighted = c.get<bool>(a::kWeighted);
+  all.settings.pre_infinity = read_enum<Infinity>(c, a::kPreInfinity, kInfinityCount);
+  all.settings.post_infinity = read_enum<Infinity>(c, a::kPostInfinity, kInfinityCount);
+  const std::size_t key_count = all.times.size();
+  Status status = check_clip_offsets(offsets, key_count);
+  for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
+                                    std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
+                                    std::pair{all.out_weights, "outWeight"}}) {
+    if (status) status = check_per_key(array, key_count, name);
+  }
+  if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
+  if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
+  const auto slice = [&all](std::size_t first, std::size_t count) {
+    CurveArrays part = all;
+    part.times = cut(all.times, first, count);
+    part.values = cut(all.values, first, count);
+    part.in_types = cut(all.in_types, first, count);
+    part.out_types = cut(all.out_types, first, count);
+    part.in_slopes = cut(all.in_slopes, first, count);
+    part.out_slopes = cut(all.out_slopes, first, count);
+    part.in_weights = cut(all.in_weights, first, count);
+    part.out_weights = cut(all.out_weights, first, count);
+    return part;
+  };
+  double value = 0.0;
+  if (status) {
+    auto keys = clip_keys(offsets, c.get<std::int64_t>(anim_curve_attr::kClip), key_count,
+                          [&](std::size_t first, std::size_t count) { return slice(first, count).validate(); });
+    if (!keys) {
+      status = keys.status();
+    } else if (!keys.value()) {
+      value = c.get<double>(anim_curve_attr::kRestValue);
+    } else {
+      value = evaluate_arrays(slice(keys.value()->first, keys.value()->count), c.time());
+    }
+  }
+  c.output(a::kOutput) = value;
+  write_error(c, a::kError, status);
+}
 
 void compute_driven_key(ComputeContext& c) { compute_curve_at(c, c.get<double>(driven_key_attr::kInput)); }
 
 template <typename T>
 void compute_track(ComputeContext& c) {
   namespace a = track_attr;
-  TrackArrays<T> arrays;
-  arrays.times = c.get<std::vector<double>>(a::kKeyTimes);
-  arrays.values = c.get<std::vector<T>>(a::kKeyValues);
-  arrays.in_tangents = c.get<std::vector<T>>(a::kInTangents);
-  arrays.out_tangents = c.get<std::vector<T>>(a::kOutTangents);
-  arrays.interpolation = read_enum<Interpolation>(c, a::kInterpolation, kInterpolationCount);
-  const Status status = arrays.validate();
+  TrackArrays<T> all;
+  all.times = c.get<std::vector<double>>(a::kKeyTimes);
+  all.values = c.get<std::vector<T>>(a::kKeyValues);
+  all.in_tangents = c.get<std::vector<T>>(a::kInTangents);
+  all.out_tangents = c.get<std::vector<T>>(a::kOutTangents);
+  all.interpolation = read_enum<Interpolation>(c, a::kInterpolation, kInterpolationCount);
+  const auto& offsets = c.get<std::vector<std::int64_t>>(a::kClipOffsets);
+  const std::size_t key_count = all.times.size();
+  Status status = Status::ok();
+  if (!offsets.empty()) {
+    status = check_clip_offsets(offsets, key_count);
+    if (status) status = check_per_key(all.values, key_count, "keyValues");
+    if (status) status = check_per_key(all.in_tangents, key_count, "inTangents");
+    if (status) status = check_per_key(all.out_tangents, key_count, "outTangents");
+  }
+  const auto slice = [&all](std::size_t first, std::size_t count) {
+    TrackArrays<T> part = all;
+    part.times = cut(all.times, first, count);
+    part.values = cut(all.values, first, count);
+    part.in_tangents = cut(all.in_tangents, first, count);
+    part.out_tangents = cut(all.out_tangents, first, count);
+    return part;
+  };
+  bool rest = false;
+  TrackArrays<T> arrays = all;
+  if (status) {
+    auto keys = clip_keys(offsets, c.get<std::int64_t>(a::kClip), key_count,
+                          [&](std::size_t first, std::size_t count) { return slice(first, count).validate(); });
+    if (!keys) status = keys.status();
+    else if (!keys.value()) rest = true;
+    else arrays = slice(keys.value()->first, keys.value()->count);
+  }
   if (status.is_ok()) {
-    c.output(a::kOutput) = evaluate_arrays(arrays, c.time());
+    c.output(a::kOutput) = rest ? c.get<T>(a::kRestValue) : evaluate_arrays(arrays, c.time());
   } else if constexpr (std::is_same_v<T, Quat>) {
     c.output(a::kOutput) = Quat(Quat::Identity());
   } else {
     c.output(a::kOutput) = Vec3(Vec3::Zero());
   }
   write_error(c, a::kError, status);
+}
+
+template <typename T>
+Value rest_default() {
+  if constexpr (std::is_same_v<T, Quat>) return Quat(Quat::Identity());
+  else return Vec3(Vec3::Zero());
 }
 
 template <typename T>
@@ -145,6 +298,9 @@ graph::NodeTypeSpec track_spec(std::string name, ValueType value_type, std::stri
       interpolation,
       output("output", {value_type, false}),
       output("error", {ValueType::kString, false}, graph::kHidden),
+      input("clipOffsets", {ValueType::kInt, true}, std::vector<std::int64_t>{}, kOutputs),
+      input("clip", {ValueType::kInt, false}, std::int64_t{0}, kOutputs),
+      input("restValue", {value_type, false}, rest_default<T>(), kOutputs),
   };
   spec.compute = compute_track<T>;
   spec.time_dependent = true;
@@ -158,6 +314,9 @@ Status register_anim_types(graph::Registry& registry) {
   curve.name = kAnimCurveType;
   curve.description = "An animation curve: keys in time (seconds) with Maya's tangents and infinities";
   curve.attrs = curve_attrs();
+  curve.attrs.push_back(input("clipOffsets", {ValueType::kInt, true}, std::vector<std::int64_t>{}, kOutputs));
+  curve.attrs.push_back(input("clip", {ValueType::kInt, false}, std::int64_t{0}, kOutputs));
+  curve.attrs.push_back(input("restValue", {ValueType::kDouble, false}, 0.0, kOutputs));
   curve.compute = compute_anim_curve;
   curve.time_dependent = true;
 
@@ -176,7 +335,7 @@ Status register_anim_types(graph::Registry& registry) {
   for (graph::NodeTypeSpec* spec : {&curve, &driven, &vec3, &quat}) {
     if (Status s = registry.add(std::move(*spec)); !s) return s;
   }
-  return Status::ok();
+  return register_clip_types(registry);
 }
 
 }  // namespace rigel::ops::anim

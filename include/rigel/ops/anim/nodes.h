@@ -59,6 +59,26 @@ namespace driven_key_attr {
 enum : AttrIndex { kInput = curve_attr::kCount, kCount };
 }  // namespace driven_key_attr
 
+// Clips (glTF animations; DESIGN.md: "a glTF with several animations imports
+// them all as clips"). A time-dependent curve (animCurve, animCurveVec3,
+// animCurveQuat) may hold the keys of several clips one after the other:
+// clipOffsets has clip_count + 1 entries, from 0 to the key count, and clip c
+// owns keys [clipOffsets[c], clipOffsets[c+1]) of every per-key array. Each
+// clip's keys are validated on their own (times increase within a clip, not
+// across clips). `clip` picks the clip evaluated (connect it from an
+// animClips node's activeClip, see clips.h); when that clip has no keys for
+// this channel, or `clip` is out of range, the output is restValue, the
+// value of the channel when no clip animates it. With clipOffsets empty all
+// keys form one clip, and `clip` and restValue are ignored.
+namespace anim_curve_attr {
+enum : AttrIndex {
+  kClipOffsets = curve_attr::kCount,  // int[]
+  kClip,                              // int
+  kRestValue,                         // double
+  kCount
+};
+}  // namespace anim_curve_attr
+
 // animCurveVec3 (translate/scale, double3) and animCurveQuat (rotation,
 // quaternion): TrackArrays, time-dependent.
 namespace track_attr {
@@ -70,6 +90,9 @@ enum : AttrIndex {
   kInterpolation,  // enum: step linear cubicSpline (default linear)
   kOutput,         // output double3 or quat
   kError,          // output string, hidden
+  kClipOffsets,    // int[]: see "Clips" above (anim_curve_attr)
+  kClip,           // int
+  kRestValue,      // double3 or quat
   kCount
 };
 }  // namespace track_attr
