@@ -5,6 +5,7 @@
 #include "rigel/ops/anim/nodes.h"
 #include "rigel/ops/constraints/nodes.h"
 #include "rigel/ops/deform/nodes.h"
+#include "rigel/ops/ik/nodes.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::ops {
@@ -13,6 +14,7 @@ Status register_ops_types(graph::Registry& registry) {
   if (Status s = anim::register_anim_types(registry); !s) return s;
   if (Status s = constraints::register_constraint_types(registry); !s) return s;
   if (Status s = register_deform_types(registry); !s) return s;
+  if (Status s = ik::register_ik_types(registry); !s) return s;
   return Status::ok();
 }
 
