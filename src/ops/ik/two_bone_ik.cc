@@ -1,6 +1,7 @@
 #include "rigel/ops/ik/two_bone_ik.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "ik_math.h"
@@ -76,7 +77,12 @@ RIGEL_IK_MULTIVERSION bool TwoBoneIkJob::run() const {
       const double product = std::sqrt(ua2 * la2);  // |upper_across| |lower_across|
       const double inv_product = 1.0 / product;
       const double base = along * along + ua2 + la2;
-      const double cos_gamma = std::clamp((reach * reach - base) * (0.5 * inv_product), -1.0, 1.0);
+      double cos_gamma = std::clamp((reach * reach - base) * (0.5 * inv_product), -1.0, 1.0);
+      // At full extension (reach = the chain's length) rounding leaves
+      // cos_gamma a few ulps below 1, and sin_gamma = sqrt(1 - cos^2) turns
+      // that into a 1e-8 knee offset. Within 4 ulps of 1 the chain is
+      // straight as far as doubles can tell.
+      if (cos_gamma > 1.0 - 4.0 * std::numeric_limits<double>::epsilon()) cos_gamma = 1.0;
       const double sin_gamma = std::sqrt(1.0 - cos_gamma * cos_gamma);
       // The current angle beta (from upper_across to lower_across about the
       // hinge) and the turn alpha = gamma - beta, as sines and cosines

@@ -282,11 +282,10 @@ TEST(IkTwoBoneNode, joints_match_the_kernel_solved_directly) {
       << "rotateQuaternion outputs reproduce the kernel's pose through joint orient, rotate axis and the parent";
 }
 
-// At full extension the kernel's law of cosines gives cos(gamma) = 1 - a few
-// ulp from a rest chain with rounding in it, and sin(gamma) = sqrt(1 - c^2)
-// turns that into ~1.5e-8 (sqrt of the rounding): the knee sits that far off
-// the line. Hence 1e-7 where the chain is fully extended.
-constexpr double kStraight = 1e-7;
+// At full extension the law of cosines gives cos(gamma) a few ulps below 1;
+// the kernel snaps that to 1 (two_bone_ik.cc), otherwise sqrt(1 - c^2) would
+// put the knee ~1.5e-8 off the line. Straight chains are checked tightly.
+constexpr double kStraight = 1e-12;
 
 TEST(IkTwoBoneNode, out_of_reach__points_straight_at_target) {
   TwoBoneRig rig;
