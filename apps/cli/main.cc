@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "rigel/io/bvh_import.h"
+#include "rigel/io/gltf_import.h"
 #include "rigel/io/report.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/transform.h"
@@ -148,17 +149,40 @@ struct ImportArgs {
   bool skip_end_sites = false;
 };
 
+// A .glb / .gltf character: joints, meshes, skins and every animation as a clip.
+int run_import_gltf(const ImportArgs& args) {
+  rigel::io::GltfImportOptions options;
+  options.scale = args.scale;
+  auto scene = rigel::io::import_gltf(args.input, options);
+  if (!scene) return fail(scene.status());
+  if (Status s = rigel::io::save_scene(**scene, args.output); !s) return fail(s);
+  const rigel::graph::Graph& g = (*scene)->graph();
+  std::size_t joints = 0, meshes = 0;
+  for (NodeId id : g.nodes()) {
+    joints += g.node(id)->type().name() == "joint";
+    meshes += g.node(id)->type().name() == "mesh";
+  }
+  std::size_t clips = 0;
+  if (const NodeId clips_node = rigel::ops::anim::find_clips_node(g); clips_node.is_valid()) {
+    if (auto list = rigel::ops::anim::clips_of(g, clips_node)) clips = list->size();
+  }
+  std::cerr << "rigel: imported " << g.node_count() << " nodes (" << joints << " joints, " << meshes << " meshes), " << clips
+            << (clips == 1 ? " clip" : " clips") << " into " << args.output << "\n";
+  return 0;
+}
+
 int run_import(const ImportArgs& args) {
   std::string ext = std::filesystem::path(args.input).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".bvh") {
-    std::cerr << "rigel: " << args.input << ": unsupported file type '" << ext << "' (this build imports .bvh)\n";
+  if (ext != ".bvh" && ext != ".glb" && ext != ".gltf") {
+    std::cerr << "rigel: " << args.input << ": unsupported file type '" << ext << "' (this build imports .bvh, .glb, .gltf)\n";
     return kExitInvalidInput;
   }
   if (!(args.scale > 0.0) || !std::isfinite(args.scale)) {
     std::cerr << "rigel: --scale must be a positive number\n";
     return kExitUsage;
   }
+  if (ext != ".bvh") return run_import_gltf(args);
   auto file = rigel::io::load_bvh(args.input);
   if (!file) return fail(file.status());
   rigel::io::BvhImportOptions options;
@@ -195,11 +219,11 @@ int main(int argc, char** argv) {
                      "Print {\"frame\", \"time\", \"nodes\": {NAME: {\"t\", \"q\", \"s\"}}} (world space)");
 
   ImportArgs import;
-  CLI::App* import_cmd = app.add_subcommand("import", "Import a character or motion (.bvh) into a scene file");
-  import_cmd->add_option("CHARACTER", import.input, "File to import (.bvh)")->required();
+  CLI::App* import_cmd = app.add_subcommand("import", "Import a character (.glb, .gltf) or motion (.bvh) into a scene file");
+  import_cmd->add_option("CHARACTER", import.input, "File to import (.glb, .gltf, .bvh)")->required();
   import_cmd->add_option("-o,--output", import.output, "Scene file to write (.rigel)")->required();
   import_cmd->add_option("--scale", import.scale, "Multiply lengths by this (e.g. 0.0254: inches to metres); default 1, units kept");
-  import_cmd->add_flag("--skip-end-sites", import.skip_end_sites, "Do not create joints for BVH End Sites");
+  import_cmd->add_flag("--skip-end-sites", import.skip_end_sites, "Do not create joints for BVH End Sites (.bvh only)");
 
   try {
     app.parse(argc, argv);
