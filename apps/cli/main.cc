@@ -1,7 +1,10 @@
 // The rigel command line: a thin driver over the library (STYLE.md §8).
 // Exit status: 0 success, 1 invalid input, 2 usage error (DESIGN.md).
 
+#include <unistd.h>
+
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
@@ -12,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "rigel/io/bvh_import.h"
+#include "rigel/io/gltf_export.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/report.h"
 #include "rigel/io/scene_file.h"
@@ -196,6 +200,76 @@ int run_import(const ImportArgs& args) {
   return 0;
 }
 
+// ---- export ------------------------------------------------------------------
+
+struct ExportArgs {
+  std::string scene;
+  std::string output;
+  std::string frames;  // "FIRST:LAST"; empty when not given
+  bool bake = false;
+};
+
+// "A:B" as two finite numbers; nullopt for anything else.
+std::optional<std::pair<double, double>> parse_frames(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) return std::nullopt;
+  auto number = [](const char* begin, const char* end) -> std::optional<double> {
+    double value = 0.0;
+    const auto [ptr, ec] = std::from_chars(begin, end, value);
+    if (ec != std::errc() || ptr != end || begin == end || !std::isfinite(value)) return std::nullopt;
+    return value;
+  };
+  const auto first = number(text.data(), text.data() + colon);
+  const auto last = number(text.data() + colon + 1, text.data() + text.size());
+  if (!first || !last) return std::nullopt;
+  return std::pair{*first, *last};
+}
+
+int run_export(const ExportArgs& args) {
+  rigel::io::GltfExportOptions options;
+  options.bake = args.bake;
+  if (!args.frames.empty()) {
+    options.frames = parse_frames(args.frames);
+    if (!options.frames) {
+      std::cerr << "rigel: --frames '" << args.frames << "': expected FIRST:LAST, two frame numbers such as 0:120\n";
+      return kExitInvalidInput;
+    }
+  }
+  std::string ext = std::filesystem::path(args.output).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".glb" && ext != ".gltf") {
+    std::cerr << "rigel: " << args.output << ": unsupported file type '" << ext << "' (export writes .glb or .gltf)\n";
+    return kExitInvalidInput;
+  }
+  auto scene = rigel::io::load_scene(args.scene);
+  if (!scene) return fail(scene.status());
+  // Baking long ranges takes a while: show how far it got, on a terminal only.
+  bool progress_shown = false;
+  if (isatty(STDERR_FILENO)) {
+    options.progress = [&progress_shown, last = -1](double fraction) mutable {
+      const int percent = static_cast<int>(fraction * 100.0);
+      if (percent == last) return;
+      last = percent;
+      progress_shown = true;
+      std::fprintf(stderr, "\rrigel: baking %3d%%", percent);
+      std::fflush(stderr);
+    };
+  }
+  rigel::io::GltfExportReport report;
+  const Status status = rigel::io::export_gltf(**scene, args.output, options, &report);
+  if (progress_shown) std::fputc('\n', stderr);
+  if (!status) return fail(status);
+  if (report.baked) {
+    std::cerr << "rigel: note: baked frames " << report.first_frame << " to " << report.last_frame << " at "
+              << (*scene)->graph().fps() << " fps: " << report.bake_reason << "\n";
+  }
+  for (const std::string& note : report.notes) std::cerr << "rigel: note: " << note << "\n";
+  std::cerr << "rigel: exported " << report.node_count << " nodes, " << report.mesh_count << " meshes, "
+            << report.skin_count << " skins, " << report.animation_count << " animations (" << report.channel_count
+            << " channels) to " << args.output << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -225,6 +299,14 @@ int main(int argc, char** argv) {
   import_cmd->add_option("--scale", import.scale, "Multiply lengths by this (e.g. 0.0254: inches to metres); default 1, units kept");
   import_cmd->add_flag("--skip-end-sites", import.skip_end_sites, "Do not create joints for BVH End Sites (.bvh only)");
 
+  ExportArgs export_args;
+  CLI::App* export_cmd = app.add_subcommand("export", "Export a scene's skeleton, meshes, skins and animation to glTF 2.0");
+  export_cmd->add_option("SCENE", export_args.scene, "Scene file (.rigel)")->required();
+  export_cmd->add_option("-o,--output", export_args.output, "File to write (.glb binary, .gltf JSON)")->required();
+  export_cmd->add_option("--frames", export_args.frames, "Bake frames FIRST:LAST (scene frames) instead of writing curves");
+  export_cmd->add_flag("--bake", export_args.bake,
+                       "Bake every frame even when the animation can be written as it is (default range: the keys')");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -235,6 +317,7 @@ int main(int argc, char** argv) {
     if (*inspect_cmd) return run_inspect(inspect);
     if (*eval_cmd) return run_eval(eval);
     if (*import_cmd) return run_import(import);
+    if (*export_cmd) return run_export(export_args);
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something
     // does, report it as an error instead of crashing.
