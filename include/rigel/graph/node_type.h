@@ -40,6 +40,28 @@ struct AttrSpec {
   std::vector<std::string> affects;     // inputs only: outputs that depend on it
 };
 
+// The two usual shapes of an AttrSpec, for node types' attribute tables.
+// An input is storable (saved in files) and may add flags such as kKeyable
+// or kHidden; an output is computed and never stored.
+inline AttrSpec input_attr(std::string name, AttrType type, Value default_value,
+                           std::vector<std::string> affects = {}, std::uint32_t extra_flags = 0) {
+  AttrSpec spec;
+  spec.name = std::move(name);
+  spec.type = type;
+  spec.default_value = std::move(default_value);
+  spec.flags = kInput | kStorable | extra_flags;
+  spec.affects = std::move(affects);
+  return spec;
+}
+
+inline AttrSpec output_attr(std::string name, AttrType type, std::uint32_t extra_flags = 0) {
+  AttrSpec spec;
+  spec.name = std::move(name);
+  spec.type = type;
+  spec.flags = kOutput | extra_flags;
+  return spec;
+}
+
 class ComputeContext;
 using ComputeFn = void (*)(ComputeContext& context);
 

@@ -60,21 +60,7 @@ void compute_clips(ComputeContext& c) {
 }
 
 AttrSpec input(std::string name, AttrType type, graph::Value value) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.default_value = std::move(value);
-  spec.flags = graph::kInput | graph::kStorable;
-  spec.affects = {"activeClip", "error"};
-  return spec;
-}
-
-AttrSpec output(std::string name, AttrType type, std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.flags = graph::kOutput | extra;
-  return spec;
+  return graph::input_attr(std::move(name), type, std::move(value), {"activeClip", "error"});
 }
 
 }  // namespace
@@ -88,8 +74,8 @@ Status register_clip_types(graph::Registry& registry) {
       input("clipStarts", {ValueType::kDouble, true}, std::vector<double>{}),
       input("clipEnds", {ValueType::kDouble, true}, std::vector<double>{}),
       input("active", {ValueType::kInt, false}, std::int64_t{0}),
-      output("activeClip", {ValueType::kInt, false}),
-      output("error", {ValueType::kString, false}, graph::kHidden),
+      graph::output_attr("activeClip", {ValueType::kInt, false}),
+      graph::output_attr("error", {ValueType::kString, false}, graph::kHidden),
   };
   spec.compute = compute_clips;
   return registry.add(std::move(spec));

@@ -26,21 +26,11 @@ std::vector<std::string> names_of(std::span<const std::string_view> names) {
 
 AttrSpec input(std::string name, AttrType type, Value value, std::vector<std::string> affects,
                std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.default_value = std::move(value);
-  spec.flags = graph::kInput | graph::kStorable | extra;
-  spec.affects = std::move(affects);
-  return spec;
+  return graph::input_attr(std::move(name), type, std::move(value), std::move(affects), extra);
 }
 
 AttrSpec output(std::string name, AttrType type, std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.flags = graph::kOutput | extra;
-  return spec;
+  return graph::output_attr(std::move(name), type, extra);
 }
 
 const std::vector<std::string> kOutputs = {"output", "error"};

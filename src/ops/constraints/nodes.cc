@@ -69,21 +69,11 @@ enum : AttrIndex { kStartPosition = attr::kRotateOrder, kHandlePosition, kRestPo
 
 AttrSpec input(std::string name, AttrType type, Value value, const std::vector<std::string>& affects,
                std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.default_value = std::move(value);
-  spec.flags = graph::kInput | graph::kStorable | extra;
-  spec.affects = affects;
-  return spec;
+  return graph::input_attr(std::move(name), type, std::move(value), affects, extra);
 }
 
 AttrSpec output(std::string name, AttrType type, std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.flags = graph::kOutput | extra;
-  return spec;
+  return graph::output_attr(std::move(name), type, extra);
 }
 
 std::vector<AttrSpec> target_attrs(const std::vector<std::string>& outs) {

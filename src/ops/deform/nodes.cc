@@ -24,21 +24,10 @@ using math::Vec3;
 constexpr std::size_t kParallelVertices = 16384;
 
 AttrSpec input(std::string name, AttrType type, Value value, std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.default_value = std::move(value);
-  spec.flags = graph::kInput | graph::kStorable | extra;
-  return spec;
+  return graph::input_attr(std::move(name), type, std::move(value), {}, extra);
 }
 
-AttrSpec output(std::string name, AttrType type) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.flags = graph::kOutput;
-  return spec;
-}
+AttrSpec output(std::string name, AttrType type) { return graph::output_attr(std::move(name), type); }
 
 constexpr AttrType kPoints{ValueType::kDouble3, true};
 constexpr AttrType kMatrices{ValueType::kMatrix, true};

@@ -51,20 +51,11 @@ constexpr std::int64_t kSamplesPerSpan = 64;
 // ---- attribute specs ----------------------------------------------------------
 
 AttrSpec input(std::string name, AttrType type, Value value, std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.default_value = std::move(value);
-  spec.flags = graph::kInput | graph::kStorable | extra;
-  return spec;
+  return graph::input_attr(std::move(name), type, std::move(value), {}, extra);
 }
 
 AttrSpec output(std::string name, AttrType type, std::uint32_t extra = 0) {
-  AttrSpec spec;
-  spec.name = std::move(name);
-  spec.type = type;
-  spec.flags = graph::kOutput | extra;
-  return spec;
+  return graph::output_attr(std::move(name), type, extra);
 }
 
 AttrSpec enum_input(std::string name, AttrType type, Value value, std::vector<std::string> names) {
