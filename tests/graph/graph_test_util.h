@@ -26,7 +26,7 @@ inline constexpr AttrType kIntT{ValueType::kInt, false};
 inline constexpr AttrType kMatrixT{ValueType::kMatrix, false};
 inline constexpr AttrType kDoubleArrayT{ValueType::kDouble, true};
 
-inline AttrSpec input_attr(std::string name, AttrType type, std::vector<std::string> affects = {},
+inline AttrSpec in_spec(std::string name, AttrType type, std::vector<std::string> affects = {},
                            Value default_value = std::monostate{}) {
   AttrSpec spec;
   spec.name = std::move(name);
@@ -37,7 +37,7 @@ inline AttrSpec input_attr(std::string name, AttrType type, std::vector<std::str
   return spec;
 }
 
-inline AttrSpec output_attr(std::string name, AttrType type) {
+inline AttrSpec out_spec(std::string name, AttrType type) {
   AttrSpec spec;
   spec.name = std::move(name);
   spec.type = type;
@@ -142,32 +142,32 @@ inline std::shared_ptr<const Registry> test_registry() {
     {
       NodeTypeSpec s;
       s.name = "add";
-      s.attrs = {input_attr("a", kDoubleT, {"sum"}), input_attr("b", kDoubleT, {"sum"}), output_attr("sum", kDoubleT),
-                 output_attr("count", kIntT)};
+      s.attrs = {in_spec("a", kDoubleT, {"sum"}), in_spec("b", kDoubleT, {"sum"}), out_spec("sum", kDoubleT),
+                 out_spec("count", kIntT)};
       s.compute = compute_add;
       add_type_or_die(*r, std::move(s));
     }
     {
       NodeTypeSpec s;
       s.name = "split";
-      s.attrs = {input_attr("x", kDoubleT, {"outX"}), input_attr("y", kDoubleT, {"outY"}),
-                 output_attr("outX", kDoubleT), output_attr("outY", kDoubleT), output_attr("count", kIntT)};
+      s.attrs = {in_spec("x", kDoubleT, {"outX"}), in_spec("y", kDoubleT, {"outY"}),
+                 out_spec("outX", kDoubleT), out_spec("outY", kDoubleT), out_spec("count", kIntT)};
       s.compute = compute_split;
       add_type_or_die(*r, std::move(s));
     }
     {
       NodeTypeSpec s;
       s.name = "gather";
-      s.attrs = {input_attr("values", kDoubleArrayT, {"total", "echo"}),
-                 input_attr("scale", kDoubleT, {"echo"}, 1.0), output_attr("total", kDoubleT),
-                 output_attr("echo", kDoubleArrayT), output_attr("count", kIntT)};
+      s.attrs = {in_spec("values", kDoubleArrayT, {"total", "echo"}),
+                 in_spec("scale", kDoubleT, {"echo"}, 1.0), out_spec("total", kDoubleT),
+                 out_spec("echo", kDoubleArrayT), out_spec("count", kIntT)};
       s.compute = compute_gather;
       add_type_or_die(*r, std::move(s));
     }
     {
       NodeTypeSpec s;
       s.name = "clock";
-      s.attrs = {input_attr("gain", kDoubleT, {"out"}, 1.0), output_attr("out", kDoubleT), output_attr("count", kIntT)};
+      s.attrs = {in_spec("gain", kDoubleT, {"out"}, 1.0), out_spec("out", kDoubleT), out_spec("count", kIntT)};
       s.compute = compute_clock;
       s.time_dependent = true;
       add_type_or_die(*r, std::move(s));
@@ -175,8 +175,8 @@ inline std::shared_ptr<const Registry> test_registry() {
     {
       NodeTypeSpec s;
       s.name = "xf";
-      s.attrs = {input_attr("parentMatrix", kMatrixT, {"world"}), input_attr("local", kMatrixT, {"world"}),
-                 output_attr("world", kMatrixT), output_attr("count", kIntT)};
+      s.attrs = {in_spec("parentMatrix", kMatrixT, {"world"}), in_spec("local", kMatrixT, {"world"}),
+                 out_spec("world", kMatrixT), out_spec("count", kIntT)};
       s.compute = compute_xf;
       s.parent_input = "parentMatrix";
       s.world_output = "world";
@@ -186,12 +186,12 @@ inline std::shared_ptr<const Registry> test_registry() {
       NodeTypeSpec s;
       s.name = "kinds";
       for (const Kind& k : kinds()) {
-        AttrSpec in = input_attr(std::string("in") + k.suffix, k.type);
+        AttrSpec in = in_spec(std::string("in") + k.suffix, k.type);
         if (k.type.value == ValueType::kEnum) in.enum_names = {"red", "green", "blue"};
         s.attrs.push_back(std::move(in));
       }
       for (const Kind& k : kinds()) {
-        AttrSpec out = output_attr(std::string("out") + k.suffix, k.type);
+        AttrSpec out = out_spec(std::string("out") + k.suffix, k.type);
         if (k.type.value == ValueType::kEnum) out.enum_names = {"red", "green", "blue"};
         s.attrs.push_back(std::move(out));
       }

@@ -9,11 +9,11 @@
 namespace rigel::graph {
 namespace {
 
-using testing::input_attr;
+using testing::in_spec;
 using testing::kDoubleT;
 using testing::kIntT;
 using testing::kMatrixT;
-using testing::output_attr;
+using testing::out_spec;
 
 void noop(ComputeContext&) {}
 
@@ -21,7 +21,7 @@ void noop(ComputeContext&) {}
 NodeTypeSpec valid_spec(std::string name = "valid") {
   NodeTypeSpec s;
   s.name = std::move(name);
-  s.attrs = {input_attr("a", kDoubleT, {"out"}), input_attr("b", kDoubleT), output_attr("out", kDoubleT)};
+  s.attrs = {in_spec("a", kDoubleT, {"out"}), in_spec("b", kDoubleT), out_spec("out", kDoubleT)};
   s.compute = noop;
   return s;
 }
@@ -89,14 +89,14 @@ TEST(Registry, add__invalid_type_name_is_refused) {
 
 TEST(Registry, add__duplicate_attribute_name_is_refused) {
   NodeTypeSpec s = valid_spec();
-  s.attrs.push_back(input_attr("a", kIntT));
+  s.attrs.push_back(in_spec("a", kIntT));
   expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'a'", "two attributes named 'a' are refused");
 }
 
 TEST(Registry, add__non_identifier_attribute_name_is_refused) {
   for (const char* bad : {"", "1x", "with space", "x.y", "x[0]"}) {
     NodeTypeSpec s = valid_spec();
-    s.attrs.push_back(input_attr(bad, kIntT));
+    s.attrs.push_back(in_spec(bad, kIntT));
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "not an identifier",
                    "an attribute name must be an identifier");
   }
@@ -118,17 +118,17 @@ TEST(Registry, add__input_and_output_flags_are_exclusive) {
 TEST(Registry, add__default_of_the_wrong_type_is_refused) {
   {
     NodeTypeSpec s = valid_spec();
-    s.attrs.push_back(input_attr("count", kIntT, {}, 1.0));
+    s.attrs.push_back(in_spec("count", kIntT, {}, 1.0));
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'count'", "a double default for an int is refused");
   }
   {
     NodeTypeSpec s = valid_spec();
-    s.attrs.push_back(input_attr("list", {ValueType::kDouble, true}, {}, 1.0));
+    s.attrs.push_back(in_spec("list", {ValueType::kDouble, true}, {}, 1.0));
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'list'", "a scalar default for an array is refused");
   }
   {
     NodeTypeSpec s = valid_spec();
-    s.attrs.push_back(input_attr("m", kMatrixT, {}, Vec3(1, 2, 3)));
+    s.attrs.push_back(in_spec("m", kMatrixT, {}, Vec3(1, 2, 3)));
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'m'", "a double3 default for a matrix is refused");
   }
 }
@@ -136,7 +136,7 @@ TEST(Registry, add__default_of_the_wrong_type_is_refused) {
 TEST(Registry, add__enum_default_out_of_range_is_refused) {
   for (std::int64_t bad : {std::int64_t{-1}, std::int64_t{3}}) {
     NodeTypeSpec s = valid_spec();
-    AttrSpec e = input_attr("mode", {ValueType::kEnum, false}, {}, bad);
+    AttrSpec e = in_spec("mode", {ValueType::kEnum, false}, {}, bad);
     e.enum_names = {"a", "b", "c"};
     s.attrs.push_back(e);
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'mode'",
@@ -144,7 +144,7 @@ TEST(Registry, add__enum_default_out_of_range_is_refused) {
   }
   {
     NodeTypeSpec s = valid_spec();
-    AttrSpec e = input_attr("mode", {ValueType::kEnum, false}, {}, std::int64_t{2});
+    AttrSpec e = in_spec("mode", {ValueType::kEnum, false}, {}, std::int64_t{2});
     e.enum_names = {"a", "b", "c"};
     s.attrs.push_back(e);
     Registry registry;
@@ -152,14 +152,14 @@ TEST(Registry, add__enum_default_out_of_range_is_refused) {
   }
   {
     NodeTypeSpec s = valid_spec();
-    s.attrs.push_back(input_attr("mode", {ValueType::kEnum, false}));
+    s.attrs.push_back(in_spec("mode", {ValueType::kEnum, false}));
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'mode'", "an enum without names is refused");
   }
 }
 
 TEST(Registry, add__angle_flag_only_on_doubles) {
   NodeTypeSpec s = valid_spec();
-  AttrSpec a = input_attr("turn", kIntT);
+  AttrSpec a = in_spec("turn", kIntT);
   a.flags |= kAngle;
   s.attrs.push_back(a);
   expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'turn'", "an int cannot be an angle");
@@ -186,8 +186,8 @@ TEST(Registry, add__affects_must_name_an_output) {
 TEST(Registry, add__bad_hierarchy_role_is_refused) {
   auto with_matrices = [] {
     NodeTypeSpec s = valid_spec();
-    s.attrs.push_back(input_attr("parentMatrix", kMatrixT, {"world"}));
-    s.attrs.push_back(output_attr("world", kMatrixT));
+    s.attrs.push_back(in_spec("parentMatrix", kMatrixT, {"world"}));
+    s.attrs.push_back(out_spec("world", kMatrixT));
     s.parent_input = "parentMatrix";
     s.world_output = "world";
     return s;
@@ -225,7 +225,7 @@ TEST(Registry, add__bad_hierarchy_role_is_refused) {
   }
   {
     NodeTypeSpec s = with_matrices();
-    s.attrs.push_back(input_attr("parentArray", {ValueType::kMatrix, true}));
+    s.attrs.push_back(in_spec("parentArray", {ValueType::kMatrix, true}));
     s.parent_input = "parentArray";
     expect_refused(std::move(s), ErrorCode::kInvalidArgument, "'parentArray'",
                    "the parent input must be a scalar matrix, not an array");
@@ -239,7 +239,7 @@ TEST(Registry, add__outputs_without_compute_are_refused) {
 
   NodeTypeSpec inputs_only;
   inputs_only.name = "inputsOnly";
-  inputs_only.attrs = {input_attr("a", kDoubleT)};
+  inputs_only.attrs = {in_spec("a", kDoubleT)};
   Registry registry;
   EXPECT_TRUE(registry.add(std::move(inputs_only)).is_ok()) << "a type with only inputs needs no compute";
 }
