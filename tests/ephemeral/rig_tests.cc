@@ -1,0 +1,130 @@
+// setup_ephemeral and relation editing.
+#include <gtest/gtest.h>
+
+#include "ephemeral_test_util.h"
+
+namespace rigel::ephemeral::testing {
+namespace {
+
+TEST(EphemeralSetup, one_control_per_joint__mirrors_hierarchy_and_world) {
+  auto s = make_scene();
+  NodeId a = joint(*s, "a", {}, Vec3(0, 1, 0));
+  NodeId b = joint(*s, "b", a, Vec3(1, 0, 0), Vec3(10, 20, 30));
+  NodeId c = joint(*s, "c", b, Vec3(0, 2, 0));
+  NodeId d = joint(*s, "d", b, Vec3(0, 0, 1));
+  Result<SetupResult> r = setup_ephemeral(*s);
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  ASSERT_EQ(r->controls.size(), 4u);
+  EXPECT_EQ(r->joints, (std::vector<NodeId>{a, b, c, d}));
+  Graph& g = s->graph();
+  EXPECT_EQ(g.node(r->controls[1])->name(), "b_ctrl");
+  EXPECT_EQ(g.parent(r->controls[2]), r->controls[1]) << "controls mirror the joint hierarchy";
+  for (std::size_t i = 0; i < 4; ++i)
+    EXPECT_TRUE(math::is_near(world(*s, r->controls[i]), world(*s, r->joints[i]), 1e-12));
+  // Joints follow their controls.
+  ASSERT_TRUE(succeeded(g.set_value(Plug{r->controls[1], xform::kRotate, -1}, Vec3(0, 0, 90))));
+  EXPECT_TRUE(math::is_near(world(*s, r->controls[2]), world(*s, c), 1e-12));
+  Result<std::vector<Relation>> rel = relations(g, r->rig);
+  ASSERT_TRUE(rel.is_ok());
+  EXPECT_EQ(rel->size(), 6u) << "forward and inverse for each of the 3 parent-child pairs";
+  EXPECT_NE(std::find(rel->begin(), rel->end(), Relation{RelationKind::kForward, r->controls[1], r->controls[3]}), rel->end());
+  EXPECT_NE(std::find(rel->begin(), rel->end(), Relation{RelationKind::kInverse, r->controls[3], r->controls[1]}), rel->end());
+}
+
+TEST(EphemeralSetup, is_one_undo_step__and_undo_restores_the_file_exactly) {
+  auto s = make_scene();
+  NodeId a = joint(*s, "a", {}, Vec3(0, 1, 0));
+  joint(*s, "b", a, Vec3(1, 0, 0));
+  const std::string before = io::write_scene(*s);
+  const std::size_t steps = s->graph().undo_count();
+  ASSERT_TRUE(setup_ephemeral(*s).is_ok());
+  EXPECT_EQ(s->graph().undo_count(), steps + 1);
+  ASSERT_TRUE(s->graph().undo());
+  EXPECT_EQ(io::write_scene(*s), before);
+}
+
+TEST(EphemeralSetup, refuses_bad_input__changing_nothing) {
+  auto s = make_scene();
+  EXPECT_EQ(setup_ephemeral(*s).status().code(), ErrorCode::kNotFound) << "no joints";
+  NodeId a = joint(*s, "a", {}, Vec3::Zero());
+  ASSERT_TRUE(succeeded(s->graph().set_value(Plug{a, scene::joint_attr::kJointOrient, -1}, Vec3(0, 0, 10))));
+  const std::string before = io::write_scene(*s);
+  EXPECT_EQ(setup_ephemeral(*s).status().code(), ErrorCode::kUnsupported) << "joint orient is refused";
+  EXPECT_EQ(io::write_scene(*s), before);
+  ASSERT_TRUE(succeeded(s->graph().set_value(Plug{a, scene::joint_attr::kJointOrient, -1}, Vec3(0, 0, 0))));
+  ASSERT_TRUE(setup_ephemeral(*s).is_ok());
+  EXPECT_EQ(setup_ephemeral(*s).status().code(), ErrorCode::kAlreadyExists) << "a joint already has a control";
+  auto plain = std::make_unique<scene::Scene>();  // scene types only
+  joint(*plain, "x", {}, Vec3::Zero());
+  EXPECT_EQ(setup_ephemeral(*plain).status().code(), ErrorCode::kUnsupported);
+}
+
+TEST(EphemeralSetup, animation_moves_to_the_controls_or_is_dropped) {
+  for (bool keep : {true, false}) {
+    auto s = make_scene();
+    NodeId a = joint(*s, "a", {}, Vec3::Zero());
+    Result<NodeId> src = s->create(scene::kLocatorType, "driver");
+    ASSERT_TRUE(src.is_ok());
+    ASSERT_TRUE(succeeded(s->graph().set_value(Plug{*src, xform::kTranslate, -1}, Vec3(1, 2, 3))));
+    ASSERT_TRUE(succeeded(s->graph().connect(Plug{*src, xform::kTranslate, -1}, Plug{a, xform::kTranslate, -1})));
+    SetupOptions o;
+    o.keep_animation = keep;
+    Result<SetupResult> r = setup_ephemeral(*s, o);
+    ASSERT_TRUE(r.is_ok()) << r.status().message();
+    NodeId c = r->controls[0];
+    auto from = s->graph().source(Plug{c, xform::kTranslate, -1});
+    EXPECT_EQ(from.has_value(), keep);
+    EXPECT_TRUE(vec_near(position(*s, a), Vec3(1, 2, 3), 1e-12));
+    ASSERT_TRUE(succeeded(s->graph().set_value(Plug{*src, xform::kTranslate, -1}, Vec3(4, 5, 6))));
+    EXPECT_TRUE(vec_near(position(*s, a), keep ? Vec3(4, 5, 6) : Vec3(1, 2, 3), 1e-12));
+  }
+}
+
+TEST(EphemeralRelations, add_remove_edit_group__each_one_undo_step) {
+  Arm arm = make_arm();
+  Graph& g = arm.scene->graph();
+  const NodeId rig = arm.rig.rig;
+  const Relation magnet{RelationKind::kMagnet, arm.c(0), arm.c(2)};
+  ASSERT_TRUE(succeeded(relation_add(g, rig, magnet)));
+  EXPECT_EQ(relation_add(g, rig, magnet).code(), ErrorCode::kAlreadyExists);
+  EXPECT_EQ(relation_add(g, rig, Relation{RelationKind::kPair, arm.c(0), arm.c(0)}).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(relation_add(g, rig, Relation{RelationKind::kPair, arm.c(0), arm.wrist}).code(), ErrorCode::kInvalidArgument)
+      << "relations join controls, not joints";
+  ASSERT_TRUE(succeeded(relation_set_kind(g, rig, magnet, RelationKind::kPair)));
+  EXPECT_EQ(relations(g, rig)->size(), 5u);
+  ASSERT_TRUE(succeeded(relation_remove(g, rig, Relation{RelationKind::kPair, arm.c(0), arm.c(2)})));
+  EXPECT_EQ(relation_remove(g, rig, magnet).code(), ErrorCode::kNotFound);
+  ASSERT_TRUE(succeeded(group_add(g, rig, {arm.c(0), arm.c(1), arm.c(2)})));
+  EXPECT_EQ(relations(g, rig)->size(), 4u + 6u) << "a group of three: pairs both ways between each two";
+  ASSERT_TRUE(g.undo());
+  EXPECT_EQ(relations(g, rig)->size(), 4u);
+}
+
+TEST(EphemeralRelations, survive_renames_and_a_file_round_trip) {
+  Arm arm = make_arm();
+  Graph& g = arm.scene->graph();
+  ASSERT_TRUE(succeeded(relation_add(g, arm.rig.rig, Relation{RelationKind::kMagnet, arm.c(0), arm.c(2)})));
+  ASSERT_TRUE(succeeded(g.rename(arm.c(2), "hand_ctrl")));
+  Result<std::vector<Relation>> rel = relations(g, arm.rig.rig);
+  ASSERT_TRUE(rel.is_ok());
+  EXPECT_EQ(rel->back(), (Relation{RelationKind::kMagnet, arm.c(0), arm.c(2)})) << "relations name controls by uuid";
+  const std::string text = io::write_scene(*arm.scene);
+  auto loaded = io::parse_scene(text, "arm.rigel", default_registry());
+  ASSERT_TRUE(loaded.is_ok()) << loaded.status().message();
+  Graph& lg = (*loaded)->graph();
+  std::vector<NodeId> rigs = rigs_find(lg);
+  ASSERT_EQ(rigs.size(), 1u);
+  Result<std::vector<Relation>> lrel = relations(lg, rigs[0]);
+  ASSERT_TRUE(lrel.is_ok());
+  ASSERT_EQ(lrel->size(), rel->size());
+  for (std::size_t i = 0; i < rel->size(); ++i) {
+    EXPECT_EQ((*lrel)[i].kind, (*rel)[i].kind);
+    EXPECT_EQ(lg.node((*lrel)[i].from)->name(), g.node((*rel)[i].from)->name());
+    EXPECT_EQ(lg.node((*lrel)[i].to)->name(), g.node((*rel)[i].to)->name());
+  }
+  EXPECT_EQ(io::write_scene(**loaded), text);
+  EXPECT_EQ(rig_of(lg, lg.find("hand_ctrl")), rigs[0]);
+}
+
+}  // namespace
+}  // namespace rigel::ephemeral::testing
