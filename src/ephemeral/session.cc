@@ -127,14 +127,17 @@ struct Session::Scratch {
   std::vector<int> units;          // solve order: >= 0 entry, < 0 chain -(c + 1)
   std::vector<std::uint8_t> free;  // follower of its hierarchy parent: never written
   std::vector<Mat4> w, wn;
-  std::vector<std::uint8_t> has_w, has_wn;
+  std::vector<std::uint8_t> has_w, has_wn, has_motion;
+  std::vector<Quat> motion;  // magnet: each driver's rotation this drag
   std::vector<Mat4> chain_world;
   std::vector<Vec3> positions, solved;
   std::vector<Quat> corrections;
   struct Write {
     int entry;
     Vec3 translate;
-    Quat rotation;
+    Quat rotation;  // rotateQuaternion controls
+    Vec3 euler;     // rotate (degrees), Euler controls
+    bool set_t, set_r;
   };
   std::vector<Write> writes;
 };
@@ -256,6 +259,7 @@ Result<const Plan*> Session::plan() {
     Result<std::unique_ptr<Plan>> built = plan_build();
     if (!built) return built.status();
     plan_ = std::move(*built);
+    gesture_ = Graph::new_merge_key();
     ++plans_built_;
   }
   return static_cast<const Plan*>(plan_.get());
@@ -592,6 +596,8 @@ Status Session::solve(const Delta& delta) {
   const std::size_t n = entries.size();
   std::fill(sc.has_w.begin(), sc.has_w.end(), 0);
   std::fill(sc.has_wn.begin(), sc.has_wn.end(), 0);
+  sc.motion.resize(n);
+  sc.has_motion.assign(n, 0);
   const Quat rot = delta.rotate.normalized();
   const Mat3 rot_m = rot.toRotationMatrix();
 
@@ -747,8 +753,14 @@ Status Session::solve(const Delta& delta) {
       case Role::kMagnet: {
         const Mat4& dw = world(en.driver);
         const Mat4& dn = new_world(new_world, en.driver);
-        const Mat3 r = lin(math::rigid_part(dn * math::affine_inverse(dw)));
-        const Quat rf = Quat::Identity().slerp(en.weight, Quat(r).normalized());
+        // The driver's rotation, once per driver (a chest drives many).
+        if (!sc.has_motion[en.driver]) {
+          const Mat3 r = lin(math::rigid_part(dn * math::affine_inverse(dw)));
+          sc.motion[en.driver] = Quat(r).normalized();
+          sc.has_motion[en.driver] = 1;
+        }
+        const Quat& dq = sc.motion[en.driver];
+        const Quat rf = dq.vec().squaredNorm() == 0 ? Quat::Identity() : Quat::Identity().slerp(en.weight, dq);
         const Mat3 rfm = rf.toRotationMatrix();
         const Vec3 c = pos(dw);
         const Mat4& w = world(e);
@@ -782,44 +794,55 @@ Status Session::solve(const Delta& delta) {
         pe >= 0 ? new_world(new_world, pe) : eval_mat(graph, entries[e].control, xform::kParentMatrix);
     const Mat4 local = math::affine_inverse(parent_world * std::get<Mat4>(node.value(xform::kOffsetParentMatrix))) *
                        new_world(new_world, static_cast<int>(e));
-    math::TransformParts rest;
-    rest.scale = std::get<Vec3>(node.value(xform::kScale));
-    rest.shear = std::get<Vec3>(node.value(xform::kShear));
-    rest.rotate_axis = math::to_radians(std::get<Vec3>(node.value(xform::kRotateAxis)));
-    const Mat3 after = lin(math::compose(rest));  // RA * SH * S
-    const Quat q = Quat(Mat3(lin(local) * after.inverse())).normalized();
+    const Vec3& scale = std::get<Vec3>(node.value(xform::kScale));
+    const Vec3& shear = std::get<Vec3>(node.value(xform::kShear));
+    const Vec3& rotate_axis = std::get<Vec3>(node.value(xform::kRotateAxis));
+    Mat3 rotation = lin(local);
+    if (shear == Vec3::Zero() && rotate_axis == Vec3::Zero()) {
+      rotation = rotation * scale.cwiseInverse().asDiagonal();  // local = R * S
+    } else {
+      math::TransformParts rest;
+      rest.scale = scale;
+      rest.shear = shear;
+      rest.rotate_axis = math::to_radians(rotate_axis);
+      rotation = rotation * lin(math::compose(rest)).inverse();  // local = R * (RA * SH * S)
+    }
+    const Quat q = Quat(rotation).normalized();
     const Vec3 t = pos(local);
     const Vec3& t0 = std::get<Vec3>(node.value(xform::kTranslate));
-    const bool quat_mode = std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1;
-    const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(node.value(xform::kRotateOrder)));
-    const Quat q0 = quat_mode ? std::get<Quat>(node.value(xform::kRotateQuaternion)).normalized()
-                              : math::euler_to_quat(math::to_radians(std::get<Vec3>(node.value(xform::kRotate))), order);
     const bool same_t = (t - t0).norm() <= 1e-12 * std::max(1.0, t0.norm());
-    const bool same_r = (q0.conjugate() * q).vec().norm() <= 1e-13;
-    if (same_t && same_r) continue;
-    sc.writes.push_back(Scratch::Write{static_cast<int>(e), same_t ? t0 : t, same_r ? q0 : q});
+    Scratch::Write write{static_cast<int>(e), same_t ? t0 : t, Quat::Identity(), Vec3::Zero(), !same_t, false};
+    if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1) {
+      const Quat& q0 = std::get<Quat>(node.value(xform::kRotateQuaternion));
+      Quat qs = q;
+      if (qs.dot(q0) < 0) qs.coeffs() = -qs.coeffs();  // sign-continuous
+      write.set_r = (q0.normalized().conjugate() * qs).vec().norm() > 1e-13;
+      write.rotation = qs;
+    } else {
+      const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(node.value(xform::kRotateOrder)));
+      const Vec3& r0 = std::get<Vec3>(node.value(xform::kRotate));
+      const Vec3 previous = math::to_radians(r0);
+      write.euler = math::to_degrees(math::euler_closest(math::quat_to_euler(q, order), previous, order));
+      // 1e-11 degrees ~ 2e-13 rad, the quaternion test's threshold.
+      write.set_r = (write.euler - r0).cwiseAbs().maxCoeff() > 1e-11;
+    }
+    if (write.set_t || write.set_r) sc.writes.push_back(write);
   }
   if (sc.writes.empty()) return Status::ok();
 
-  graph::Transaction tx(graph, std::string("ephemeral drag (") + mode_name(plan.mode) + ")");
+  graph::Transaction tx(graph, std::string("ephemeral drag (") + mode_name(plan.mode) + ")", gesture_);
   writing_ = true;
   Status status;
   for (const Scratch::Write& wr : sc.writes) {
     const NodeId id = entries[wr.entry].control;
     const graph::Node& node = *graph.node(id);
-    status = graph.set_value(Plug{id, xform::kTranslate, -1}, wr.translate);
+    if (wr.set_t) status = graph.set_value(Plug{id, xform::kTranslate, -1}, wr.translate);
     if (!status) break;
-    if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1) {
-      const Quat& q0 = std::get<Quat>(node.value(xform::kRotateQuaternion));
-      Quat q = wr.rotation;
-      if (q.dot(q0) < 0) q.coeffs() = -q.coeffs();
-      status = graph.set_value(Plug{id, xform::kRotateQuaternion, -1}, q);
-    } else {
-      const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(node.value(xform::kRotateOrder)));
-      const Vec3 previous = math::to_radians(std::get<Vec3>(node.value(xform::kRotate)));
-      const Vec3 e = math::euler_closest(math::quat_to_euler(wr.rotation, order), previous, order);
-      status = graph.set_value(Plug{id, xform::kRotate, -1}, Vec3(math::to_degrees(e)));
-    }
+    if (!wr.set_r) continue;
+    if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1)
+      status = graph.set_value(Plug{id, xform::kRotateQuaternion, -1}, wr.rotation);
+    else
+      status = graph.set_value(Plug{id, xform::kRotate, -1}, wr.euler);
     if (!status) break;
   }
   if (!status) {

@@ -1,6 +1,7 @@
 #include "rigel/graph/graph.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <deque>
@@ -63,19 +64,46 @@ struct NodeSnapshot {
   std::uint64_t order = 0;
 };
 
+// Value sets are most edits (an interactive drag writes hundreds per event),
+// so an Edit is kept small and what only node, rename and tag edits need
+// lives behind a pointer.
+struct EditExtra {
+  NodeSnapshot snapshot;                               // create, delete
+  std::string key;                                     // tag key
+  std::optional<std::string> text_before, text_after;  // rename (names), tag (values)
+};
+
 struct Graph::Edit {
   enum class Kind { kCreate, kDelete, kConnect, kDisconnect, kSet, kRename, kTag };
   Kind kind = Kind::kSet;
-  NodeSnapshot snapshot;          // create, delete
-  PlugRef src, dst;               // connect, disconnect; dst is the plug for set
-  Value before, after;            // set: whole attribute; connect: dst before; disconnect: dst after
-  std::string key;                // tag key
-  std::optional<std::string> text_before, text_after;  // rename (names), tag (values)
+  PlugRef src, dst;     // connect, disconnect; dst is the plug for set
+  Value before, after;  // set: whole attribute; connect: dst before; disconnect: dst after
+  std::unique_ptr<EditExtra> extra;
+  EditExtra& x() {
+    if (!extra) extra = std::make_unique<EditExtra>();
+    return *extra;
+  }
+  const EditExtra& x() const { return *extra; }
 };
+static_assert(std::is_nothrow_move_constructible_v<Value>, "edit vectors must grow by moving");
 
 struct Graph::Step {
   std::string label;
   std::vector<Edit> edits;
+  std::uint64_t merge_key = 0;
+  // Merging steps only: where each plug's kSet edit is, built on first merge.
+  struct PlugKey {
+    Uuid node;
+    AttrIndex attr;
+    bool operator==(const PlugKey&) const = default;
+  };
+  struct PlugKeyHash {
+    std::size_t operator()(const PlugKey& k) const { return UuidHash{}(k.node) * 31 + k.attr; }
+  };
+  std::unordered_map<PlugKey, std::size_t, PlugKeyHash> set_at;
+  bool only_sets() const {
+    return std::all_of(edits.begin(), edits.end(), [](const Edit& e) { return e.kind == Edit::Kind::kSet; });
+  }
 };
 
 struct Graph::Schedule {
@@ -165,7 +193,7 @@ Result<NodeId> Graph::create_node(std::string_view type_name, std::string_view n
   Edit edit;
   edit.kind = Edit::Kind::kCreate;
   const Node& n = *node(*id);
-  edit.snapshot = NodeSnapshot{n.uuid_, n.type_, n.name_, n.values_, n.tags_, n.order_};
+  edit.x().snapshot = NodeSnapshot{n.uuid_, n.type_, n.name_, n.values_, n.tags_, n.order_};
   record(std::move(edit));
   notify([&](Observer& o) { o.node_added(*this, *id); });
   return id;
@@ -227,7 +255,7 @@ Status Graph::delete_node(NodeId id) {
   notify([&](Observer& o) { o.node_removed(*this, id); });
   Edit edit;
   edit.kind = Edit::Kind::kDelete;
-  edit.snapshot = NodeSnapshot{n->uuid_, n->type_, n->name_, n->values_, n->tags_, n->order_};
+  edit.x().snapshot = NodeSnapshot{n->uuid_, n->type_, n->name_, n->values_, n->tags_, n->order_};
   record(std::move(edit));
   return delete_node_impl(id);
 }
@@ -260,8 +288,8 @@ Status Graph::rename(NodeId id, std::string_view name) {
   Edit edit;
   edit.kind = Edit::Kind::kRename;
   edit.dst.node = n->uuid_;
-  edit.text_before = old;
-  edit.text_after = wanted;
+  edit.x().text_before = old;
+  edit.x().text_after = wanted;
   record(std::move(edit));
   notify([&](Observer& o) { o.node_renamed(*this, id, old); });
   return Status::ok();
@@ -835,9 +863,9 @@ Status Graph::set_tag(NodeId id, const std::string& key, const std::string& valu
   Edit edit;
   edit.kind = Edit::Kind::kTag;
   edit.dst.node = n->uuid_;
-  edit.key = key;
-  if (it != n->tags_.end()) edit.text_before = it->second;
-  edit.text_after = value;
+  edit.x().key = key;
+  if (it != n->tags_.end()) edit.x().text_before = it->second;
+  edit.x().text_after = value;
   n->tags_[key] = value;
   record(std::move(edit));
   notify([&](Observer& o) { o.tag_changed(*this, id, key); });
@@ -852,8 +880,8 @@ Status Graph::remove_tag(NodeId id, const std::string& key) {
   Edit edit;
   edit.kind = Edit::Kind::kTag;
   edit.dst.node = n->uuid_;
-  edit.key = key;
-  edit.text_before = it->second;
+  edit.x().key = key;
+  edit.x().text_before = it->second;
   n->tags_.erase(it);
   record(std::move(edit));
   notify([&](Observer& o) { o.tag_changed(*this, id, key); });
@@ -898,13 +926,13 @@ void Graph::record(Edit edit) {
   if (open_.empty()) {
     auto step = std::make_unique<Step>();
     switch (edit.kind) {
-      case Edit::Kind::kCreate: step->label = "create " + edit.snapshot.name; break;
-      case Edit::Kind::kDelete: step->label = "delete " + edit.snapshot.name; break;
+      case Edit::Kind::kCreate: step->label = "create " + edit.x().snapshot.name; break;
+      case Edit::Kind::kDelete: step->label = "delete " + edit.x().snapshot.name; break;
       case Edit::Kind::kConnect: step->label = "connect"; break;
       case Edit::Kind::kDisconnect: step->label = "disconnect"; break;
       case Edit::Kind::kSet: step->label = "set"; break;
-      case Edit::Kind::kRename: step->label = "rename " + *edit.text_before + " to " + *edit.text_after; break;
-      case Edit::Kind::kTag: step->label = "tag " + edit.key; break;
+      case Edit::Kind::kRename: step->label = "rename " + *edit.x().text_before + " to " + *edit.x().text_after; break;
+      case Edit::Kind::kTag: step->label = "tag " + edit.x().key; break;
     }
     step->edits.push_back(std::move(edit));
     push_undo(std::move(step));
@@ -960,10 +988,10 @@ void Graph::apply(const Edit& e, bool forward) {
   };
   switch (e.kind) {
     case Edit::Kind::kCreate:
-      forward ? restore(e.snapshot) : remove(e.snapshot.uuid);
+      forward ? restore(e.x().snapshot) : remove(e.x().snapshot.uuid);
       break;
     case Edit::Kind::kDelete:
-      forward ? remove(e.snapshot.uuid) : restore(e.snapshot);
+      forward ? remove(e.x().snapshot.uuid) : restore(e.x().snapshot);
       break;
     case Edit::Kind::kConnect:
       if (forward) {
@@ -989,7 +1017,7 @@ void Graph::apply(const Edit& e, bool forward) {
       Node& n = *node_mut(id);
       std::string old = n.name_;
       by_name_.erase(old);
-      n.name_ = forward ? *e.text_after : *e.text_before;
+      n.name_ = forward ? *e.x().text_after : *e.x().text_before;
       by_name_.emplace(n.name_, id);
       notify([&](Observer& o) { o.node_renamed(*this, id, old); });
       break;
@@ -997,19 +1025,27 @@ void Graph::apply(const Edit& e, bool forward) {
     case Edit::Kind::kTag: {
       NodeId id = id_of(e.dst.node);
       Node& n = *node_mut(id);
-      const std::optional<std::string>& v = forward ? e.text_after : e.text_before;
-      if (v) n.tags_[e.key] = *v;
-      else n.tags_.erase(e.key);
-      notify([&](Observer& o) { o.tag_changed(*this, id, e.key); });
+      const std::optional<std::string>& v = forward ? e.x().text_after : e.x().text_before;
+      if (v) n.tags_[e.x().key] = *v;
+      else n.tags_.erase(e.x().key);
+      notify([&](Observer& o) { o.tag_changed(*this, id, e.x().key); });
       break;
     }
   }
 }
 
-void Graph::begin_transaction(std::string label) {
+std::uint64_t Graph::new_merge_key() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Graph::begin_transaction(std::string label, std::uint64_t merge_key) {
   if (open_.empty()) {
-    pending_ = std::make_unique<Step>();
+    pending_ = spare_ ? std::move(spare_) : std::make_unique<Step>();
+    // Interactive edits repeat: size the step like the last one.
+    pending_->edits.reserve(std::min<std::size_t>(last_step_edits_, 1 << 16));
     pending_->label = std::move(label);
+    pending_->merge_key = merge_key;
   }
   open_.push_back(pending_->edits.size());
 }
@@ -1019,8 +1055,28 @@ void Graph::commit_transaction() {
   if (open_.empty()) return;
   open_.pop_back();
   if (!open_.empty()) return;
-  if (!pending_->edits.empty()) push_undo(std::move(pending_));
-  pending_.reset();
+  std::unique_ptr<Step> step = std::move(pending_);
+  if (step->edits.empty()) return;
+  last_step_edits_ = step->edits.size();
+  Step* top = undo_stack_.empty() ? nullptr : undo_stack_.back().get();
+  if (step->merge_key != 0 && !step->only_sets()) step->merge_key = 0;
+  if (step->merge_key == 0 || !top || top->merge_key != step->merge_key) {
+    push_undo(std::move(step));
+    return;
+  }
+  // Same gesture: fold into the step on top (its edits are all sets).
+  if (top->set_at.empty()) {
+    for (std::size_t i = 0; i < top->edits.size(); ++i)
+      top->set_at[Step::PlugKey{top->edits[i].dst.node, top->edits[i].dst.attr}] = i;
+  }
+  for (Edit& e : step->edits) {
+    auto [it, added] = top->set_at.try_emplace(Step::PlugKey{e.dst.node, e.dst.attr}, top->edits.size());
+    if (added) top->edits.push_back(std::move(e));
+    else top->edits[it->second].after = std::move(e.after);
+  }
+  step->edits.clear();
+  step->set_at.clear();
+  spare_ = std::move(step);
 }
 
 void Graph::rollback_transaction() {

@@ -34,6 +34,29 @@ TEST(EphemeralSession, plan_is_built_once__reused__and_dropped_on_selection_mode
   EXPECT_FALSE(session.has_plan()) << "an edit the session did not make drops the plan";
 }
 
+TEST(EphemeralSession, a_gesture_is_one_undo_step__a_new_grab_starts_another) {
+  Arm arm = make_arm();
+  graph::Graph& g = arm.scene->graph();
+  const std::string before = io::write_scene(*arm.scene);
+  Session session(*arm.scene);
+  session.set_mode(Mode::kInverse);
+  session.select({arm.c(2)});
+  const std::size_t steps = g.undo_count();
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(succeeded(session.drag(Delta{Vec3(0.01, 0.02, -0.01)})));
+  EXPECT_EQ(g.undo_count(), steps + 1) << "fifty drag events of one grab are one step";
+  const std::string dragged = io::write_scene(*arm.scene);
+  session.release();
+  session.select({arm.c(2)});
+  ASSERT_TRUE(succeeded(session.drag(Delta{Vec3(0.1, 0, 0)})));
+  EXPECT_EQ(g.undo_count(), steps + 2) << "a new grab is a new step";
+  ASSERT_TRUE(g.undo());
+  EXPECT_EQ(io::write_scene(*arm.scene), dragged);
+  ASSERT_TRUE(g.undo());
+  EXPECT_EQ(io::write_scene(*arm.scene), before) << "one undo takes back the whole gesture";
+  ASSERT_TRUE(g.redo());
+  EXPECT_EQ(io::write_scene(*arm.scene), dragged);
+}
+
 TEST(EphemeralSession, grab_and_release_leaves_no_trace__drag_undo_restores_the_file) {
   Arm arm = make_arm();
   const std::string before = io::write_scene(*arm.scene);

@@ -187,6 +187,50 @@ TEST(Undo, transaction__groups_edits_into_one_step) {
   EXPECT_EQ(canonical_dump(f.graph), after) << "one redo replays all five";
 }
 
+TEST(Undo, merge_key__folds_a_gesture_into_one_step_with_the_first_before) {
+  Fixture f;
+  f.graph.clear_history();
+  const std::string before = canonical_dump(f.graph);
+  const std::uint64_t gesture = Graph::new_merge_key();
+  EXPECT_NE(gesture, Graph::new_merge_key()) << "keys are unique";
+  for (int i = 1; i <= 5; ++i) {
+    Transaction tx(f.graph, "drag", gesture);
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), double(i)).is_ok());
+    if (i >= 3) {
+      ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.b, "b"), double(10 * i)).is_ok()) << "a plug new to the step";
+    }
+  }
+  EXPECT_EQ(f.graph.undo_count(), 1u) << "five transactions with one key: one step";
+  const std::string after = canonical_dump(f.graph);
+  ASSERT_TRUE(f.graph.undo());
+  EXPECT_EQ(canonical_dump(f.graph), before) << "every plug back to its value before the first transaction";
+  ASSERT_TRUE(f.graph.redo());
+  EXPECT_EQ(canonical_dump(f.graph), after) << "and forward to its last value";
+
+  {
+    Transaction tx(f.graph, "drag", Graph::new_merge_key());
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 7.0).is_ok());
+  }
+  EXPECT_EQ(f.graph.undo_count(), 2u) << "another key: another step";
+  ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "b"), 8.0).is_ok());
+  {
+    Transaction tx(f.graph, "drag", gesture);
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 9.0).is_ok());
+  }
+  EXPECT_EQ(f.graph.undo_count(), 4u) << "a step between ends the merge";
+  {
+    Transaction tx(f.graph, "build", gesture);
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 10.0).is_ok());
+    ASSERT_TRUE(f.graph.rename(f.b, "b2").is_ok());
+  }
+  EXPECT_EQ(f.graph.undo_count(), 5u) << "only pure value sets merge";
+  {
+    Transaction tx(f.graph, "drag", gesture);
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 11.0).is_ok());
+  }
+  EXPECT_EQ(f.graph.undo_count(), 6u) << "nor merge into a step that is not";
+}
+
 TEST(Undo, transaction__nests_and_the_outermost_closes) {
   Fixture f;
   {

@@ -145,8 +145,9 @@ class Session : public graph::Observer {
   // How many plans were built (tests check reuse).
   int plans_built() const { return plans_built_; }
 
-  // Moves the grabbed controls by `delta` and writes the result as one undo
-  // step ("ephemeral drag"). A zero motion writes nothing. Fails (writing
+  // Moves the grabbed controls by `delta` and writes the result. All drags of
+  // one plan (grab to release: one gesture) are one undo step ("ephemeral
+  // drag (MODE)"): undo returns to the pose before the grab. A zero motion writes nothing. Fails (writing
   // nothing) when nothing is grabbed, a channel to write is driven by a
   // connection (keyed), or delta.scale is not 1 outside body mode.
   Status drag(const Delta& delta);
@@ -183,6 +184,7 @@ class Session : public graph::Observer {
   std::unique_ptr<Scratch> scratch_;
   bool writing_ = false;
   int plans_built_ = 0;
+  std::uint64_t gesture_ = 0;  // undo merge key of the current plan's drags
 };
 
 }  // namespace rigel::ephemeral

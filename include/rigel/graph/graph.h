@@ -217,7 +217,15 @@ class Graph {
 
   // ---- undo ----------------------------------------------------------------
   // Groups edits into one undo step; nests (the outermost commit closes it).
-  void begin_transaction(std::string label);
+  // A non-zero `merge_key` (from new_merge_key(), taken from the outermost
+  // transaction) makes an interactive gesture one undo step: when the step
+  // on top of the undo stack was committed with the same key and both hold
+  // only value sets, the new edits merge into it (each plug keeps its first
+  // `before` and takes the latest `after`), so a drag of a thousand events
+  // undoes at once and costs no memory per event.
+  void begin_transaction(std::string label, std::uint64_t merge_key = 0);
+  // A key no other gesture has used (thread-safe).
+  static std::uint64_t new_merge_key();
   void commit_transaction();
   // Undoes the edits since the innermost open begin_transaction and closes it.
   void rollback_transaction();
@@ -284,6 +292,8 @@ class Graph {
   std::vector<std::unique_ptr<Step>> undo_stack_;
   std::vector<std::unique_ptr<Step>> redo_stack_;
   std::unique_ptr<Step> pending_;
+  std::unique_ptr<Step> spare_;
+  std::size_t last_step_edits_ = 0;  // edits of the last committed transaction  // a merged step's emptied buffer, reused by the next transaction
   std::vector<std::size_t> open_;
   bool replaying_ = false;
   std::uint64_t visit_epoch_ = 0;
@@ -297,7 +307,9 @@ class Graph {
 // rolled back).
 class Transaction {
  public:
-  Transaction(Graph& graph, std::string label) : graph_(graph) { graph_.begin_transaction(std::move(label)); }
+  Transaction(Graph& graph, std::string label, std::uint64_t merge_key = 0) : graph_(graph) {
+    graph_.begin_transaction(std::move(label), merge_key);
+  }
   ~Transaction() {
     if (open_) graph_.commit_transaction();
   }
