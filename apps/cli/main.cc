@@ -9,11 +9,17 @@
 #include <filesystem>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
+#include "rigel/ephemeral/rig.h"
+#include "rigel/ephemeral/session.h"
 #include "rigel/io/bvh_import.h"
 #include "rigel/io/gltf_export.h"
 #include "rigel/io/gltf_import.h"
@@ -35,6 +41,41 @@ int fail(const Status& status) {
   return kExitInvalidInput;
 }
 
+// Every .rigel file is read over ephemeral::default_registry() (the ops types
+// plus ephemeralRig), so scenes holding an ephemeral rig load everywhere.
+rigel::Result<std::unique_ptr<rigel::scene::Scene>> load(const std::string& path) {
+  return rigel::io::load_scene(path, rigel::ephemeral::default_registry());
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// One finite number filling all of [begin, end); nullopt for anything else.
+std::optional<double> parse_number(const char* begin, const char* end) {
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(begin, end, value);
+  if (ec != std::errc() || ptr != end || begin == end || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+// "X,Y,Z" as three finite numbers; nullopt for anything else.
+std::optional<rigel::math::Vec3> parse_vec3(const std::string& text) {
+  rigel::math::Vec3 v;
+  std::size_t start = 0;
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t comma = i < 2 ? text.find(',', start) : text.size();
+    if (comma == std::string::npos) return std::nullopt;
+    const auto number = parse_number(text.data() + start, text.data() + comma);
+    if (!number) return std::nullopt;
+    v[i] = *number;
+    start = comma + 1;
+  }
+  return v;
+}
+
 std::string vec(double x, double y, double z) {
   char buffer[96];
   std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", x, y, z);
@@ -49,7 +90,7 @@ struct InspectArgs {
 };
 
 int run_inspect(const InspectArgs& args) {
-  auto scene = rigel::io::load_scene(args.scene);
+  auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   auto report = rigel::io::inspect_report(**scene);
   if (args.json) {
@@ -102,7 +143,7 @@ int run_eval(const EvalArgs& args) {
     std::cerr << "rigel: " << (args.frame ? "--frame" : "--time") << " must be a finite number\n";
     return kExitUsage;
   }
-  auto scene = rigel::io::load_scene(args.scene);
+  auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   rigel::scene::Scene& s = **scene;
   if (args.frame) s.set_frame(*args.frame);
@@ -176,8 +217,7 @@ int run_import_gltf(const ImportArgs& args) {
 }
 
 int run_import(const ImportArgs& args) {
-  std::string ext = std::filesystem::path(args.input).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(args.input);
   if (ext != ".bvh" && ext != ".glb" && ext != ".gltf") {
     std::cerr << "rigel: " << args.input << ": unsupported file type '" << ext << "' (this build imports .bvh, .glb, .gltf)\n";
     return kExitInvalidInput;
@@ -213,14 +253,8 @@ struct ExportArgs {
 std::optional<std::pair<double, double>> parse_frames(const std::string& text) {
   const std::size_t colon = text.find(':');
   if (colon == std::string::npos) return std::nullopt;
-  auto number = [](const char* begin, const char* end) -> std::optional<double> {
-    double value = 0.0;
-    const auto [ptr, ec] = std::from_chars(begin, end, value);
-    if (ec != std::errc() || ptr != end || begin == end || !std::isfinite(value)) return std::nullopt;
-    return value;
-  };
-  const auto first = number(text.data(), text.data() + colon);
-  const auto last = number(text.data() + colon + 1, text.data() + text.size());
+  const auto first = parse_number(text.data(), text.data() + colon);
+  const auto last = parse_number(text.data() + colon + 1, text.data() + text.size());
   if (!first || !last) return std::nullopt;
   return std::pair{*first, *last};
 }
@@ -235,13 +269,12 @@ int run_export(const ExportArgs& args) {
       return kExitInvalidInput;
     }
   }
-  std::string ext = std::filesystem::path(args.output).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(args.output);
   if (ext != ".glb" && ext != ".gltf") {
     std::cerr << "rigel: " << args.output << ": unsupported file type '" << ext << "' (export writes .glb or .gltf)\n";
     return kExitInvalidInput;
   }
-  auto scene = rigel::io::load_scene(args.scene);
+  auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   // Baking long ranges takes a while: show how far it got, on a terminal only.
   bool progress_shown = false;
@@ -267,6 +300,247 @@ int run_export(const ExportArgs& args) {
   std::cerr << "rigel: exported " << report.node_count << " nodes, " << report.mesh_count << " meshes, "
             << report.skin_count << " skins, " << report.animation_count << " animations (" << report.channel_count
             << " channels) to " << args.output << "\n";
+  return 0;
+}
+
+// ---- ephemeral setup -----------------------------------------------------------
+
+struct EphemeralSetupArgs {
+  std::string scene;
+  std::string output;
+  std::vector<std::string> joints;
+  std::string suffix = "_ctrl";
+  bool drop_animation = false;
+  double shape_radius = 0.0;
+  bool json = false;
+};
+
+// A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
+// import` does (units kept); either way over ephemeral::default_registry().
+rigel::Result<std::unique_ptr<rigel::scene::Scene>> load_or_import(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  // The importers build over ops::default_registry(), which has no
+  // ephemeralRig type: carry the scene over through its file text.
+  auto reload = [&](rigel::Result<std::unique_ptr<rigel::scene::Scene>> imported)
+      -> rigel::Result<std::unique_ptr<rigel::scene::Scene>> {
+    if (!imported) return imported.status();
+    return rigel::io::parse_scene(rigel::io::write_scene(**imported), path, rigel::ephemeral::default_registry());
+  };
+  if (ext == ".glb" || ext == ".gltf") return reload(rigel::io::import_gltf(path));
+  if (ext == ".bvh") {
+    auto file = rigel::io::load_bvh(path);
+    if (!file) return file.status();
+    return reload(rigel::io::import_bvh(*file));
+  }
+  return load(path);
+}
+
+int run_ephemeral_setup(const EphemeralSetupArgs& args) {
+  if (!(args.shape_radius >= 0.0) || !std::isfinite(args.shape_radius)) {
+    std::cerr << "rigel: --shape-radius must be a number >= 0\n";
+    return kExitUsage;
+  }
+  if (!rigel::graph::Graph::is_valid_name("joint" + args.suffix)) {
+    std::cerr << "rigel: --suffix '" << args.suffix << "': control names would not be valid node names\n";
+    return kExitUsage;
+  }
+  for (const std::string& name : args.joints) {
+    if (name.empty()) {
+      std::cerr << "rigel: --joints: empty joint name (expected A,B,...)\n";
+      return kExitUsage;
+    }
+  }
+  auto scene = load_or_import(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
+  rigel::ephemeral::SetupOptions options;
+  options.control_suffix = args.suffix;
+  options.keep_animation = !args.drop_animation;
+  options.shape_radius = args.shape_radius;
+  for (const std::string& name : args.joints) {
+    const NodeId id = g.find(name);
+    if (!id.is_valid()) return fail(Status(rigel::ErrorCode::kNotFound, args.scene + ": --joints: no node named '" + name + "'"));
+    options.joints.push_back(id);
+  }
+  auto result = rigel::ephemeral::setup_ephemeral(s, options);
+  if (!result) return fail(result.status().with_context(args.scene));
+  if (Status st = rigel::io::save_scene(s, args.output); !st) return fail(st);
+  const std::string rig = g.node(result->rig)->name();
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["rig"] = rig;
+    out["controls"] = nlohmann::ordered_json::array();
+    out["joints"] = nlohmann::ordered_json::array();
+    for (NodeId id : result->controls) out["controls"].push_back(g.node(id)->name());
+    for (NodeId id : result->joints) out["joints"].push_back(g.node(id)->name());
+    std::cout << out.dump() << "\n";
+  }
+  std::cerr << "rigel: ephemeral rig '" << rig << "': " << result->controls.size()
+            << (result->controls.size() == 1 ? " control" : " controls") << " into " << args.output << "\n";
+  return 0;
+}
+
+// ---- pose --------------------------------------------------------------------
+
+struct PoseArgs {
+  std::string scene;
+  std::string output;
+  std::string control;
+  std::string mode;
+  std::optional<std::string> translate, rotate, scale, pivot;
+  std::vector<std::string> select;
+  std::optional<double> frame;
+  std::optional<double> time;
+  std::optional<double> magnet_fraction;
+  std::optional<double> magnet_radius;
+  std::optional<int> max_chain;
+  bool json = false;
+};
+
+int usage_error(const std::string& message) {
+  std::cerr << "rigel: " << message << "\n";
+  return kExitUsage;
+}
+
+int run_pose(const PoseArgs& args) {
+  namespace eph = rigel::ephemeral;
+  using rigel::math::Mat4;
+  using rigel::math::Quat;
+  using rigel::math::Vec3;
+  // Usage errors first (exit 2), before the scene is read.
+  const std::optional<eph::Mode> mode = eph::mode_from_name(args.mode);
+  if (!mode) {
+    std::string modes;
+    for (int m = 0; m < eph::kModeCount; ++m)
+      modes += std::string(m ? ", " : "") + eph::mode_name(static_cast<eph::Mode>(m));
+    return usage_error("--mode '" + args.mode + "': unknown mode; modes: " + modes);
+  }
+  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time)))
+    return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
+  eph::Delta delta;
+  std::optional<Vec3> pivot;
+  struct VecOption {
+    const char* name;
+    const std::optional<std::string>& text;
+  };
+  for (const VecOption& o : {VecOption{"--translate", args.translate}, VecOption{"--rotate", args.rotate},
+                             VecOption{"--scale", args.scale}, VecOption{"--pivot", args.pivot}}) {
+    if (!o.text) continue;
+    const std::optional<Vec3> v = parse_vec3(*o.text);
+    if (!v) return usage_error(std::string(o.name) + " '" + *o.text + "': expected X,Y,Z, three numbers such as 0,1.5,-2");
+    const std::string name = o.name;
+    if (name == "--translate") {
+      delta.translate = *v;
+    } else if (name == "--rotate") {
+      // Degrees, XYZ Euler: x applied first (rotation = Rz * Ry * Rx), world axes.
+      const Vec3 r = *v * (std::numbers::pi / 180.0);
+      delta.rotate = Quat(Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
+                          Eigen::AngleAxisd(r.x(), Vec3::UnitX()));
+    } else if (name == "--scale") {
+      delta.scale = *v;
+    } else {
+      pivot = *v;
+    }
+  }
+  eph::SessionOptions options;
+  if (args.magnet_fraction) {
+    if (!(*args.magnet_fraction > 0.0 && *args.magnet_fraction <= 1.0))
+      return usage_error("--magnet-fraction must be a number in (0, 1]");
+    options.magnet_fraction = *args.magnet_fraction;
+  }
+  if (args.magnet_radius) {
+    if (!(*args.magnet_radius > 0.0) || !std::isfinite(*args.magnet_radius))
+      return usage_error("--magnet-radius must be a positive number");
+    options.magnet_radius = *args.magnet_radius;
+  }
+  if (args.max_chain) {
+    if (*args.max_chain < 0) return usage_error("--max-chain must be 0 (no limit) or more");
+    options.max_chain = *args.max_chain;
+  }
+  for (const std::string& name : args.select)
+    if (name.empty()) return usage_error("--select: empty control name (expected A,B,...)");
+
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
+  const std::vector<NodeId> rigs = eph::rigs_find(g);
+  if (rigs.empty()) {
+    return fail(Status(rigel::ErrorCode::kNotFound,
+                       args.scene + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + args.scene +
+                           " -o OUT.rigel` first"));
+  }
+  if (pivot && *mode != eph::Mode::kBody)
+    return fail(Status(rigel::ErrorCode::kInvalidArgument, "--pivot applies in body mode only (--mode body)"));
+  if (args.frame) s.set_frame(*args.frame);
+  if (args.time) g.set_time(*args.time);
+
+  eph::Session session(s, options);
+  session.set_mode(*mode);
+  // Each name must be a control of an ephemeral rig, or a joint driven by one
+  // (it stands for its control, as in Session::select).
+  std::vector<NodeId> selection;
+  NodeId primary;
+  auto resolve = [&](const std::string& option, const std::string& name) -> std::optional<Status> {
+    const NodeId id = g.find(name);
+    if (!id.is_valid())
+      return Status(rigel::ErrorCode::kNotFound, args.scene + ": " + option + ": no node named '" + name + "'");
+    session.select({id});
+    const std::vector<NodeId> grabbed = session.grabbed();
+    if (grabbed.empty()) {
+      return Status(rigel::ErrorCode::kInvalidArgument,
+                    args.scene + ": " + option + ": '" + name + "' is not a control of an ephemeral rig (nor a joint driven by one)");
+    }
+    if (!primary.is_valid()) primary = grabbed.front();
+    selection.push_back(id);
+    return std::nullopt;
+  };
+  if (auto st = resolve("--control", args.control)) return fail(*st);
+  for (const std::string& name : args.select)
+    if (auto st = resolve("--select", name)) return fail(*st);
+  session.select(selection);
+  const std::vector<NodeId> grabbed = session.grabbed();
+  if (*mode == eph::Mode::kBody) {
+    // The motion is given for --control: the pivot is at it by default.
+    Mat4 world = rigel::math::rigid_part(s.world_matrix(primary));
+    if (pivot) world = rigel::math::translation_matrix(*pivot);
+    session.set_body_pivot(world);
+  }
+
+  // Every control of every rig, before and after (world space).
+  std::vector<NodeId> controls;
+  for (NodeId rig : rigs)
+    for (NodeId c : eph::rig_controls(g, rig)) controls.push_back(c);
+  std::vector<Mat4> before;
+  for (NodeId c : controls) before.push_back(s.world_matrix(c));
+  if (Status st = session.drag(delta); !st) return fail(st.with_context(args.scene + ": " + args.mode));
+  session.release();
+  nlohmann::ordered_json moved = nlohmann::ordered_json::object();
+  std::size_t moved_count = 0;
+  for (std::size_t i = 0; i < controls.size(); ++i) {
+    const Mat4 after = s.world_matrix(controls[i]);
+    if (rigel::math::is_near(before[i], after, 1e-12)) continue;
+    ++moved_count;
+    const rigel::math::Decomposed d = rigel::math::decompose(after);
+    const Quat& q = d.rotation;
+    moved[g.node(controls[i])->name()] = {{"t", {d.translate.x(), d.translate.y(), d.translate.z()}},
+                                          {"q", {q.x(), q.y(), q.z(), q.w()}}};
+  }
+  if (Status st = rigel::io::save_scene(s, args.output); !st) return fail(st);
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["mode"] = eph::mode_name(*mode);
+    out["frame"] = s.frame();
+    out["grabbed"] = nlohmann::ordered_json::array();
+    for (NodeId id : grabbed) out["grabbed"].push_back(g.node(id)->name());
+    out["moved"] = std::move(moved);
+    std::cout << out.dump() << "\n";
+  }
+  std::string names;
+  for (NodeId id : grabbed) names += (names.empty() ? "" : ", ") + g.node(id)->name();
+  std::cerr << "rigel: posed " << names << " (" << eph::mode_name(*mode) << ", frame " << s.frame() << "): "
+            << moved_count << (moved_count == 1 ? " control" : " controls") << " moved; wrote " << args.output << "\n";
   return 0;
 }
 
@@ -307,6 +581,60 @@ int main(int argc, char** argv) {
   export_cmd->add_flag("--bake", export_args.bake,
                        "Bake every frame even when the animation can be written as it is (default range: the keys')");
 
+  EphemeralSetupArgs setup;
+  CLI::App* ephemeral_cmd = app.add_subcommand("ephemeral", "Ephemeral rigs: one control per joint, posed with `rigel pose`");
+  ephemeral_cmd->require_subcommand(1);
+  CLI::App* setup_cmd = ephemeral_cmd->add_subcommand(
+      "setup", "Give joints a control each (mirroring the joint hierarchy) and an ephemeralRig node relating them");
+  setup_cmd->add_option("SCENE", setup.scene, "Scene file (.rigel), or a character to import first (.glb, .gltf, .bvh)")
+      ->required();
+  setup_cmd->add_option("-o,--output", setup.output, "Scene file to write (.rigel)")->required();
+  setup_cmd->add_option("--joints", setup.joints, "Joints to rig, by name: A,B,... (default: every joint)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  setup_cmd->add_option("--suffix", setup.suffix, "Control name = joint name + this (default _ctrl)");
+  setup_cmd->add_flag("--drop-animation", setup.drop_animation,
+                      "Break the animation connections into the joints, keeping the current pose (default: they move "
+                      "onto the controls)");
+  setup_cmd->add_option("--shape-radius", setup.shape_radius,
+                        "Radius of each control's circle, in its own space (default 0: no shape)");
+  setup_cmd->add_flag("--json", setup.json,
+                      "Print {\"rig\", \"controls\": [NAME...], \"joints\": [NAME...]} (controls[i] drives joints[i])");
+
+  PoseArgs pose;
+  CLI::App* pose_cmd = app.add_subcommand(
+      "pose", "Grab controls of an ephemeral rig, move them in a mode (forward, inverse, ...) and write the scene");
+  pose_cmd->add_option("SCENE", pose.scene, "Scene file with an ephemeral rig (.rigel; see `rigel ephemeral setup`)")
+      ->required();
+  pose_cmd->add_option("-o,--output", pose.output, "Scene file to write (.rigel)")->required();
+  pose_cmd->add_option("--control", pose.control,
+                       "The control the motion is given for (a joint name stands for its control)")
+      ->required();
+  pose_cmd->add_option("--mode", pose.mode,
+                       "forward, suspended, pseudo-inverse, pseudo-inverse-length, inverse, magnet, magnet-radius, "
+                       "body (docs/EPHEMERAL.md)")
+      ->required();
+  pose_cmd->add_option("--translate", pose.translate, "World-space translation X,Y,Z in scene units");
+  pose_cmd->add_option("--rotate", pose.rotate,
+                       "World-space rotation X,Y,Z in degrees, XYZ Euler (x applied first: rotation = Rz*Ry*Rx), about "
+                       "each grabbed control's own pivot (body mode: the body pivot)");
+  pose_cmd->add_option("--select", pose.select, "More controls grabbed with --control: A,B,... (all move together)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  CLI::Option* pose_frame = pose_cmd->add_option("--frame", pose.frame, "Frame to pose at (default: the scene's current time)");
+  CLI::Option* pose_time = pose_cmd->add_option("--time", pose.time, "Time in seconds to pose at");
+  pose_frame->excludes(pose_time);
+  pose_cmd->add_option("--scale", pose.scale, "Body mode: scale X,Y,Z about the body pivot, in its axes");
+  pose_cmd->add_option("--pivot", pose.pivot,
+                       "Body mode: the body pivot's world position X,Y,Z, world axes (default: --control's position and axes)");
+  pose_cmd->add_option("--magnet-fraction", pose.magnet_fraction, "Magnet mode: share of the motion per hop (default 0.65)");
+  pose_cmd->add_option("--magnet-radius", pose.magnet_radius, "Magnet-radius mode: world distance of the falloff (default 1)");
+  pose_cmd->add_option("--max-chain", pose.max_chain,
+                       "Inverse modes: most controls in a chain, grabbed and top included (default 0: to a branch or root)");
+  pose_cmd->add_flag("--json", pose.json,
+                     "Print {\"mode\", \"frame\", \"grabbed\": [NAME...], \"moved\": {NAME: {\"t\", \"q\"}}} (world "
+                     "space, every control whose world matrix changed)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -318,6 +646,8 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return run_eval(eval);
     if (*import_cmd) return run_import(import);
     if (*export_cmd) return run_export(export_args);
+    if (*setup_cmd) return run_ephemeral_setup(setup);
+    if (*pose_cmd) return run_pose(pose);
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something
     // does, report it as an error instead of crashing.
