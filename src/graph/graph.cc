@@ -101,6 +101,9 @@ struct Graph::Step {
     std::size_t operator()(const PlugKey& k) const { return UuidHash{}(k.node) * 31 + k.attr; }
   };
   std::unordered_map<PlugKey, std::size_t, PlugKeyHash> set_at;
+  // Merging folds only into the sets after the last other edit (a later
+  // set must not move before a create or connect it followed).
+  bool indexed = false;
   bool only_sets() const {
     return std::all_of(edits.begin(), edits.end(), [](const Edit& e) { return e.kind == Edit::Kind::kSet; });
   }
@@ -1059,15 +1062,19 @@ void Graph::commit_transaction() {
   if (step->edits.empty()) return;
   last_step_edits_ = step->edits.size();
   Step* top = undo_stack_.empty() ? nullptr : undo_stack_.back().get();
-  if (step->merge_key != 0 && !step->only_sets()) step->merge_key = 0;
-  if (step->merge_key == 0 || !top || top->merge_key != step->merge_key) {
+  // A step with other edits (a key that created a curve) may be merged
+  // into, but is never merged itself.
+  if (step->merge_key == 0 || !top || top->merge_key != step->merge_key || !step->only_sets()) {
     push_undo(std::move(step));
     return;
   }
-  // Same gesture: fold into the step on top (its edits are all sets).
-  if (top->set_at.empty()) {
-    for (std::size_t i = 0; i < top->edits.size(); ++i)
+  // Same gesture: fold into the step on top.
+  if (!top->indexed) {
+    std::size_t first = top->edits.size();
+    while (first > 0 && top->edits[first - 1].kind == Edit::Kind::kSet) --first;
+    for (std::size_t i = first; i < top->edits.size(); ++i)
       top->set_at[Step::PlugKey{top->edits[i].dst.node, top->edits[i].dst.attr}] = i;
+    top->indexed = true;
   }
   for (Edit& e : step->edits) {
     auto [it, added] = top->set_at.try_emplace(Step::PlugKey{e.dst.node, e.dst.attr}, top->edits.size());
@@ -1076,6 +1083,7 @@ void Graph::commit_transaction() {
   }
   step->edits.clear();
   step->set_at.clear();
+  step->indexed = false;
   spare_ = std::move(step);
 }
 

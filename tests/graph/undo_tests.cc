@@ -218,6 +218,7 @@ TEST(Undo, merge_key__folds_a_gesture_into_one_step_with_the_first_before) {
     ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 9.0).is_ok());
   }
   EXPECT_EQ(f.graph.undo_count(), 4u) << "a step between ends the merge";
+  const std::string before_build = canonical_dump(f.graph);
   {
     Transaction tx(f.graph, "build", gesture);
     ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 10.0).is_ok());
@@ -227,8 +228,19 @@ TEST(Undo, merge_key__folds_a_gesture_into_one_step_with_the_first_before) {
   {
     Transaction tx(f.graph, "drag", gesture);
     ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "a"), 11.0).is_ok());
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "b"), 12.0).is_ok());
   }
-  EXPECT_EQ(f.graph.undo_count(), 6u) << "nor merge into a step that is not";
+  EXPECT_EQ(f.graph.undo_count(), 5u) << "but they merge into one that created or renamed";
+  {
+    Transaction tx(f.graph, "drag", gesture);
+    ASSERT_TRUE(f.graph.set_value(plug(f.graph, f.a, "b"), 13.0).is_ok());
+  }
+  EXPECT_EQ(f.graph.undo_count(), 5u);
+  const std::string merged = canonical_dump(f.graph);
+  ASSERT_TRUE(f.graph.undo());
+  EXPECT_EQ(canonical_dump(f.graph), before_build) << "one undo: the rename and every later set";
+  ASSERT_TRUE(f.graph.redo());
+  EXPECT_EQ(canonical_dump(f.graph), merged) << "redo replays them in order";
 }
 
 TEST(Undo, transaction__nests_and_the_outermost_closes) {

@@ -219,10 +219,11 @@ class Graph {
   // Groups edits into one undo step; nests (the outermost commit closes it).
   // A non-zero `merge_key` (from new_merge_key(), taken from the outermost
   // transaction) makes an interactive gesture one undo step: when the step
-  // on top of the undo stack was committed with the same key and both hold
-  // only value sets, the new edits merge into it (each plug keeps its first
-  // `before` and takes the latest `after`), so a drag of a thousand events
-  // undoes at once and costs no memory per event.
+  // on top of the undo stack was committed with the same key and the new
+  // one holds only value sets, the new edits merge into it (each plug keeps
+  // its first `before` and takes the latest `after`; sets that followed a
+  // create, connect or rename stay after it), so a drag of a thousand
+  // events undoes at once and costs no memory per event.
   void begin_transaction(std::string label, std::uint64_t merge_key = 0);
   // A key no other gesture has used (thread-safe).
   static std::uint64_t new_merge_key();
