@@ -122,8 +122,13 @@ Status register_ephemeral_types(graph::Registry& registry) {
   spec.description =
       "An ephemeral rig: its controls (by uuid) and the directed relations between them "
       "(kind, from, to as indices into controls). Sessions walk these; nothing computes.";
+  AttrSpec scope = graph::input_attr("keyScope", AttrType{ValueType::kEnum, false}, std::int64_t{0});
+  scope.enum_names = {"character", "controls"};
   spec.attrs = {array_input("controls", ValueType::kString), array_input("relationKind", ValueType::kInt),
-                array_input("relationFrom", ValueType::kInt), array_input("relationTo", ValueType::kInt)};
+                array_input("relationFrom", ValueType::kInt), array_input("relationTo", ValueType::kInt),
+                std::move(scope),
+                graph::input_attr("mergeGroup", AttrType{ValueType::kString, false}, std::string()),
+                graph::input_attr("carrier", AttrType{ValueType::kString, false}, std::string())};
   return registry.add(std::move(spec));
 }
 

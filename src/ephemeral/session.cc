@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "rigel/ephemeral/keying.h"
 #include "rigel/math/rotation.h"
 #include "rigel/math/transform.h"
 #include "rigel/ops/ik/fabrik.h"
@@ -108,6 +109,7 @@ struct Session::Index {
   std::vector<Ctrl> ctrls;
   std::unordered_map<std::uint32_t, int> by_index;  // NodeId.index -> ctrl (controls and the joints they drive)
   std::vector<std::vector<int>> rig_members;
+  std::vector<std::vector<int>> rig_group;  // rig -> the rigs merged with it (itself included)
 
   int find(const Graph& graph, NodeId id) const {
     auto it = by_index.find(id.index);
@@ -226,10 +228,21 @@ Status Session::index_ensure() {
   }
   for (std::size_t k = 0; k < index->ctrls.size(); ++k)
     if (index->ctrls[k].parent >= 0) index->ctrls[index->ctrls[k].parent].children.push_back(static_cast<int>(k));
+  std::vector<Relation> all;
   for (NodeId rig : rigs) {
     Result<std::vector<Relation>> rel = relations(graph, rig);
     if (!rel) return rel.status();
-    for (const Relation& r : *rel) {
+    all.insert(all.end(), rel->begin(), rel->end());
+  }
+  for (const Relation& r : carrier_relations(graph)) all.push_back(r);
+  // Merged characters (keying.h) move together in body mode.
+  index->rig_group.resize(rigs.size());
+  for (std::size_t r = 0; r < rigs.size(); ++r)
+    for (NodeId m : merged_rigs(graph, rigs[r]))
+      for (std::size_t q = 0; q < rigs.size(); ++q)
+        if (rigs[q] == m) index->rig_group[r].push_back(static_cast<int>(q));
+  {
+    for (const Relation& r : all) {
       int f = index->find(graph, r.from), t = index->find(graph, r.to);
       if (f < 0 || t < 0 || index->ctrls[f].id != r.from || index->ctrls[t].id != r.to) continue;
       index->ctrls[f].out.push_back(Index::Edge{t, r.kind});
@@ -340,7 +353,8 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
     case Mode::kBody: {
       std::vector<int> rigs;
       for (int k : grabbed_k)
-        if (std::find(rigs.begin(), rigs.end(), ix.ctrls[k].rig) == rigs.end()) rigs.push_back(ix.ctrls[k].rig);
+        for (int r : ix.rig_group[ix.ctrls[k].rig])
+          if (std::find(rigs.begin(), rigs.end(), r) == rigs.end()) rigs.push_back(r);
       for (int k : grabbed_k) add(k, Role::kBody, -1);
       for (int r : rigs)
         for (int k : ix.rig_members[r])
@@ -403,7 +417,8 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
       const double radius = options_.magnet_radius;
       std::vector<int> rigs;
       for (int k : grabbed_k)
-        if (std::find(rigs.begin(), rigs.end(), ix.ctrls[k].rig) == rigs.end()) rigs.push_back(ix.ctrls[k].rig);
+        for (int r : ix.rig_group[ix.ctrls[k].rig])
+          if (std::find(rigs.begin(), rigs.end(), r) == rigs.end()) rigs.push_back(r);
       for (int r : rigs) {
         for (int k : ix.rig_members[r]) {
           if (sc.entry_of[k] >= 0) continue;
@@ -833,17 +848,37 @@ Status Session::solve(const Delta& delta) {
   graph::Transaction tx(graph, std::string("ephemeral drag (") + mode_name(plan.mode) + ")", gesture_);
   writing_ = true;
   Status status;
+  // Keys (keying.h): auto-key first keys the keying group of every keyed
+  // control moved at a time with no key, then every keyed channel writes
+  // its key at this time (refused, writing nothing, when there is none).
+  if (options_.auto_key) {
+    std::vector<NodeId> to_key;
+    for (const Scratch::Write& wr : sc.writes) {
+      const NodeId id = entries[wr.entry].control;
+      if (is_keyed(graph, id) && !has_key_now(graph, id)) to_key.push_back(id);
+    }
+    if (!to_key.empty()) status = set_key(graph, to_key);
+  }
+  auto connected = [](const graph::Node& node, graph::AttrIndex attr) {
+    for (const graph::Connection& c : node.inputs())
+      if (c.dst.attr == attr) return true;
+    return false;
+  };
+  auto write = [&](NodeId id, graph::AttrIndex attr, graph::Value value) {
+    if (connected(*graph.node(id), attr)) return write_channel(graph, id, attr, value, false);
+    return graph.set_value(Plug{id, attr, -1}, std::move(value));
+  };
   for (const Scratch::Write& wr : sc.writes) {
+    if (!status) break;
     const NodeId id = entries[wr.entry].control;
     const graph::Node& node = *graph.node(id);
-    if (wr.set_t) status = graph.set_value(Plug{id, xform::kTranslate, -1}, wr.translate);
+    if (wr.set_t) status = write(id, xform::kTranslate, wr.translate);
     if (!status) break;
     if (!wr.set_r) continue;
     if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1)
-      status = graph.set_value(Plug{id, xform::kRotateQuaternion, -1}, wr.rotation);
+      status = write(id, xform::kRotateQuaternion, wr.rotation);
     else
-      status = graph.set_value(Plug{id, xform::kRotate, -1}, wr.euler);
-    if (!status) break;
+      status = write(id, xform::kRotate, wr.euler);
   }
   if (!status) {
     tx.rollback();

@@ -48,6 +48,9 @@ enum : graph::AttrIndex {
   kRelationKind,   // int[]: RelationKind of relation i
   kRelationFrom,   // int[]: index into controls of relation i's driver
   kRelationTo,     // int[]: index into controls of relation i's driven control
+  kKeyScope,       // enum character, controls: what a key keys (keying.h)
+  kMergeGroup,     // string: rigs with the same non-empty group are merged (keying.h)
+  kCarrier,        // string: uuid of the control of a merged rig that carries this rig's roots
   kCount
 };
 }

@@ -58,6 +58,10 @@ struct SessionOptions {
   // Inverse chains: the most controls in a chain (grabbed and top
   // included); 0: up to the first branching control or a root.
   int max_chain = 0;
+  // Keys (keying.h): a drag on a keyed control at a time with no key keys
+  // its keying group there first (true), or is refused (false). On a key,
+  // the key takes the new pose either way.
+  bool auto_key = false;
   // FABRIK (chains of 4 or more).
   int fabrik_iterations = 64;
   double fabrik_tolerance = 1e-10;
