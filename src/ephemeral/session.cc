@@ -759,8 +759,13 @@ Status Session::solve(const Delta& delta) {
     const PlanEntry& en = entries[e];
     switch (en.role) {
       case Role::kGrabbed:
-        if (en.driver >= 0) set_new(e, apply(carry(en.driver, world(e)), false));
-        else set_new(e, apply(world(e), true));
+        if (en.driver >= 0) {
+          set_new(e, apply(carry(en.driver, world(e)), false));
+        } else {
+          set_new(e, apply(world(e), true));
+          sc.motion[e] = rot;  // its rotation, for magnet followers
+          sc.has_motion[e] = 1;
+        }
         break;
       case Role::kFollow:
         if (!sc.free[e]) set_new(e, carry(en.driver, world(e)));
@@ -768,7 +773,8 @@ Status Session::solve(const Delta& delta) {
       case Role::kMagnet: {
         const Mat4& dw = world(en.driver);
         const Mat4& dn = new_world(new_world, en.driver);
-        // The driver's rotation, once per driver (a chest drives many).
+        // The driver's rotation: recorded when it moved (grabbed or magnet),
+        // else taken from its matrices once.
         if (!sc.has_motion[en.driver]) {
           const Mat3 r = lin(math::rigid_part(dn * math::affine_inverse(dw)));
           sc.motion[en.driver] = Quat(r).normalized();
@@ -780,6 +786,8 @@ Status Session::solve(const Delta& delta) {
         const Vec3 c = pos(dw);
         const Mat4& w = world(e);
         set_new(e, make(rfm * lin(w), c + en.weight * (pos(dn) - c) + rfm * (pos(w) - c)));
+        sc.motion[e] = rf;
+        sc.has_motion[e] = 1;
         break;
       }
       case Role::kBody:
@@ -822,14 +830,13 @@ Status Session::solve(const Delta& delta) {
       rest.rotate_axis = math::to_radians(rotate_axis);
       rotation = rotation * lin(math::compose(rest)).inverse();  // local = R * (RA * SH * S)
     }
-    const Quat q = Quat(rotation).normalized();
     const Vec3 t = pos(local);
     const Vec3& t0 = std::get<Vec3>(node.value(xform::kTranslate));
     const bool same_t = (t - t0).norm() <= 1e-12 * std::max(1.0, t0.norm());
     Scratch::Write write{static_cast<int>(e), same_t ? t0 : t, Quat::Identity(), Vec3::Zero(), !same_t, false};
     if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1) {
       const Quat& q0 = std::get<Quat>(node.value(xform::kRotateQuaternion));
-      Quat qs = q;
+      Quat qs = Quat(rotation).normalized();
       if (qs.dot(q0) < 0) qs.coeffs() = -qs.coeffs();  // sign-continuous
       write.set_r = (q0.normalized().conjugate() * qs).vec().norm() > 1e-13;
       write.rotation = qs;
@@ -837,7 +844,7 @@ Status Session::solve(const Delta& delta) {
       const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(node.value(xform::kRotateOrder)));
       const Vec3& r0 = std::get<Vec3>(node.value(xform::kRotate));
       const Vec3 previous = math::to_radians(r0);
-      write.euler = math::to_degrees(math::euler_closest(math::quat_to_euler(q, order), previous, order));
+      write.euler = math::to_degrees(math::euler_closest(math::matrix_to_euler(rotation, order), previous, order));
       // 1e-11 degrees ~ 2e-13 rad, the quaternion test's threshold.
       write.set_r = (write.euler - r0).cwiseAbs().maxCoeff() > 1e-11;
     }

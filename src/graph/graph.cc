@@ -1,6 +1,7 @@
 #include "rigel/graph/graph.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <charconv>
@@ -123,6 +124,16 @@ Graph::~Graph() = default;
 template <typename Fn>
 void Graph::notify(Fn&& fn) {
   if (observers_.empty()) return;
+  // Observers may add or remove observers while notified: iterate a copy,
+  // on the stack for the usual few (set_value notifies on every edit).
+  constexpr std::size_t kInline = 8;
+  if (observers_.size() <= kInline) {
+    std::array<Observer*, kInline> copy{};
+    const std::size_t n = observers_.size();
+    std::copy(observers_.begin(), observers_.end(), copy.begin());
+    for (std::size_t i = 0; i < n; ++i) fn(*copy[i]);
+    return;
+  }
   auto observers = observers_;
   for (Observer* o : observers) fn(*o);
 }
@@ -453,7 +464,10 @@ void Graph::dirty_downstream(NodeId start, AttrIndex attr) {
   // the stack. A plug already dirty stops the walk: everything downstream of
   // a dirty plug is dirty (evaluation cleans upstream first), so the cost is
   // proportional to what becomes dirty, not to the graph.
-  std::vector<std::pair<Node*, AttrIndex>> work;
+  // The worklist is kept between calls: interactive edits dirty a few
+  // plugs each, thousands of times a second.
+  std::vector<std::pair<Node*, AttrIndex>>& work = dirty_work_;
+  work.clear();
   auto push_downstream = [&](Node& n, AttrIndex a) {
     for (AttrIndex o : n.type_->affected_outputs(a)) work.emplace_back(&n, o);
     for (const Connection& c : n.outputs_) {

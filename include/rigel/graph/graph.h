@@ -294,7 +294,8 @@ class Graph {
   std::vector<std::unique_ptr<Step>> redo_stack_;
   std::unique_ptr<Step> pending_;
   std::unique_ptr<Step> spare_;
-  std::size_t last_step_edits_ = 0;  // edits of the last committed transaction  // a merged step's emptied buffer, reused by the next transaction
+  std::size_t last_step_edits_ = 0;
+  std::vector<std::pair<Node*, AttrIndex>> dirty_work_;  // dirty_downstream's worklist  // edits of the last committed transaction  // a merged step's emptied buffer, reused by the next transaction
   std::vector<std::size_t> open_;
   bool replaying_ = false;
   std::uint64_t visit_epoch_ = 0;
