@@ -121,7 +121,8 @@ Status register_ephemeral_types(graph::Registry& registry) {
   spec.name = kRigType;
   spec.description =
       "An ephemeral rig: its controls (by uuid) and the directed relations between them "
-      "(kind, from, to as indices into controls). Sessions walk these; nothing computes.";
+      "(kind, from, to as indices into controls), its keying scope, and its merge group and "
+      "carrier (keying.h). Sessions walk these; nothing computes.";
   AttrSpec scope = graph::input_attr("keyScope", AttrType{ValueType::kEnum, false}, std::int64_t{0});
   scope.enum_names = {"character", "controls"};
   spec.attrs = {array_input("controls", ValueType::kString), array_input("relationKind", ValueType::kInt),
