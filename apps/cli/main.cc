@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/ephemeral/session.h"
 #include "rigel/io/bvh_import.h"
@@ -27,6 +29,7 @@
 #include "rigel/io/scene_file.h"
 #include "rigel/math/transform.h"
 #include "rigel/ops/anim/clips.h"
+#include "rigel/scene/transform_types.h"
 
 namespace {
 
@@ -310,6 +313,7 @@ struct EphemeralSetupArgs {
   std::string output;
   std::vector<std::string> joints;
   std::string suffix = "_ctrl";
+  std::string rig_name = "ephemeralRig";
   bool drop_animation = false;
   double shape_radius = 0.0;
   bool json = false;
@@ -344,6 +348,10 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
     std::cerr << "rigel: --suffix '" << args.suffix << "': control names would not be valid node names\n";
     return kExitUsage;
   }
+  if (!rigel::graph::Graph::is_valid_name(args.rig_name)) {
+    std::cerr << "rigel: --rig-name '" << args.rig_name << "': not a valid node name\n";
+    return kExitUsage;
+  }
   for (const std::string& name : args.joints) {
     if (name.empty()) {
       std::cerr << "rigel: --joints: empty joint name (expected A,B,...)\n";
@@ -356,6 +364,7 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
   rigel::graph::Graph& g = s.graph();
   rigel::ephemeral::SetupOptions options;
   options.control_suffix = args.suffix;
+  options.rig_name = args.rig_name;
   options.keep_animation = !args.drop_animation;
   options.shape_radius = args.shape_radius;
   for (const std::string& name : args.joints) {
@@ -381,6 +390,97 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
   return 0;
 }
 
+// ---- ephemeral: names, keys and scopes (shared by pose and the key commands) ----
+
+// `name` given to `option` as a control (a joint stands for its control).
+rigel::Result<NodeId> resolve_control(const rigel::graph::Graph& g, const std::string& scene, const std::string& option,
+                                      const std::string& name) {
+  const NodeId id = g.find(name);
+  if (!id.is_valid()) return Status(rigel::ErrorCode::kNotFound, scene + ": " + option + ": no node named '" + name + "'");
+  const NodeId control = rigel::ephemeral::control_of(g, id);
+  if (!control.is_valid()) {
+    return Status(rigel::ErrorCode::kInvalidArgument, scene + ": " + option + ": '" + name +
+                                                          "' is not a control of an ephemeral rig (nor a joint driven by one)");
+  }
+  return control;
+}
+
+// `name` given to `option` as an ephemeralRig node.
+rigel::Result<NodeId> resolve_rig(const rigel::graph::Graph& g, const std::string& scene, const std::string& option,
+                                  const std::string& name) {
+  const NodeId id = g.find(name);
+  std::string rigs;
+  for (NodeId r : rigel::ephemeral::rigs_find(g)) rigs += (rigs.empty() ? "" : ", ") + g.node(r)->name();
+  const std::string known = rigs.empty() ? "the scene has no ephemeral rig" : "rigs: " + rigs;
+  if (!id.is_valid())
+    return Status(rigel::ErrorCode::kNotFound, scene + ": " + option + ": no ephemeral rig named '" + name + "' (" + known + ")");
+  if (g.node(id)->type().name() != rigel::ephemeral::kRigType) {
+    return Status(rigel::ErrorCode::kInvalidArgument,
+                  scene + ": " + option + ": '" + name + "' is not an ephemeralRig node (" + known + ")");
+  }
+  return id;
+}
+
+// A key time in seconds as a frame, rounded to 1e-6 frame so that frame 10
+// at 24 fps prints 10, not 10.000000000000002.
+double frame_of(const rigel::graph::Graph& g, double seconds) {
+  return std::round(seconds * g.fps() * 1e6) / 1e6;
+}
+
+std::string number_text(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%g", value);
+  return buffer;
+}
+
+// The rigs of `controls`, first appearance order.
+std::vector<NodeId> rigs_of(const rigel::graph::Graph& g, const std::vector<NodeId>& controls) {
+  std::vector<NodeId> out;
+  for (NodeId c : controls) {
+    const NodeId rig = rigel::ephemeral::rig_of(g, c);
+    if (rig.is_valid() && std::find(out.begin(), out.end(), rig) == out.end()) out.push_back(rig);
+  }
+  return out;
+}
+
+// "RIG=SCOPE, ..." and {RIG: SCOPE} for `rigs`.
+std::string scopes_text(const rigel::graph::Graph& g, const std::vector<NodeId>& rigs) {
+  std::string text;
+  for (NodeId r : rigs)
+    text += (text.empty() ? "" : ", ") + g.node(r)->name() + "=" + rigel::ephemeral::key_scope_name(rigel::ephemeral::key_scope(g, r));
+  return text;
+}
+nlohmann::ordered_json scopes_json(const rigel::graph::Graph& g, const std::vector<NodeId>& rigs) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (NodeId r : rigs) out[g.node(r)->name()] = rigel::ephemeral::key_scope_name(rigel::ephemeral::key_scope(g, r));
+  return out;
+}
+
+nlohmann::ordered_json names_json(const rigel::graph::Graph& g, const std::vector<NodeId>& ids) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (NodeId id : ids) out.push_back(g.node(id)->name());
+  return out;
+}
+
+// Key times of `controls`' keying set, as frames.
+std::vector<double> key_frames(const rigel::graph::Graph& g, const std::vector<NodeId>& controls) {
+  std::vector<double> frames;
+  for (double t : rigel::ephemeral::key_times(g, controls)) frames.push_back(frame_of(g, t));
+  return frames;
+}
+
+std::string frames_text(const std::vector<double>& frames) {
+  if (frames.empty()) return "none";
+  std::string text;
+  for (double f : frames) text += (text.empty() ? "" : ", ") + number_text(f);
+  return text;
+}
+
+int usage_error(const std::string& message) {
+  std::cerr << "rigel: " << message << "\n";
+  return kExitUsage;
+}
+
 // ---- pose --------------------------------------------------------------------
 
 struct PoseArgs {
@@ -395,13 +495,10 @@ struct PoseArgs {
   std::optional<double> magnet_fraction;
   std::optional<double> magnet_radius;
   std::optional<int> max_chain;
+  bool auto_key = false;
+  bool key = false;
   bool json = false;
 };
-
-int usage_error(const std::string& message) {
-  std::cerr << "rigel: " << message << "\n";
-  return kExitUsage;
-}
 
 int run_pose(const PoseArgs& args) {
   namespace eph = rigel::ephemeral;
@@ -444,6 +541,7 @@ int run_pose(const PoseArgs& args) {
     }
   }
   eph::SessionOptions options;
+  options.auto_key = args.auto_key;
   if (args.magnet_fraction) {
     if (!(*args.magnet_fraction > 0.0 && *args.magnet_fraction <= 1.0))
       return usage_error("--magnet-fraction must be a number in (0, 1]");
@@ -514,8 +612,27 @@ int run_pose(const PoseArgs& args) {
     for (NodeId c : eph::rig_controls(g, rig)) controls.push_back(c);
   std::vector<Mat4> before;
   for (NodeId c : controls) before.push_back(s.world_matrix(c));
-  if (Status st = session.drag(delta); !st) return fail(st.with_context(args.scene + ": " + args.mode));
+  // A keyed channel off its keys is refused (the message names the channel
+  // and the frame) unless --auto-key.
+  if (Status st = session.drag(delta); !st) {
+    const int code = fail(st.with_context(args.scene + ": " + args.mode));
+    if (!args.auto_key && st.message().find("auto-key") != std::string::npos) {
+      std::cerr << "rigel: note: --auto-key keys the character at frame " << number_text(s.frame())
+                << " first; or key it there with `rigel ephemeral key`\n";
+    }
+    return code;
+  }
   session.release();
+  // --key: key the grabbed controls' keying group at the pose time.
+  std::vector<NodeId> key_set;
+  if (args.key) {
+    key_set = eph::keying_set(g, grabbed);
+    if (Status st = eph::set_key(g, grabbed); !st) return fail(st.with_context(args.scene + ": --key"));
+  }
+  std::vector<NodeId> keyed;
+  for (NodeId c : controls)
+    if (eph::has_key_now(g, c)) keyed.push_back(c);
+  const std::vector<NodeId> grabbed_rigs = rigs_of(g, grabbed);
   nlohmann::ordered_json moved = nlohmann::ordered_json::object();
   std::size_t moved_count = 0;
   for (std::size_t i = 0; i < controls.size(); ++i) {
@@ -535,12 +652,241 @@ int run_pose(const PoseArgs& args) {
     out["grabbed"] = nlohmann::ordered_json::array();
     for (NodeId id : grabbed) out["grabbed"].push_back(g.node(id)->name());
     out["moved"] = std::move(moved);
+    out["keyScope"] = scopes_json(g, grabbed_rigs);
+    out["keyed"] = names_json(g, keyed);
     std::cout << out.dump() << "\n";
   }
   std::string names;
   for (NodeId id : grabbed) names += (names.empty() ? "" : ", ") + g.node(id)->name();
   std::cerr << "rigel: posed " << names << " (" << eph::mode_name(*mode) << ", frame " << s.frame() << "): "
             << moved_count << (moved_count == 1 ? " control" : " controls") << " moved; wrote " << args.output << "\n";
+  std::cerr << "rigel: keying scope: " << scopes_text(g, grabbed_rigs);
+  if (args.key) std::cerr << "; keyed " << key_set.size() << (key_set.size() == 1 ? " control" : " controls");
+  std::cerr << "; " << keyed.size() << (keyed.size() == 1 ? " control has" : " controls have") << " a key at frame "
+            << number_text(s.frame()) << "\n";
+  return 0;
+}
+
+// ---- ephemeral key, keys, scope, merge, unmerge ----------------------------------
+
+// A scene read for the key commands: it must hold an ephemeral rig.
+rigel::Result<std::unique_ptr<rigel::scene::Scene>> load_rigged(const std::string& path) {
+  auto scene = load(path);
+  if (!scene) return scene.status();
+  if (rigel::ephemeral::rigs_find((*scene)->graph()).empty()) {
+    return Status(rigel::ErrorCode::kNotFound,
+                  path + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + path + " -o OUT.rigel` first");
+  }
+  return scene;
+}
+
+struct EphemeralKeyArgs {
+  std::string scene;
+  std::string output;
+  std::vector<std::string> controls;
+  std::optional<double> frame;
+  std::optional<double> time;
+  bool remove = false;
+  bool json = false;
+};
+
+int run_ephemeral_key(const EphemeralKeyArgs& args) {
+  namespace eph = rigel::ephemeral;
+  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time)))
+    return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
+  for (const std::string& name : args.controls)
+    if (name.empty()) return usage_error("--control: empty control name (expected A,B,...)");
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
+  std::vector<NodeId> controls;
+  for (const std::string& name : args.controls) {
+    auto control = resolve_control(g, args.scene, "--control", name);
+    if (!control) return fail(control.status());
+    controls.push_back(*control);
+  }
+  if (args.frame) s.set_frame(*args.frame);
+  if (args.time) g.set_time(*args.time);
+  const std::vector<NodeId> set = eph::keying_set(g, controls);
+  const Status st = args.remove ? eph::delete_key(g, controls) : eph::set_key(g, controls);
+  if (!st) return fail(st.with_context(args.scene));
+  if (Status saved = rigel::io::save_scene(s, args.output); !saved) return fail(saved);
+  const std::vector<double> frames = key_frames(g, controls);
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["frame"] = frame_of(g, g.time());
+    out["keyed"] = names_json(g, set);
+    out["times"] = frames;
+    std::cout << out.dump() << "\n";
+  }
+  std::cerr << "rigel: " << (args.remove ? "deleted the keys of " : "keyed ") << set.size()
+            << (set.size() == 1 ? " control" : " controls") << " at frame " << number_text(frame_of(g, g.time()))
+            << " (keying scope: " << scopes_text(g, rigs_of(g, controls)) << "); key frames: " << frames_text(frames)
+            << "; wrote " << args.output << "\n";
+  return 0;
+}
+
+struct EphemeralKeysArgs {
+  std::string scene;
+  std::string control;
+  bool json = false;
+};
+
+int run_ephemeral_keys(const EphemeralKeysArgs& args) {
+  namespace eph = rigel::ephemeral;
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  const rigel::graph::Graph& g = (*scene)->graph();
+  auto control = resolve_control(g, args.scene, "--control", args.control);
+  if (!control) return fail(control.status());
+  const NodeId rig = eph::rig_of(g, *control);
+  const std::vector<NodeId> set = eph::keying_set(g, {*control});
+  const std::vector<double> seconds = eph::key_times(g, {*control});
+  const std::vector<double> frames = key_frames(g, {*control});
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["control"] = g.node(*control)->name();
+    out["rig"] = g.node(rig)->name();
+    out["keyScope"] = eph::key_scope_name(eph::key_scope(g, rig));
+    out["keyingSet"] = names_json(g, set);
+    out["times"] = frames;
+    out["seconds"] = seconds;
+    std::cout << out.dump() << "\n";
+    return 0;
+  }
+  std::cout << g.node(*control)->name() << ": rig " << g.node(rig)->name()
+            << ", keying scope: " << eph::key_scope_name(eph::key_scope(g, rig)) << " (a key keys " << set.size()
+            << (set.size() == 1 ? " control" : " controls") << ")\n";
+  std::cout << "key frames: " << frames_text(frames) << " (" << g.fps() << " fps)\n";
+  return 0;
+}
+
+struct EphemeralScopeArgs {
+  std::string scene;
+  std::string rig;
+  std::optional<std::string> set;
+  std::optional<std::string> output;
+  bool json = false;
+};
+
+int run_ephemeral_scope(const EphemeralScopeArgs& args) {
+  namespace eph = rigel::ephemeral;
+  std::optional<eph::KeyScope> scope;
+  if (args.set) {
+    scope = eph::key_scope_from_name(*args.set);
+    if (!scope) return usage_error("--set '" + *args.set + "': expected character or controls");
+    if (!args.output) return usage_error("--set needs -o OUT (the scene to write)");
+  } else if (args.output) {
+    return usage_error("-o applies with --set only (without --set, scope prints the keying scope)");
+  }
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  auto rig = resolve_rig(g, args.scene, "--rig", args.rig);
+  if (!rig) return fail(rig.status());
+  if (scope) {
+    if (Status st = eph::set_key_scope(g, *rig, *scope); !st) return fail(st.with_context(args.scene));
+    if (Status st = rigel::io::save_scene(**scene, *args.output); !st) return fail(st);
+  }
+  const char* name = eph::key_scope_name(eph::key_scope(g, *rig));
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["rig"] = args.rig;
+    out["keyScope"] = name;
+    std::cout << out.dump() << "\n";
+  } else if (!scope) {
+    std::cout << args.rig << ": keying scope: " << name << "\n";
+  }
+  if (scope) std::cerr << "rigel: " << args.rig << ": keying scope: " << name << "; wrote " << *args.output << "\n";
+  return 0;
+}
+
+struct EphemeralMergeArgs {
+  std::string scene;
+  std::string output;
+  std::vector<std::string> rigs;
+  std::optional<std::string> carrier;
+  std::optional<std::string> carried;
+  bool json = false;
+};
+
+int run_ephemeral_merge(const EphemeralMergeArgs& args) {
+  namespace eph = rigel::ephemeral;
+  for (const std::string& name : args.rigs)
+    if (name.empty()) return usage_error("--rigs: empty rig name (expected A,B,...)");
+  if (args.rigs.size() < 2) return usage_error("--rigs: name two rigs or more (A,B,...)");
+  if (args.carrier.has_value() != args.carried.has_value())
+    return usage_error("--carrier CONTROL and --carried RIG go together");
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  std::vector<NodeId> rigs;
+  for (const std::string& name : args.rigs) {
+    auto rig = resolve_rig(g, args.scene, "--rigs", name);
+    if (!rig) return fail(rig.status());
+    rigs.push_back(*rig);
+  }
+  NodeId carrier, carried;
+  if (args.carrier) {
+    auto c = resolve_control(g, args.scene, "--carrier", *args.carrier);
+    if (!c) return fail(c.status());
+    auto r = resolve_rig(g, args.scene, "--carried", *args.carried);
+    if (!r) return fail(r.status());
+    carrier = *c;
+    carried = *r;
+  }
+  if (Status st = eph::merge_characters(g, rigs); !st) return fail(st.with_context(args.scene));
+  if (carried.is_valid()) {
+    if (Status st = eph::set_carrier(g, carried, carrier); !st) return fail(st.with_context(args.scene + ": --carrier"));
+  }
+  if (Status st = rigel::io::save_scene(**scene, args.output); !st) return fail(st);
+  const std::vector<NodeId> group = eph::merged_rigs(g, rigs.front());
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["merged"] = names_json(g, group);
+    out["carriers"] = nlohmann::ordered_json::object();
+    for (NodeId r : group)
+      if (const NodeId c = eph::carrier_of(g, r); c.is_valid()) out["carriers"][g.node(r)->name()] = g.node(c)->name();
+    std::cout << out.dump() << "\n";
+  }
+  std::string names;
+  for (NodeId r : group) names += (names.empty() ? "" : ", ") + g.node(r)->name();
+  std::cerr << "rigel: merged " << names;
+  if (carried.is_valid()) std::cerr << "; " << g.node(carrier)->name() << " carries " << g.node(carried)->name();
+  std::cerr << "; wrote " << args.output << "\n";
+  return 0;
+}
+
+struct EphemeralUnmergeArgs {
+  std::string scene;
+  std::string output;
+  std::string rig;
+  bool json = false;
+};
+
+int run_ephemeral_unmerge(const EphemeralUnmergeArgs& args) {
+  namespace eph = rigel::ephemeral;
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  auto rig = resolve_rig(g, args.scene, "--rig", args.rig);
+  if (!rig) return fail(rig.status());
+  std::vector<NodeId> others;
+  for (NodeId r : eph::merged_rigs(g, *rig))
+    if (r != *rig) others.push_back(r);
+  if (Status st = eph::unmerge_character(g, *rig); !st) return fail(st.with_context(args.scene));
+  if (Status st = rigel::io::save_scene(**scene, args.output); !st) return fail(st);
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["rig"] = args.rig;
+    out["unmergedFrom"] = names_json(g, others);
+    std::cout << out.dump() << "\n";
+  }
+  std::string names;
+  for (NodeId r : others) names += (names.empty() ? "" : ", ") + g.node(r)->name();
+  std::cerr << "rigel: " << args.rig << (others.empty() ? " was not merged" : " unmerged from " + names) << "; wrote "
+            << args.output << "\n";
   return 0;
 }
 
@@ -582,7 +928,10 @@ int main(int argc, char** argv) {
                        "Bake every frame even when the animation can be written as it is (default range: the keys')");
 
   EphemeralSetupArgs setup;
-  CLI::App* ephemeral_cmd = app.add_subcommand("ephemeral", "Ephemeral rigs: one control per joint, posed with `rigel pose`");
+  CLI::App* ephemeral_cmd = app.add_subcommand(
+      "ephemeral",
+      "Ephemeral rigs: one control per joint (setup), keys and keying scope (key, keys, scope), merged characters "
+      "(merge, unmerge); posed with `rigel pose`");
   ephemeral_cmd->require_subcommand(1);
   CLI::App* setup_cmd = ephemeral_cmd->add_subcommand(
       "setup", "Give joints a control each (mirroring the joint hierarchy) and an ephemeralRig node relating them");
@@ -593,6 +942,9 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->allow_extra_args(false);
   setup_cmd->add_option("--suffix", setup.suffix, "Control name = joint name + this (default _ctrl)");
+  setup_cmd->add_option("--rig-name", setup.rig_name,
+                        "Name of the ephemeralRig node (default ephemeralRig; a taken name gets a number). Give a "
+                        "second character (a prop set up with --joints) its own name");
   setup_cmd->add_flag("--drop-animation", setup.drop_animation,
                       "Break the animation connections into the joints, keeping the current pose (default: they move "
                       "onto the controls)");
@@ -600,6 +952,64 @@ int main(int argc, char** argv) {
                         "Radius of each control's circle, in its own space (default 0: no shape)");
   setup_cmd->add_flag("--json", setup.json,
                       "Print {\"rig\", \"controls\": [NAME...], \"joints\": [NAME...]} (controls[i] drives joints[i])");
+
+  EphemeralKeyArgs key;
+  CLI::App* key_cmd = ephemeral_cmd->add_subcommand(
+      "key", "Key controls at a frame (their keying group: the whole character unless its scope is controls)");
+  key_cmd->add_option("SCENE", key.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  key_cmd->add_option("-o,--output", key.output, "Scene file to write (.rigel)")->required();
+  key_cmd->add_option("--control", key.controls, "Controls to key: A,B,... (a joint name stands for its control)")
+      ->required()
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  CLI::Option* key_frame = key_cmd->add_option("--frame", key.frame, "Frame to key at (default: the scene's current time)");
+  CLI::Option* key_time = key_cmd->add_option("--time", key.time, "Time in seconds to key at");
+  key_frame->excludes(key_time);
+  key_cmd->add_flag("--delete", key.remove, "Delete the keys of the keying group at that frame instead");
+  key_cmd->add_flag("--json", key.json,
+                    "Print {\"frame\", \"keyed\": [NAME...] (the keying group), \"times\": [FRAME...] (its key frames "
+                    "after the edit)}");
+
+  EphemeralKeysArgs keys;
+  CLI::App* keys_cmd = ephemeral_cmd->add_subcommand(
+      "keys", "Print a control's keying scope and the key frames of its keying group (reads only)");
+  keys_cmd->add_option("SCENE", keys.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  keys_cmd->add_option("--control", keys.control, "The control (a joint name stands for its control)")->required();
+  keys_cmd->add_flag("--json", keys.json,
+                     "Print {\"control\", \"rig\", \"keyScope\", \"keyingSet\": [NAME...], \"times\": [FRAME...], "
+                     "\"seconds\": [S...]}");
+
+  EphemeralScopeArgs scope;
+  CLI::App* scope_cmd = ephemeral_cmd->add_subcommand(
+      "scope", "Print a rig's keying scope, or set it (character: a key keys the whole character; controls: only "
+               "the controls named)");
+  scope_cmd->add_option("SCENE", scope.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  scope_cmd->add_option("--rig", scope.rig, "The ephemeralRig node, by name (default name: ephemeralRig)")->required();
+  scope_cmd->add_option("--set", scope.set, "character or controls (needs -o)");
+  scope_cmd->add_option("-o,--output", scope.output, "Scene file to write (.rigel; with --set only)");
+  scope_cmd->add_flag("--json", scope.json, "Print {\"rig\", \"keyScope\"}");
+
+  EphemeralMergeArgs merge;
+  CLI::App* merge_cmd = ephemeral_cmd->add_subcommand(
+      "merge", "Merge characters: they move together in body mode and share keys; optionally a control of one carries another");
+  merge_cmd->add_option("SCENE", merge.scene, "Scene file with ephemeral rigs (.rigel)")->required();
+  merge_cmd->add_option("-o,--output", merge.output, "Scene file to write (.rigel)")->required();
+  merge_cmd->add_option("--rigs", merge.rigs, "ephemeralRig nodes to merge, by name: A,B,... (two or more)")
+      ->required()
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  merge_cmd->add_option("--carrier", merge.carrier,
+                        "A control (of another merged character) that carries --carried's root controls, e.g. a hand");
+  merge_cmd->add_option("--carried", merge.carried, "The rig that --carrier carries, e.g. a prop");
+  merge_cmd->add_flag("--json", merge.json, "Print {\"merged\": [RIG...], \"carriers\": {RIG: CONTROL}}");
+
+  EphemeralUnmergeArgs unmerge;
+  CLI::App* unmerge_cmd = ephemeral_cmd->add_subcommand(
+      "unmerge", "Take a character out of its merge group (clears carriers into and out of it; keys are kept)");
+  unmerge_cmd->add_option("SCENE", unmerge.scene, "Scene file with ephemeral rigs (.rigel)")->required();
+  unmerge_cmd->add_option("-o,--output", unmerge.output, "Scene file to write (.rigel)")->required();
+  unmerge_cmd->add_option("--rig", unmerge.rig, "The ephemeralRig node, by name")->required();
+  unmerge_cmd->add_flag("--json", unmerge.json, "Print {\"rig\", \"unmergedFrom\": [RIG...]}");
 
   PoseArgs pose;
   CLI::App* pose_cmd = app.add_subcommand(
@@ -631,9 +1041,15 @@ int main(int argc, char** argv) {
   pose_cmd->add_option("--magnet-radius", pose.magnet_radius, "Magnet-radius mode: world distance of the falloff (default 1)");
   pose_cmd->add_option("--max-chain", pose.max_chain,
                        "Inverse modes: most controls in a chain, grabbed and top included (default 0: to a branch or root)");
+  pose_cmd->add_flag("--auto-key", pose.auto_key,
+                     "A keyed control moved off its keys keys its keying group at this frame first (default: refused)");
+  pose_cmd->add_flag("--key", pose.key,
+                     "After the motion, key the grabbed controls at this frame (their keying group: the whole "
+                     "character unless its keying scope is controls)");
   pose_cmd->add_flag("--json", pose.json,
-                     "Print {\"mode\", \"frame\", \"grabbed\": [NAME...], \"moved\": {NAME: {\"t\", \"q\"}}} (world "
-                     "space, every control whose world matrix changed)");
+                     "Print {\"mode\", \"frame\", \"grabbed\": [NAME...], \"moved\": {NAME: {\"t\", \"q\"}}, "
+                     "\"keyScope\": {RIG: SCOPE}, \"keyed\": [NAME...]} (moved: world space, every control whose world "
+                     "matrix changed; keyed: controls with a key at this frame)");
 
   try {
     app.parse(argc, argv);
@@ -647,6 +1063,11 @@ int main(int argc, char** argv) {
     if (*import_cmd) return run_import(import);
     if (*export_cmd) return run_export(export_args);
     if (*setup_cmd) return run_ephemeral_setup(setup);
+    if (*key_cmd) return run_ephemeral_key(key);
+    if (*keys_cmd) return run_ephemeral_keys(keys);
+    if (*scope_cmd) return run_ephemeral_scope(scope);
+    if (*merge_cmd) return run_ephemeral_merge(merge);
+    if (*unmerge_cmd) return run_ephemeral_unmerge(unmerge);
     if (*pose_cmd) return run_pose(pose);
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something

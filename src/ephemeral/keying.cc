@@ -276,18 +276,6 @@ std::vector<NodeId> root_controls(const Graph& graph, NodeId rig) {
   return out;
 }
 
-// The control standing for `id` (itself, or the control driving a joint).
-NodeId control_for(const Graph& graph, NodeId id) {
-  const graph::Node* n = graph.node(id);
-  if (!n) return {};
-  if (n->type().name() == scene::kControlType) return rig_of(graph, id).is_valid() ? id : NodeId{};
-  if (auto src = source_of(*n, Plug{id, xform::kTranslate, -1})) {
-    const graph::Node* s = graph.node(src->node);
-    if (s && s->type().name() == scene::kControlType && rig_of(graph, src->node).is_valid()) return src->node;
-  }
-  return {};
-}
-
 }  // namespace
 
 const char* key_scope_name(KeyScope scope) { return scope == KeyScope::kControls ? "controls" : "character"; }
@@ -427,7 +415,7 @@ std::vector<NodeId> keying_set(const Graph& graph, const std::vector<NodeId>& co
     if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
   };
   for (NodeId id : controls) {
-    const NodeId c = control_for(graph, id);
+    const NodeId c = control_of(graph, id);
     if (!c.is_valid()) continue;
     const NodeId rig = rig_of(graph, c);
     if (key_scope(graph, rig) == KeyScope::kControls) {
@@ -562,7 +550,7 @@ std::vector<double> key_times(const Graph& graph, const std::vector<NodeId>& con
 
 bool has_key_now(const Graph& graph, NodeId control) {
   const double t = graph.time();
-  const NodeId c = control_for(graph, control);
+  const NodeId c = control_of(graph, control);
   if (!c.is_valid()) return false;
   for (const graph::Connection& conn : graph.node(c)->inputs()) {
     const CurveKind kind = curve_kind(graph, conn.src.node);
@@ -575,7 +563,7 @@ bool has_key_now(const Graph& graph, NodeId control) {
 }
 
 bool is_keyed(const Graph& graph, NodeId control) {
-  const NodeId c = control_for(graph, control);
+  const NodeId c = control_of(graph, control);
   if (!c.is_valid()) return false;
   for (const graph::Connection& conn : graph.node(c)->inputs())
     if (curve_kind(graph, conn.src.node) != CurveKind::kOther) return true;

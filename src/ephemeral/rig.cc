@@ -146,6 +146,18 @@ std::shared_ptr<const graph::Registry> default_registry() {
   return registry;
 }
 
+NodeId control_of(const Graph& graph, NodeId id) {
+  const graph::Node* n = graph.node(id);
+  if (!n) return {};
+  if (n->type().name() == scene::kControlType) return rig_of(graph, id).is_valid() ? id : NodeId{};
+  for (const graph::Connection& c : n->inputs()) {
+    if (c.dst.attr != xform::kTranslate || c.dst.component >= 0) continue;
+    const graph::Node* src = graph.node(c.src.node);
+    if (src && src->type().name() == scene::kControlType && rig_of(graph, c.src.node).is_valid()) return c.src.node;
+  }
+  return {};
+}
+
 std::vector<NodeId> rigs_find(const Graph& graph) {
   std::vector<NodeId> out;
   for (NodeId id : graph.nodes())
@@ -305,16 +317,16 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
     return s;
   };
   SetupResult result;
-  std::unordered_map<std::uint32_t, NodeId> control_of;  // joint index -> control
+  std::unordered_map<std::uint32_t, NodeId> control_by_joint;  // joint index -> control
   for (NodeId j : joints) {
     const std::string name = graph.node(j)->name() + options.control_suffix;
     NodeId jparent = graph.parent(j);
     NodeId cparent = jparent;
-    if (auto it = control_of.find(jparent.index); jparent.is_valid() && it != control_of.end()) cparent = it->second;
+    if (auto it = control_by_joint.find(jparent.index); jparent.is_valid() && it != control_by_joint.end()) cparent = it->second;
     Result<NodeId> created = scene.create(scene::kControlType, name, cparent);
     if (!created) return fail(created.status().with_context("setup"));
     NodeId c = *created;
-    control_of[j.index] = c;
+    control_by_joint[j.index] = c;
     // Move (or break) what drives the joint's channels, then copy the values.
     std::vector<graph::Connection> driven;
     for (const graph::Connection& conn : graph.node(j)->inputs())

@@ -9,12 +9,12 @@
 // `animCurveVec3` (what glTF import and setup_ephemeral's keep_animation
 // bring). Curves that hold several clips are edited in the active clip.
 //
-// Keying scope (the `keyScope` attribute of each ephemeralRig, always shown
-// by `rigel pose`/`inspect`): `character` (default) makes the character a
-// keying group: a key on any of its controls keys every control of the
-// character, and of the characters merged with it, at that time, so all
-// share key times and a key is a pose. `controls` keys only the controls
-// named.
+// Keying scope (the `keyScope` attribute of each ephemeralRig, shown by
+// `rigel pose` and `rigel ephemeral keys`): `character` (default) makes the
+// character a keying group: a key on any of its controls keys every
+// control of the character, and of the characters merged with it, at that
+// time, so all share key times and a key is a pose. `controls` keys only
+// the controls named.
 //
 // Merging (for ephemeral interaction, e.g. a prop carried by a hand for part
 // of a shot): merged characters share a `mergeGroup`; body mode moves them

@@ -113,6 +113,10 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
 std::vector<NodeId> rigs_find(const Graph& graph);
 // The rig listing `control`; invalid when none.
 NodeId rig_of(const Graph& graph, NodeId control);
+// The control standing for `id`: itself when it is a control of an
+// ephemeral rig, or the rig control driving a joint (selecting or keying a
+// joint means its control); invalid otherwise.
+NodeId control_of(const Graph& graph, NodeId id);
 // The rig's controls that exist (stale uuids are skipped), in listed order.
 std::vector<NodeId> rig_controls(const Graph& graph, NodeId rig);
 // The rig's relations between existing controls.
