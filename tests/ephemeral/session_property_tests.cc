@@ -7,7 +7,9 @@
 #include <random>
 
 #include "ephemeral_test_util.h"
+#include "rigel/ephemeral/keying.h"
 #include "rigel/io/gltf_import.h"
+#include "rigel/ops/anim/nodes.h"
 
 namespace rigel::ephemeral::testing {
 namespace {
@@ -62,6 +64,23 @@ Rig import_character(const std::string& file) {
   return r;
 }
 
+// Nodes and connections that are not animation curves (keys add curves;
+// nothing else may appear).
+bool is_curve(const Graph& g, NodeId id) {
+  const std::string& t = g.node(id)->type().name();
+  return t == ops::anim::kAnimCurveType || t == ops::anim::kAnimCurveVec3Type || t == ops::anim::kAnimCurveQuatType;
+}
+std::size_t non_curve_nodes(const Graph& g) {
+  std::size_t n = 0;
+  for (NodeId id : g.nodes()) n += is_curve(g, id) ? 0 : 1;
+  return n;
+}
+std::size_t non_curve_connections(const Graph& g) {
+  std::size_t n = 0;
+  for (const graph::Connection& c : g.connections()) n += is_curve(g, c.src.node) ? 0 : 1;
+  return n;
+}
+
 struct Snapshot {
   std::vector<Mat4> worlds;
 };
@@ -76,12 +95,14 @@ Snapshot snapshot(Rig& r) {
 // `length_tolerance` is relative: a character whose parents carry
 // non-uniform scale cannot take an exact world rotation as a local rotation
 // (the solve projects onto the nearest one).
-void run_sequence(Rig& r, std::uint32_t seed, int steps, double length_tolerance = 1e-9) {
+// With `keys`, some actions key the grabbed controls (keying groups) and
+// the session auto-keys, so drags also write keys.
+void run_sequence(Rig& r, std::uint32_t seed, int steps, double length_tolerance = 1e-9, bool keys = false) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   Graph& g = r.scene->graph();
-  const std::size_t nodes = g.node_count();
-  const std::size_t connections = g.connections().size();
+  const std::size_t nodes = non_curve_nodes(g);
+  const std::size_t connections = non_curve_connections(g);
   const int n = static_cast<int>(r.rig.controls.size());
   std::vector<int> parent_of(n, -1);
   for (int i = 0; i < n; ++i) {
@@ -89,7 +110,12 @@ void run_sequence(Rig& r, std::uint32_t seed, int steps, double length_tolerance
     if (it != r.rig.controls.end()) parent_of[i] = static_cast<int>(it - r.rig.controls.begin());
   }
   Session session(*r.scene);
-  int drags = 0;
+  if (keys) {
+    SessionOptions o;
+    o.auto_key = true;
+    session.set_options(o);
+  }
+  int drags = 0, keyed_drags = 0;
   std::string gesture_start;
   for (int step = 0; step < steps; ++step) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " step " + std::to_string(step));
@@ -109,6 +135,11 @@ void run_sequence(Rig& r, std::uint32_t seed, int steps, double length_tolerance
       r.scene->set_frame(std::uniform_int_distribution<int>(0, 5)(rng));
       continue;
     }
+    if (keys && action == 4) {
+      ASSERT_TRUE(succeeded(set_key(g, session.grabbed())));
+      for (NodeId c : keying_set(g, session.grabbed())) EXPECT_TRUE(has_key_now(g, c));
+      continue;
+    }
     Delta d;
     d.translate = Vec3(u(rng), u(rng), u(rng)) * 0.3;
     d.rotate = Quat(Eigen::AngleAxisd(0.5 * u(rng), Vec3(u(rng), u(rng), u(rng) + 2).normalized()));
@@ -119,6 +150,7 @@ void run_sequence(Rig& r, std::uint32_t seed, int steps, double length_tolerance
     if (!session.has_plan()) gesture_start = io::write_scene(*r.scene);
     const std::vector<NodeId> grabbed_controls = session.grabbed();
     const std::size_t grabbed = grabbed_controls.size();
+    if (keys && !grabbed_controls.empty() && is_keyed(g, grabbed_controls[0])) ++keyed_drags;
     Status s = session.drag(d);
     ASSERT_TRUE(succeeded(s)) << mode_name(mode);
     ++drags;
@@ -153,13 +185,16 @@ void run_sequence(Rig& r, std::uint32_t seed, int steps, double length_tolerance
       EXPECT_EQ(io::write_scene(*r.scene), gesture_start)
           << "undo restores every value of the grab exactly (" << mode_name(mode) << ")";
     }
-    EXPECT_EQ(g.node_count(), nodes);
-    EXPECT_EQ(g.connections().size(), connections);
+    EXPECT_EQ(non_curve_nodes(g), nodes);
+    EXPECT_EQ(non_curve_connections(g), connections);
   }
   EXPECT_GT(drags, steps / 3);
+  if (keys) {
+    EXPECT_GT(keyed_drags, 0) << "drags on keyed controls were exercised";
+  }
   session.release();
-  EXPECT_EQ(g.node_count(), nodes) << "nothing temporary remains";
-  EXPECT_EQ(g.connections().size(), connections);
+  EXPECT_EQ(non_curve_nodes(g), nodes) << "nothing temporary remains";
+  EXPECT_EQ(non_curve_connections(g), connections);
 }
 
 TEST(EphemeralProperty, random_skeletons_selections_modes_and_drags) {
@@ -167,6 +202,15 @@ TEST(EphemeralProperty, random_skeletons_selections_modes_and_drags) {
     std::mt19937 rng(seed);
     Rig r = random_rig(rng, 14);
     run_sequence(r, seed, 60);
+    if (HasFatalFailure()) return;
+  }
+}
+
+TEST(EphemeralProperty, random_sequences_with_keys_and_auto_key) {
+  for (std::uint32_t seed = 101; seed <= 106; ++seed) {
+    std::mt19937 rng(seed);
+    Rig r = random_rig(rng, 10);
+    run_sequence(r, seed, 60, 1e-9, true);
     if (HasFatalFailure()) return;
   }
 }
