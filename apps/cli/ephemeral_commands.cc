@@ -1,0 +1,1017 @@
+// The ephemeral-rig commands of `rigel` (see ephemeral_commands.h): setup,
+// relations, keys, keying scopes, merged characters and posing.
+
+#include "ephemeral_commands.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "rigel/ephemeral/keying.h"
+#include "rigel/ephemeral/rig.h"
+#include "rigel/ephemeral/session.h"
+#include "rigel/io/bvh_import.h"
+#include "rigel/io/gltf_import.h"
+#include "rigel/io/scene_file.h"
+#include "rigel/math/transform.h"
+
+namespace rigel::cli {
+namespace {
+
+using rigel::Status;
+using rigel::graph::NodeId;
+
+// ---- ephemeral setup -----------------------------------------------------------
+
+struct EphemeralSetupArgs {
+  std::string scene;
+  std::string output;
+  std::vector<std::string> joints;
+  std::string suffix = "_ctrl";
+  std::string rig_name = "ephemeralRig";
+  bool drop_animation = false;
+  double shape_radius = 0.0;
+  bool json = false;
+};
+
+// A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
+// import` does (units kept); either way over ephemeral::default_registry().
+rigel::Result<std::unique_ptr<rigel::scene::Scene>> load_or_import(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  // The importers build over ops::default_registry(), which has no
+  // ephemeralRig type: carry the scene over through its file text.
+  auto reload = [&](rigel::Result<std::unique_ptr<rigel::scene::Scene>> imported)
+      -> rigel::Result<std::unique_ptr<rigel::scene::Scene>> {
+    if (!imported) return imported.status();
+    return rigel::io::parse_scene(rigel::io::write_scene(**imported), path, rigel::ephemeral::default_registry());
+  };
+  if (ext == ".glb" || ext == ".gltf") return reload(rigel::io::import_gltf(path));
+  if (ext == ".bvh") {
+    auto file = rigel::io::load_bvh(path);
+    if (!file) return file.status();
+    return reload(rigel::io::import_bvh(*file));
+  }
+  return load(path);
+}
+
+int run_ephemeral_setup(const EphemeralSetupArgs& args) {
+  if (!(args.shape_radius >= 0.0) || !std::isfinite(args.shape_radius)) {
+    std::cerr << "rigel: --shape-radius must be a number >= 0\n";
+    return kExitUsage;
+  }
+  if (!rigel::graph::Graph::is_valid_name("joint" + args.suffix)) {
+    std::cerr << "rigel: --suffix '" << args.suffix << "': control names would not be valid node names\n";
+    return kExitUsage;
+  }
+  if (!rigel::graph::Graph::is_valid_name(args.rig_name)) {
+    std::cerr << "rigel: --rig-name '" << args.rig_name << "': not a valid node name\n";
+    return kExitUsage;
+  }
+  for (const std::string& name : args.joints) {
+    if (name.empty()) {
+      std::cerr << "rigel: --joints: empty joint name (expected A,B,...)\n";
+      return kExitUsage;
+    }
+  }
+  auto scene = load_or_import(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
+  rigel::ephemeral::SetupOptions options;
+  options.control_suffix = args.suffix;
+  options.rig_name = args.rig_name;
+  options.keep_animation = !args.drop_animation;
+  options.shape_radius = args.shape_radius;
+  for (const std::string& name : args.joints) {
+    const NodeId id = g.find(name);
+    if (!id.is_valid()) return fail(Status(rigel::ErrorCode::kNotFound, args.scene + ": --joints: no node named '" + name + "'"));
+    options.joints.push_back(id);
+  }
+  auto result = rigel::ephemeral::setup_ephemeral(s, options);
+  if (!result) return fail(result.status().with_context(args.scene));
+  if (Status st = rigel::io::save_scene(s, args.output); !st) return fail(st);
+  const std::string rig = g.node(result->rig)->name();
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["rig"] = rig;
+    out["controls"] = nlohmann::ordered_json::array();
+    out["joints"] = nlohmann::ordered_json::array();
+    for (NodeId id : result->controls) out["controls"].push_back(g.node(id)->name());
+    for (NodeId id : result->joints) out["joints"].push_back(g.node(id)->name());
+    std::cout << out.dump() << "\n";
+  }
+  std::cerr << "rigel: ephemeral rig '" << rig << "': " << result->controls.size()
+            << (result->controls.size() == 1 ? " control" : " controls") << " into " << args.output << "\n";
+  return 0;
+}
+
+// ---- ephemeral: names, keys and scopes (shared by pose and the key commands) ----
+
+// A key time in seconds as a frame, rounded to 1e-6 frame so that frame 10
+// at 24 fps prints 10, not 10.000000000000002.
+double frame_of(const rigel::graph::Graph& g, double seconds) {
+  return std::round(seconds * g.fps() * 1e6) / 1e6;
+}
+
+
+// The rigs of `controls`, first appearance order.
+std::vector<NodeId> rigs_of(const rigel::graph::Graph& g, const std::vector<NodeId>& controls) {
+  std::vector<NodeId> out;
+  for (NodeId c : controls) {
+    const NodeId rig = rigel::ephemeral::rig_of(g, c);
+    if (rig.is_valid() && std::find(out.begin(), out.end(), rig) == out.end()) out.push_back(rig);
+  }
+  return out;
+}
+
+// "RIG=SCOPE, ..." and {RIG: SCOPE} for `rigs`.
+std::string scopes_text(const rigel::graph::Graph& g, const std::vector<NodeId>& rigs) {
+  std::string text;
+  for (NodeId r : rigs)
+    text += (text.empty() ? "" : ", ") + g.node(r)->name() + "=" + rigel::ephemeral::key_scope_name(rigel::ephemeral::key_scope(g, r));
+  return text;
+}
+nlohmann::ordered_json scopes_json(const rigel::graph::Graph& g, const std::vector<NodeId>& rigs) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (NodeId r : rigs) out[g.node(r)->name()] = rigel::ephemeral::key_scope_name(rigel::ephemeral::key_scope(g, r));
+  return out;
+}
+
+nlohmann::ordered_json names_json(const rigel::graph::Graph& g, const std::vector<NodeId>& ids) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (NodeId id : ids) out.push_back(g.node(id)->name());
+  return out;
+}
+
+// Key times of `controls`' keying set, as frames.
+std::vector<double> key_frames(const rigel::graph::Graph& g, const std::vector<NodeId>& controls) {
+  std::vector<double> frames;
+  for (double t : rigel::ephemeral::key_times(g, controls)) frames.push_back(frame_of(g, t));
+  return frames;
+}
+
+std::string frames_text(const std::vector<double>& frames) {
+  if (frames.empty()) return "none";
+  std::string text;
+  for (double f : frames) text += (text.empty() ? "" : ", ") + number_text(f);
+  return text;
+}
+// ---- pose --------------------------------------------------------------------
+
+struct PoseArgs {
+  std::string scene;
+  std::string output;
+  std::string control;
+  std::string mode;
+  std::optional<std::string> translate, rotate, scale, pivot;
+  std::vector<std::string> select;
+  std::optional<double> frame;
+  std::optional<double> time;
+  std::optional<double> magnet_fraction;
+  std::optional<double> magnet_radius;
+  std::optional<int> max_chain;
+  bool auto_key = false;
+  bool key = false;
+  bool json = false;
+};
+
+int run_pose(const PoseArgs& args) {
+  namespace eph = rigel::ephemeral;
+  using rigel::math::Mat4;
+  using rigel::math::Quat;
+  using rigel::math::Vec3;
+  // Usage errors first (exit 2), before the scene is read.
+  const std::optional<eph::Mode> mode = eph::mode_from_name(args.mode);
+  if (!mode) {
+    std::string modes;
+    for (int m = 0; m < eph::kModeCount; ++m)
+      modes += std::string(m ? ", " : "") + eph::mode_name(static_cast<eph::Mode>(m));
+    return usage_error("--mode '" + args.mode + "': unknown mode; modes: " + modes);
+  }
+  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time)))
+    return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
+  eph::Delta delta;
+  std::optional<Vec3> pivot;
+  struct VecOption {
+    const char* name;
+    const std::optional<std::string>& text;
+  };
+  for (const VecOption& o : {VecOption{"--translate", args.translate}, VecOption{"--rotate", args.rotate},
+                             VecOption{"--scale", args.scale}, VecOption{"--pivot", args.pivot}}) {
+    if (!o.text) continue;
+    const std::optional<Vec3> v = parse_vec3(*o.text);
+    if (!v) return usage_error(std::string(o.name) + " '" + *o.text + "': expected X,Y,Z, three numbers such as 0,1.5,-2");
+    const std::string name = o.name;
+    if (name == "--translate") {
+      delta.translate = *v;
+    } else if (name == "--rotate") {
+      // Degrees, XYZ Euler: x applied first (rotation = Rz * Ry * Rx), world axes.
+      const Vec3 r = *v * (std::numbers::pi / 180.0);
+      delta.rotate = Quat(Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
+                          Eigen::AngleAxisd(r.x(), Vec3::UnitX()));
+    } else if (name == "--scale") {
+      delta.scale = *v;
+    } else {
+      pivot = *v;
+    }
+  }
+  eph::SessionOptions options;
+  options.auto_key = args.auto_key;
+  if (args.magnet_fraction) {
+    if (!(*args.magnet_fraction > 0.0 && *args.magnet_fraction <= 1.0))
+      return usage_error("--magnet-fraction must be a number in (0, 1]");
+    options.magnet_fraction = *args.magnet_fraction;
+  }
+  if (args.magnet_radius) {
+    if (!(*args.magnet_radius > 0.0) || !std::isfinite(*args.magnet_radius))
+      return usage_error("--magnet-radius must be a positive number");
+    options.magnet_radius = *args.magnet_radius;
+  }
+  if (args.max_chain) {
+    if (*args.max_chain < 0) return usage_error("--max-chain must be 0 (no limit) or more");
+    options.max_chain = *args.max_chain;
+  }
+  for (const std::string& name : args.select)
+    if (name.empty()) return usage_error("--select: empty control name (expected A,B,...)");
+
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
+  const std::vector<NodeId> rigs = eph::rigs_find(g);
+  if (rigs.empty()) {
+    return fail(Status(rigel::ErrorCode::kNotFound,
+                       args.scene + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + args.scene +
+                           " -o OUT.rigel` first"));
+  }
+  if (pivot && *mode != eph::Mode::kBody)
+    return fail(Status(rigel::ErrorCode::kInvalidArgument, "--pivot applies in body mode only (--mode body)"));
+  if (args.frame) s.set_frame(*args.frame);
+  if (args.time) g.set_time(*args.time);
+
+  eph::Session session(s, options);
+  session.set_mode(*mode);
+  // Each name must be a control of an ephemeral rig, or a joint driven by one
+  // (it stands for its control, as in Session::select).
+  std::vector<NodeId> selection;
+  NodeId primary;
+  auto resolve = [&](const std::string& option, const std::string& name) -> std::optional<Status> {
+    const NodeId id = g.find(name);
+    if (!id.is_valid())
+      return Status(rigel::ErrorCode::kNotFound, args.scene + ": " + option + ": no node named '" + name + "'");
+    session.select({id});
+    const std::vector<NodeId> grabbed = session.grabbed();
+    if (grabbed.empty()) {
+      return Status(rigel::ErrorCode::kInvalidArgument,
+                    args.scene + ": " + option + ": '" + name + "' is not a control of an ephemeral rig (nor a joint driven by one)");
+    }
+    if (!primary.is_valid()) primary = grabbed.front();
+    selection.push_back(id);
+    return std::nullopt;
+  };
+  if (auto st = resolve("--control", args.control)) return fail(*st);
+  for (const std::string& name : args.select)
+    if (auto st = resolve("--select", name)) return fail(*st);
+  session.select(selection);
+  const std::vector<NodeId> grabbed = session.grabbed();
+  if (*mode == eph::Mode::kBody) {
+    // The motion is given for --control: the pivot is at it by default.
+    Mat4 world = rigel::math::rigid_part(s.world_matrix(primary));
+    if (pivot) world = rigel::math::translation_matrix(*pivot);
+    session.set_body_pivot(world);
+  }
+
+  // Every control of every rig, before and after (world space).
+  std::vector<NodeId> controls;
+  for (NodeId rig : rigs)
+    for (NodeId c : eph::rig_controls(g, rig)) controls.push_back(c);
+  std::vector<Mat4> before;
+  for (NodeId c : controls) before.push_back(s.world_matrix(c));
+  // A keyed channel off its keys is refused (the message names the channel
+  // and the frame) unless --auto-key.
+  if (Status st = session.drag(delta); !st) {
+    const int code = fail(st.with_context(args.scene + ": " + args.mode));
+    if (!args.auto_key && st.message().find("auto-key") != std::string::npos) {
+      std::cerr << "rigel: note: --auto-key keys the character at frame " << number_text(s.frame())
+                << " first; or key it there with `rigel ephemeral key`\n";
+    }
+    return code;
+  }
+  session.release();
+  // --key: key the grabbed controls' keying group at the pose time.
+  std::vector<NodeId> key_set;
+  if (args.key) {
+    key_set = eph::keying_set(g, grabbed);
+    if (Status st = eph::set_key(g, grabbed); !st) return fail(st.with_context(args.scene + ": --key"));
+  }
+  std::vector<NodeId> keyed;
+  for (NodeId c : controls)
+    if (eph::has_key_now(g, c)) keyed.push_back(c);
+  const std::vector<NodeId> grabbed_rigs = rigs_of(g, grabbed);
+  nlohmann::ordered_json moved = nlohmann::ordered_json::object();
+  std::size_t moved_count = 0;
+  for (std::size_t i = 0; i < controls.size(); ++i) {
+    const Mat4 after = s.world_matrix(controls[i]);
+    if (rigel::math::is_near(before[i], after, 1e-12)) continue;
+    ++moved_count;
+    const rigel::math::Decomposed d = rigel::math::decompose(after);
+    const Quat& q = d.rotation;
+    moved[g.node(controls[i])->name()] = {{"t", {d.translate.x(), d.translate.y(), d.translate.z()}},
+                                          {"q", {q.x(), q.y(), q.z(), q.w()}}};
+  }
+  if (Status st = rigel::io::save_scene(s, args.output); !st) return fail(st);
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["mode"] = eph::mode_name(*mode);
+    out["frame"] = s.frame();
+    out["grabbed"] = nlohmann::ordered_json::array();
+    for (NodeId id : grabbed) out["grabbed"].push_back(g.node(id)->name());
+    out["moved"] = std::move(moved);
+    out["keyScope"] = scopes_json(g, grabbed_rigs);
+    out["keyed"] = names_json(g, keyed);
+    std::cout << out.dump() << "\n";
+  }
+  std::string names;
+  for (NodeId id : grabbed) names += (names.empty() ? "" : ", ") + g.node(id)->name();
+  std::cerr << "rigel: posed " << names << " (" << eph::mode_name(*mode) << ", frame " << s.frame() << "): "
+            << moved_count << (moved_count == 1 ? " control" : " controls") << " moved; wrote " << args.output << "\n";
+  std::cerr << "rigel: keying scope: " << scopes_text(g, grabbed_rigs);
+  if (args.key) std::cerr << "; keyed " << key_set.size() << (key_set.size() == 1 ? " control" : " controls");
+  std::cerr << "; " << keyed.size() << (keyed.size() == 1 ? " control has" : " controls have") << " a key at frame "
+            << number_text(s.frame()) << "\n";
+  return 0;
+}
+
+// ---- ephemeral key, keys, scope, merge, unmerge ----------------------------------
+
+// A scene read for the key commands: it must hold an ephemeral rig.
+rigel::Result<std::unique_ptr<rigel::scene::Scene>> load_rigged(const std::string& path) {
+  auto scene = load(path);
+  if (!scene) return scene.status();
+  if (rigel::ephemeral::rigs_find((*scene)->graph()).empty()) {
+    return Status(rigel::ErrorCode::kNotFound,
+                  path + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + path + " -o OUT.rigel` first");
+  }
+  return scene;
+}
+
+struct EphemeralKeyArgs {
+  std::string scene;
+  std::string output;
+  std::vector<std::string> controls;
+  std::optional<double> frame;
+  std::optional<double> time;
+  bool remove = false;
+  bool json = false;
+};
+
+int run_ephemeral_key(const EphemeralKeyArgs& args) {
+  namespace eph = rigel::ephemeral;
+  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time)))
+    return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
+  for (const std::string& name : args.controls)
+    if (name.empty()) return usage_error("--control: empty control name (expected A,B,...)");
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
+  std::vector<NodeId> controls;
+  for (const std::string& name : args.controls) {
+    auto control = resolve_control(g, args.scene, "--control", name);
+    if (!control) return fail(control.status());
+    controls.push_back(*control);
+  }
+  if (args.frame) s.set_frame(*args.frame);
+  if (args.time) g.set_time(*args.time);
+  const std::vector<NodeId> set = eph::keying_set(g, controls);
+  const Status st = args.remove ? eph::delete_key(g, controls) : eph::set_key(g, controls);
+  if (!st) return fail(st.with_context(args.scene));
+  if (Status saved = rigel::io::save_scene(s, args.output); !saved) return fail(saved);
+  const std::vector<double> frames = key_frames(g, controls);
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["frame"] = frame_of(g, g.time());
+    out["keyed"] = names_json(g, set);
+    out["times"] = frames;
+    std::cout << out.dump() << "\n";
+  }
+  std::cerr << "rigel: " << (args.remove ? "deleted the keys of " : "keyed ") << set.size()
+            << (set.size() == 1 ? " control" : " controls") << " at frame " << number_text(frame_of(g, g.time()))
+            << " (keying scope: " << scopes_text(g, rigs_of(g, controls)) << "); key frames: " << frames_text(frames)
+            << "; wrote " << args.output << "\n";
+  return 0;
+}
+
+struct EphemeralKeysArgs {
+  std::string scene;
+  std::string control;
+  bool json = false;
+};
+
+int run_ephemeral_keys(const EphemeralKeysArgs& args) {
+  namespace eph = rigel::ephemeral;
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  const rigel::graph::Graph& g = (*scene)->graph();
+  auto control = resolve_control(g, args.scene, "--control", args.control);
+  if (!control) return fail(control.status());
+  const NodeId rig = eph::rig_of(g, *control);
+  const std::vector<NodeId> set = eph::keying_set(g, {*control});
+  const std::vector<double> seconds = eph::key_times(g, {*control});
+  const std::vector<double> frames = key_frames(g, {*control});
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["control"] = g.node(*control)->name();
+    out["rig"] = g.node(rig)->name();
+    out["keyScope"] = eph::key_scope_name(eph::key_scope(g, rig));
+    out["keyingSet"] = names_json(g, set);
+    out["times"] = frames;
+    out["seconds"] = seconds;
+    std::cout << out.dump() << "\n";
+    return 0;
+  }
+  std::cout << g.node(*control)->name() << ": rig " << g.node(rig)->name()
+            << ", keying scope: " << eph::key_scope_name(eph::key_scope(g, rig)) << " (a key keys " << set.size()
+            << (set.size() == 1 ? " control" : " controls") << ")\n";
+  std::cout << "key frames: " << frames_text(frames) << " (" << g.fps() << " fps)\n";
+  return 0;
+}
+
+struct EphemeralScopeArgs {
+  std::string scene;
+  std::string rig;
+  std::optional<std::string> set;
+  std::optional<std::string> output;
+  bool json = false;
+};
+
+int run_ephemeral_scope(const EphemeralScopeArgs& args) {
+  namespace eph = rigel::ephemeral;
+  std::optional<eph::KeyScope> scope;
+  if (args.set) {
+    scope = eph::key_scope_from_name(*args.set);
+    if (!scope) return usage_error("--set '" + *args.set + "': expected character or controls");
+    if (!args.output) return usage_error("--set needs -o OUT (the scene to write)");
+  } else if (args.output) {
+    return usage_error("-o applies with --set only (without --set, scope prints the keying scope)");
+  }
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  auto rig = resolve_rig(g, args.scene, "--rig", args.rig);
+  if (!rig) return fail(rig.status());
+  if (scope) {
+    if (Status st = eph::set_key_scope(g, *rig, *scope); !st) return fail(st.with_context(args.scene));
+    if (Status st = rigel::io::save_scene(**scene, *args.output); !st) return fail(st);
+  }
+  const char* name = eph::key_scope_name(eph::key_scope(g, *rig));
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["rig"] = args.rig;
+    out["keyScope"] = name;
+    std::cout << out.dump() << "\n";
+  } else if (!scope) {
+    std::cout << args.rig << ": keying scope: " << name << "\n";
+  }
+  if (scope) std::cerr << "rigel: " << args.rig << ": keying scope: " << name << "; wrote " << *args.output << "\n";
+  return 0;
+}
+
+struct EphemeralMergeArgs {
+  std::string scene;
+  std::string output;
+  std::vector<std::string> rigs;
+  std::optional<std::string> carrier;
+  std::optional<std::string> carried;
+  bool json = false;
+};
+
+int run_ephemeral_merge(const EphemeralMergeArgs& args) {
+  namespace eph = rigel::ephemeral;
+  for (const std::string& name : args.rigs)
+    if (name.empty()) return usage_error("--rigs: empty rig name (expected A,B,...)");
+  if (args.rigs.size() < 2) return usage_error("--rigs: name two rigs or more (A,B,...)");
+  if (args.carrier.has_value() != args.carried.has_value())
+    return usage_error("--carrier CONTROL and --carried RIG go together");
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  std::vector<NodeId> rigs;
+  for (const std::string& name : args.rigs) {
+    auto rig = resolve_rig(g, args.scene, "--rigs", name);
+    if (!rig) return fail(rig.status());
+    rigs.push_back(*rig);
+  }
+  NodeId carrier, carried;
+  if (args.carrier) {
+    auto c = resolve_control(g, args.scene, "--carrier", *args.carrier);
+    if (!c) return fail(c.status());
+    auto r = resolve_rig(g, args.scene, "--carried", *args.carried);
+    if (!r) return fail(r.status());
+    carrier = *c;
+    carried = *r;
+  }
+  if (Status st = eph::merge_characters(g, rigs); !st) return fail(st.with_context(args.scene));
+  if (carried.is_valid()) {
+    if (Status st = eph::set_carrier(g, carried, carrier); !st) return fail(st.with_context(args.scene + ": --carrier"));
+  }
+  if (Status st = rigel::io::save_scene(**scene, args.output); !st) return fail(st);
+  const std::vector<NodeId> group = eph::merged_rigs(g, rigs.front());
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["merged"] = names_json(g, group);
+    out["carriers"] = nlohmann::ordered_json::object();
+    for (NodeId r : group)
+      if (const NodeId c = eph::carrier_of(g, r); c.is_valid()) out["carriers"][g.node(r)->name()] = g.node(c)->name();
+    std::cout << out.dump() << "\n";
+  }
+  std::string names;
+  for (NodeId r : group) names += (names.empty() ? "" : ", ") + g.node(r)->name();
+  std::cerr << "rigel: merged " << names;
+  if (carried.is_valid()) std::cerr << "; " << g.node(carrier)->name() << " carries " << g.node(carried)->name();
+  std::cerr << "; wrote " << args.output << "\n";
+  return 0;
+}
+
+struct EphemeralUnmergeArgs {
+  std::string scene;
+  std::string output;
+  std::string rig;
+  bool json = false;
+};
+
+int run_ephemeral_unmerge(const EphemeralUnmergeArgs& args) {
+  namespace eph = rigel::ephemeral;
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  auto rig = resolve_rig(g, args.scene, "--rig", args.rig);
+  if (!rig) return fail(rig.status());
+  std::vector<NodeId> others;
+  for (NodeId r : eph::merged_rigs(g, *rig))
+    if (r != *rig) others.push_back(r);
+  if (Status st = eph::unmerge_character(g, *rig); !st) return fail(st.with_context(args.scene));
+  if (Status st = rigel::io::save_scene(**scene, args.output); !st) return fail(st);
+  if (args.json) {
+    nlohmann::ordered_json out;
+    out["rig"] = args.rig;
+    out["unmergedFrom"] = names_json(g, others);
+    std::cout << out.dump() << "\n";
+  }
+  std::string names;
+  for (NodeId r : others) names += (names.empty() ? "" : ", ") + g.node(r)->name();
+  std::cerr << "rigel: " << args.rig << (others.empty() ? " was not merged" : " unmerged from " + names) << "; wrote "
+            << args.output << "\n";
+  return 0;
+}
+
+
+// ---- ephemeral relations ---------------------------------------------------------
+
+struct EphemeralRelationsArgs {
+  std::string scene;
+  std::optional<std::string> rig;
+  std::vector<std::string> add, remove, set_kind, group;
+  std::optional<std::string> output;
+  bool json = false;
+};
+
+// One edit, in command-line order (run_ephemeral_commands() reads the order
+// off the parser).
+struct RelationEdit {
+  enum class Op { kAdd, kRemove, kSetKind, kGroup } op;
+  std::string text;  // the option's value, as given
+};
+
+const char* edit_option(RelationEdit::Op op) {
+  switch (op) {
+    case RelationEdit::Op::kAdd: return "--add";
+    case RelationEdit::Op::kRemove: return "--remove";
+    case RelationEdit::Op::kSetKind: return "--set-kind";
+    case RelationEdit::Op::kGroup: return "--group";
+  }
+  return "";
+}
+
+std::string relation_kinds_text() {
+  std::string kinds;
+  for (int k = 0; k < rigel::ephemeral::kRelationKindCount; ++k)
+    kinds += std::string(k ? ", " : "") +
+             rigel::ephemeral::relation_kind_name(static_cast<rigel::ephemeral::RelationKind>(k));
+  return kinds;
+}
+
+// An edit's value, checked for form only (names are resolved against the
+// scene later): KIND:FROM:TO (=NEWKIND for --set-kind), or A,B,... for
+// --group. Control names may hold ':' themselves ("mixamorig:Hips"), so
+// FROM:TO is split where both sides name nodes (see split_ends()).
+struct RelationSpec {
+  rigel::ephemeral::RelationKind kind = rigel::ephemeral::RelationKind::kForward;
+  rigel::ephemeral::RelationKind new_kind = rigel::ephemeral::RelationKind::kForward;
+  std::string ends;                // FROM:TO
+  std::vector<std::string> names;  // --group's members
+};
+
+// The spec of `edit`, or the usage error's message.
+std::variant<RelationSpec, std::string> parse_relation_edit(const RelationEdit& edit) {
+  namespace eph = rigel::ephemeral;
+  const std::string where = std::string(edit_option(edit.op)) + " '" + edit.text + "'";
+  RelationSpec spec;
+  if (edit.op == RelationEdit::Op::kGroup) {
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = edit.text.find(',', start);
+      spec.names.push_back(edit.text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (spec.names.back().empty()) return where + ": empty control name (expected A,B,... two controls or more)";
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (spec.names.size() < 2) return where + ": a group needs two controls or more (A,B,...)";
+    return spec;
+  }
+  const bool set_kind = edit.op == RelationEdit::Op::kSetKind;
+  const std::string malformed = where + ": expected " + (set_kind ? "KIND:FROM:TO=NEWKIND, e.g. forward:elbow_ctrl:wrist_ctrl=pair"
+                                                                  : "KIND:FROM:TO, e.g. pair:elbow_ctrl:wrist_ctrl");
+  std::string text = edit.text;
+  if (set_kind) {
+    const std::size_t eq = text.rfind('=');
+    if (eq == std::string::npos) return malformed;
+    const std::string new_kind = text.substr(eq + 1);
+    const std::optional<eph::RelationKind> k = eph::relation_kind_from_name(new_kind);
+    if (!k) return where + ": unknown kind '" + new_kind + "'; kinds: " + relation_kinds_text();
+    spec.new_kind = *k;
+    text.resize(eq);
+  }
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos || colon + 1 >= text.size()) return malformed;
+  spec.ends = text.substr(colon + 1);
+  const std::size_t second = spec.ends.find(':');
+  if (second == std::string::npos || second == 0 || spec.ends.back() == ':') return malformed;
+  const std::string kind = text.substr(0, colon);
+  const std::optional<eph::RelationKind> k = eph::relation_kind_from_name(kind);
+  if (!k) return where + ": unknown kind '" + kind + "'; kinds: " + relation_kinds_text();
+  spec.kind = *k;
+  return spec;
+}
+
+// FROM:TO split at the one colon where both sides name nodes (a name may hold
+// colons); the first colon when no split or several do, so that the error
+// names what was not found.
+std::pair<std::string, std::string> split_ends(const rigel::graph::Graph& g, const std::string& ends) {
+  std::optional<std::size_t> found;
+  int count = 0;
+  for (std::size_t i = ends.find(':'); i != std::string::npos; i = ends.find(':', i + 1)) {
+    if (g.find(ends.substr(0, i)).is_valid() && g.find(ends.substr(i + 1)).is_valid()) {
+      found = i;
+      ++count;
+    }
+  }
+  const std::size_t at = count == 1 ? *found : ends.find(':');
+  return {ends.substr(0, at), ends.substr(at + 1)};
+}
+
+nlohmann::ordered_json relations_json(const rigel::graph::Graph& g, NodeId rig,
+                                      const std::vector<rigel::ephemeral::Relation>& relations) {
+  nlohmann::ordered_json out;
+  out["rig"] = g.node(rig)->name();
+  out["relations"] = nlohmann::ordered_json::array();
+  for (const rigel::ephemeral::Relation& r : relations) {
+    out["relations"].push_back({{"kind", rigel::ephemeral::relation_kind_name(r.kind)},
+                                {"from", g.node(r.from)->name()},
+                                {"to", g.node(r.to)->name()}});
+  }
+  return out;
+}
+
+// Prints the relations of `rigs`: text (a `RIG:` line before each rig's when
+// there are several) or one JSON object per rig, one a line.
+int print_relations(const rigel::graph::Graph& g, const std::string& scene, const std::vector<NodeId>& rigs, bool json) {
+  for (NodeId rig : rigs) {
+    auto relations = rigel::ephemeral::relations(g, rig);
+    if (!relations) return fail(relations.status().with_context(scene + ": " + g.node(rig)->name()));
+    if (json) {
+      std::cout << relations_json(g, rig, *relations).dump() << "\n";
+      continue;
+    }
+    if (rigs.size() > 1) std::cout << g.node(rig)->name() << ":\n";
+    for (const rigel::ephemeral::Relation& r : *relations) {
+      std::printf("%-7s  %s -> %s\n", rigel::ephemeral::relation_kind_name(r.kind), g.node(r.from)->name().c_str(),
+                  g.node(r.to)->name().c_str());
+    }
+  }
+  std::fflush(stdout);
+  return 0;
+}
+
+int run_ephemeral_relations(const EphemeralRelationsArgs& args, const std::vector<RelationEdit>& edits) {
+  namespace eph = rigel::ephemeral;
+  // Usage errors first (exit 2), before the scene is read.
+  std::vector<RelationSpec> specs;
+  for (const RelationEdit& edit : edits) {
+    auto spec = parse_relation_edit(edit);
+    if (const std::string* message = std::get_if<std::string>(&spec)) return usage_error(*message);
+    specs.push_back(std::get<RelationSpec>(std::move(spec)));
+  }
+  if (!edits.empty() && !args.output)
+    return usage_error(std::string(edit_option(edits.front().op)) + " needs -o OUT (the scene to write)");
+  if (edits.empty() && args.output)
+    return usage_error(
+        "-o applies with --add, --remove, --set-kind or --group only (without them, relations prints the relations)");
+
+  auto scene = load_rigged(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::graph::Graph& g = (*scene)->graph();
+  NodeId picked;
+  if (args.rig) {
+    auto rig = resolve_rig(g, args.scene, "--rig", *args.rig);
+    if (!rig) return fail(rig.status());
+    picked = *rig;
+  }
+  if (edits.empty())
+    return print_relations(g, args.scene, args.rig ? std::vector<NodeId>{picked} : eph::rigs_find(g), args.json);
+
+  // Every edit in one transaction: all apply, or none.
+  std::vector<NodeId> touched;  // rigs edited, first edit first
+  std::size_t added = 0, removed = 0, changed = 0, grouped = 0;
+  rigel::graph::Transaction tx(g, "edit ephemeral relations");
+  for (std::size_t i = 0; i < edits.size(); ++i) {
+    const RelationEdit& edit = edits[i];
+    const RelationSpec& spec = specs[i];
+    const std::string where = std::string(edit_option(edit.op)) + " '" + edit.text + "'";
+    std::vector<std::string> names = spec.names;
+    if (edit.op != RelationEdit::Op::kGroup) {
+      auto [from, to] = split_ends(g, spec.ends);
+      names = {from, to};
+    }
+    std::vector<NodeId> controls;
+    for (const std::string& name : names) {
+      auto control = resolve_control(g, args.scene, where, name);
+      if (!control) {
+        tx.rollback();
+        return fail(control.status());
+      }
+      controls.push_back(*control);
+    }
+    // The rig: --rig, else the rig of FROM's (the first member's) control.
+    const NodeId rig = picked.is_valid() ? picked : eph::rig_of(g, controls.front());
+    Status st;
+    switch (edit.op) {
+      case RelationEdit::Op::kAdd:
+        st = eph::relation_add(g, rig, {spec.kind, controls[0], controls[1]});
+        added += st.is_ok();
+        break;
+      case RelationEdit::Op::kRemove:
+        st = eph::relation_remove(g, rig, {spec.kind, controls[0], controls[1]});
+        removed += st.is_ok();
+        break;
+      case RelationEdit::Op::kSetKind:
+        st = eph::relation_set_kind(g, rig, {spec.kind, controls[0], controls[1]}, spec.new_kind);
+        changed += st.is_ok();
+        break;
+      case RelationEdit::Op::kGroup:
+        st = eph::group_add(g, rig, controls);
+        grouped += st.is_ok();
+        break;
+    }
+    if (!st) {
+      tx.rollback();
+      return fail(st.with_context(args.scene + ": " + where));
+    }
+    if (std::find(touched.begin(), touched.end(), rig) == touched.end()) touched.push_back(rig);
+  }
+  if (Status st = rigel::io::save_scene(**scene, *args.output); !st) return fail(st);
+  if (args.json) {
+    if (int code = print_relations(g, args.scene, touched, true); code != 0) return code;
+  }
+  std::string rigs;
+  for (NodeId r : touched) {
+    auto relations = eph::relations(g, r);
+    const std::size_t n = relations ? relations->size() : 0;
+    rigs += (rigs.empty() ? "" : ", ") + g.node(r)->name() + " (" + std::to_string(n) +
+            (n == 1 ? " relation)" : " relations)");
+  }
+  std::cerr << "rigel: relations: " << added << " added, " << removed << " removed, " << changed << " changed, " << grouped
+            << (grouped == 1 ? " group" : " groups") << " added; " << rigs << "; wrote " << *args.output << "\n";
+  return 0;
+}
+}  // namespace
+
+struct EphemeralCommands::State {
+  EphemeralSetupArgs setup;
+  EphemeralRelationsArgs relations;
+  EphemeralKeyArgs key;
+  EphemeralKeysArgs keys;
+  EphemeralScopeArgs scope;
+  EphemeralMergeArgs merge;
+  EphemeralUnmergeArgs unmerge;
+  PoseArgs pose;
+  CLI::App* setup_cmd = nullptr;
+  CLI::App* relations_cmd = nullptr;
+  CLI::Option* relations_add = nullptr;
+  CLI::Option* relations_remove = nullptr;
+  CLI::Option* relations_set_kind = nullptr;
+  CLI::Option* relations_group = nullptr;
+  CLI::App* key_cmd = nullptr;
+  CLI::App* keys_cmd = nullptr;
+  CLI::App* scope_cmd = nullptr;
+  CLI::App* merge_cmd = nullptr;
+  CLI::App* unmerge_cmd = nullptr;
+  CLI::App* pose_cmd = nullptr;
+
+  // The relation edits in command-line order: CLI11 keeps each option's
+  // values apart; its parse order (one entry per value) interleaves them.
+  std::vector<RelationEdit> relation_edits() const {
+    std::vector<RelationEdit> edits;
+    std::size_t add = 0, remove = 0, set_kind = 0, group = 0;
+    for (const CLI::Option* o : relations_cmd->parse_order()) {
+      if (o == relations_add && add < relations.add.size()) {
+        edits.push_back({RelationEdit::Op::kAdd, relations.add[add++]});
+      } else if (o == relations_remove && remove < relations.remove.size()) {
+        edits.push_back({RelationEdit::Op::kRemove, relations.remove[remove++]});
+      } else if (o == relations_set_kind && set_kind < relations.set_kind.size()) {
+        edits.push_back({RelationEdit::Op::kSetKind, relations.set_kind[set_kind++]});
+      } else if (o == relations_group && group < relations.group.size()) {
+        edits.push_back({RelationEdit::Op::kGroup, relations.group[group++]});
+      }
+    }
+    return edits;
+  }
+};
+
+EphemeralCommands::EphemeralCommands() : state_(std::make_unique<State>()) {}
+EphemeralCommands::~EphemeralCommands() = default;
+
+void add_ephemeral_commands(CLI::App& app, EphemeralCommands& commands) {
+  EphemeralCommands::State& s = commands.state();
+  CLI::App* ephemeral_cmd = app.add_subcommand(
+      "ephemeral",
+      "Ephemeral rigs: one control per joint (setup), relations between controls (relations), keys and keying "
+      "scope (key, keys, scope), merged characters "
+      "(merge, unmerge); posed with `rigel pose`");
+  ephemeral_cmd->require_subcommand(1);
+  s.setup_cmd = ephemeral_cmd->add_subcommand(
+      "setup", "Give joints a control each (mirroring the joint hierarchy) and an ephemeralRig node relating them");
+  s.setup_cmd->add_option("SCENE", s.setup.scene, "Scene file (.rigel), or a character to import first (.glb, .gltf, .bvh)")
+      ->required();
+  s.setup_cmd->add_option("-o,--output", s.setup.output, "Scene file to write (.rigel)")->required();
+  s.setup_cmd->add_option("--joints", s.setup.joints, "Joints to rig, by name: A,B,... (default: every joint)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  s.setup_cmd->add_option("--suffix", s.setup.suffix, "Control name = joint name + this (default _ctrl)");
+  s.setup_cmd->add_option("--rig-name", s.setup.rig_name,
+                        "Name of the ephemeralRig node (default ephemeralRig; a taken name gets a number). Give a "
+                        "second character (a prop set up with --joints) its own name");
+  s.setup_cmd->add_flag("--drop-animation", s.setup.drop_animation,
+                      "Break the animation connections into the joints, keeping the current pose (default: they move "
+                      "onto the controls)");
+  s.setup_cmd->add_option("--shape-radius", s.setup.shape_radius,
+                        "Radius of each control's circle, in its own space (default 0: no shape)");
+  s.setup_cmd->add_flag("--json", s.setup.json,
+                      "Print {\"rig\", \"controls\": [NAME...], \"joints\": [NAME...]} (controls[i] drives joints[i])");
+
+  s.relations_cmd = ephemeral_cmd->add_subcommand(
+      "relations", "Print a rig's relations between controls, or edit them (--add, --remove, --set-kind, --group; in "
+                   "the order given, all or none)");
+  s.relations_cmd->add_option("SCENE", s.relations.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  s.relations_cmd->add_option("--rig", s.relations.rig,
+                              "The ephemeralRig node, by name (default: printing, every rig; editing, the rig of "
+                              "each edit's FROM control)");
+  s.relations_add = s.relations_cmd
+                        ->add_option("--add", s.relations.add,
+                                     "Add a relation KIND:FROM:TO (KIND: forward, inverse, pair, magnet; a joint name "
+                                     "stands for its control); repeatable")
+                        ->allow_extra_args(false);
+  s.relations_remove = s.relations_cmd->add_option("--remove", s.relations.remove, "Remove a relation KIND:FROM:TO; repeatable")
+                           ->allow_extra_args(false);
+  s.relations_set_kind = s.relations_cmd
+                             ->add_option("--set-kind", s.relations.set_kind,
+                                          "Change a relation's kind: KIND:FROM:TO=NEWKIND; repeatable")
+                             ->allow_extra_args(false);
+  s.relations_group = s.relations_cmd
+                          ->add_option("--group", s.relations.group,
+                                       "Pair relations both ways between every two of A,B,... (they move as one unit); "
+                                       "repeatable")
+                          ->allow_extra_args(false);
+  s.relations_cmd->add_option("-o,--output", s.relations.output, "Scene file to write (.rigel; with edits only)");
+  s.relations_cmd->add_flag("--json", s.relations.json,
+                            "Print {\"rig\", \"relations\": [{\"kind\", \"from\", \"to\"}...]} (after the edits; one "
+                            "object a line, one per rig)");
+
+  s.key_cmd = ephemeral_cmd->add_subcommand(
+      "key", "Key controls at a frame (their keying group: the whole character unless its scope is controls)");
+  s.key_cmd->add_option("SCENE", s.key.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  s.key_cmd->add_option("-o,--output", s.key.output, "Scene file to write (.rigel)")->required();
+  s.key_cmd->add_option("--control", s.key.controls, "Controls to key: A,B,... (a joint name stands for its control)")
+      ->required()
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  CLI::Option* key_frame = s.key_cmd->add_option("--frame", s.key.frame, "Frame to key at (default: the scene's current time)");
+  CLI::Option* key_time = s.key_cmd->add_option("--time", s.key.time, "Time in seconds to key at");
+  key_frame->excludes(key_time);
+  s.key_cmd->add_flag("--delete", s.key.remove, "Delete the keys of the keying group at that frame instead");
+  s.key_cmd->add_flag("--json", s.key.json,
+                    "Print {\"frame\", \"keyed\": [NAME...] (the keying group), \"times\": [FRAME...] (its key frames "
+                    "after the edit)}");
+
+  s.keys_cmd = ephemeral_cmd->add_subcommand(
+      "keys", "Print a control's keying scope and the key frames of its keying group (reads only)");
+  s.keys_cmd->add_option("SCENE", s.keys.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  s.keys_cmd->add_option("--control", s.keys.control, "The control (a joint name stands for its control)")->required();
+  s.keys_cmd->add_flag("--json", s.keys.json,
+                     "Print {\"control\", \"rig\", \"keyScope\", \"keyingSet\": [NAME...], \"times\": [FRAME...], "
+                     "\"seconds\": [S...]}");
+
+  s.scope_cmd = ephemeral_cmd->add_subcommand(
+      "scope", "Print a rig's keying scope, or set it (character: a key keys the whole character; controls: only "
+               "the controls named)");
+  s.scope_cmd->add_option("SCENE", s.scope.scene, "Scene file with an ephemeral rig (.rigel)")->required();
+  s.scope_cmd->add_option("--rig", s.scope.rig, "The ephemeralRig node, by name (default name: ephemeralRig)")->required();
+  s.scope_cmd->add_option("--set", s.scope.set, "character or controls (needs -o)");
+  s.scope_cmd->add_option("-o,--output", s.scope.output, "Scene file to write (.rigel; with --set only)");
+  s.scope_cmd->add_flag("--json", s.scope.json, "Print {\"rig\", \"keyScope\"}");
+
+  s.merge_cmd = ephemeral_cmd->add_subcommand(
+      "merge", "Merge characters: they move together in body mode and share keys; optionally a control of one carries another");
+  s.merge_cmd->add_option("SCENE", s.merge.scene, "Scene file with ephemeral rigs (.rigel)")->required();
+  s.merge_cmd->add_option("-o,--output", s.merge.output, "Scene file to write (.rigel)")->required();
+  s.merge_cmd->add_option("--rigs", s.merge.rigs, "ephemeralRig nodes to merge, by name: A,B,... (two or more)")
+      ->required()
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  s.merge_cmd->add_option("--carrier", s.merge.carrier,
+                        "A control (of another merged character) that carries --carried's root controls, e.g. a hand");
+  s.merge_cmd->add_option("--carried", s.merge.carried, "The rig that --carrier carries, e.g. a prop");
+  s.merge_cmd->add_flag("--json", s.merge.json, "Print {\"merged\": [RIG...], \"carriers\": {RIG: CONTROL}}");
+
+  s.unmerge_cmd = ephemeral_cmd->add_subcommand(
+      "unmerge", "Take a character out of its merge group (clears carriers into and out of it; keys are kept)");
+  s.unmerge_cmd->add_option("SCENE", s.unmerge.scene, "Scene file with ephemeral rigs (.rigel)")->required();
+  s.unmerge_cmd->add_option("-o,--output", s.unmerge.output, "Scene file to write (.rigel)")->required();
+  s.unmerge_cmd->add_option("--rig", s.unmerge.rig, "The ephemeralRig node, by name")->required();
+  s.unmerge_cmd->add_flag("--json", s.unmerge.json, "Print {\"rig\", \"unmergedFrom\": [RIG...]}");
+
+  s.pose_cmd = app.add_subcommand(
+      "pose", "Grab controls of an ephemeral rig, move them in a mode (forward, inverse, ...) and write the scene");
+  s.pose_cmd->add_option("SCENE", s.pose.scene, "Scene file with an ephemeral rig (.rigel; see `rigel ephemeral setup`)")
+      ->required();
+  s.pose_cmd->add_option("-o,--output", s.pose.output, "Scene file to write (.rigel)")->required();
+  s.pose_cmd->add_option("--control", s.pose.control,
+                       "The control the motion is given for (a joint name stands for its control)")
+      ->required();
+  s.pose_cmd->add_option("--mode", s.pose.mode,
+                       "forward, suspended, pseudo-inverse, pseudo-inverse-length, inverse, magnet, magnet-radius, "
+                       "body (docs/EPHEMERAL.md)")
+      ->required();
+  s.pose_cmd->add_option("--translate", s.pose.translate, "World-space translation X,Y,Z in scene units");
+  s.pose_cmd->add_option("--rotate", s.pose.rotate,
+                       "World-space rotation X,Y,Z in degrees, XYZ Euler (x applied first: rotation = Rz*Ry*Rx), about "
+                       "each grabbed control's own pivot (body mode: the body pivot)");
+  s.pose_cmd->add_option("--select", s.pose.select, "More controls grabbed with --control: A,B,... (all move together)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  CLI::Option* pose_frame = s.pose_cmd->add_option("--frame", s.pose.frame, "Frame to pose at (default: the scene's current time)");
+  CLI::Option* pose_time = s.pose_cmd->add_option("--time", s.pose.time, "Time in seconds to pose at");
+  pose_frame->excludes(pose_time);
+  s.pose_cmd->add_option("--scale", s.pose.scale, "Body mode: scale X,Y,Z about the body pivot, in its axes");
+  s.pose_cmd->add_option("--pivot", s.pose.pivot,
+                       "Body mode: the body pivot's world position X,Y,Z, world axes (default: --control's position and axes)");
+  s.pose_cmd->add_option("--magnet-fraction", s.pose.magnet_fraction, "Magnet mode: share of the motion per hop (default 0.65)");
+  s.pose_cmd->add_option("--magnet-radius", s.pose.magnet_radius, "Magnet-radius mode: world distance of the falloff (default 1)");
+  s.pose_cmd->add_option("--max-chain", s.pose.max_chain,
+                       "Inverse modes: most controls in a chain, grabbed and top included (default 0: to a branch or root)");
+  s.pose_cmd->add_flag("--auto-key", s.pose.auto_key,
+                     "A keyed control moved off its keys keys its keying group at this frame first (default: refused)");
+  s.pose_cmd->add_flag("--key", s.pose.key,
+                     "After the motion, key the grabbed controls at this frame (their keying group: the whole "
+                     "character unless its keying scope is controls)");
+  s.pose_cmd->add_flag("--json", s.pose.json,
+                     "Print {\"mode\", \"frame\", \"grabbed\": [NAME...], \"moved\": {NAME: {\"t\", \"q\"}}, "
+                     "\"keyScope\": {RIG: SCOPE}, \"keyed\": [NAME...]} (moved: world space, every control whose world "
+                     "matrix changed; keyed: controls with a key at this frame)");
+}
+
+std::optional<int> run_ephemeral_commands(const EphemeralCommands& commands) {
+  const EphemeralCommands::State& s = commands.state();
+  if (*s.setup_cmd) return run_ephemeral_setup(s.setup);
+  if (*s.relations_cmd) return run_ephemeral_relations(s.relations, s.relation_edits());
+  if (*s.key_cmd) return run_ephemeral_key(s.key);
+  if (*s.keys_cmd) return run_ephemeral_keys(s.keys);
+  if (*s.scope_cmd) return run_ephemeral_scope(s.scope);
+  if (*s.merge_cmd) return run_ephemeral_merge(s.merge);
+  if (*s.unmerge_cmd) return run_ephemeral_unmerge(s.unmerge);
+  if (*s.pose_cmd) return run_pose(s.pose);
+  return std::nullopt;
+}
+
+}  // namespace rigel::cli
