@@ -130,6 +130,9 @@ struct Session::Scratch {
   std::vector<std::uint8_t> free;  // follower of its hierarchy parent: never written
   std::vector<Mat4> w, wn;
   std::vector<std::uint8_t> has_w, has_wn, has_motion;
+  std::vector<Mat4> last;  // world matrices the last drag of this plan wrote
+  std::vector<std::uint8_t> has_last;
+  std::uint64_t last_gesture = 0;
   std::vector<Quat> motion;  // magnet: each driver's rotation this drag
   std::vector<Mat4> chain_world;
   std::vector<Vec3> positions, solved;
@@ -616,9 +619,20 @@ Status Session::solve(const Delta& delta) {
   const Quat rot = delta.rotate.normalized();
   const Mat3 rot_m = rot.toRotationMatrix();
 
+  // The plan's own state: while it lives nothing but its drags edits the
+  // scene (anything else drops it), so the world matrices the last drag
+  // wrote are the ones the graph would evaluate now (within 1e-12: channels
+  // closer than that to their old values are not rewritten), and the drag
+  // does not pull the graph for them. Evaluating for display is left to
+  // whoever displays.
+  if (sc.last_gesture != gesture_) {
+    sc.last_gesture = gesture_;
+    sc.has_last.assign(n, 0);
+    sc.last.resize(n);
+  }
   auto world = [&](int e) -> const Mat4& {
     if (!sc.has_w[e]) {
-      sc.w[e] = eval_mat(graph, entries[e].control, xform::kWorldMatrix);
+      sc.w[e] = sc.has_last[e] ? sc.last[e] : eval_mat(graph, entries[e].control, xform::kWorldMatrix);
       sc.has_w[e] = 1;
     }
     return sc.w[e];
@@ -806,6 +820,7 @@ Status Session::solve(const Delta& delta) {
   // Local channels of everything that moved, computed before any write.
   // A rigid body motion is carried by the hierarchy below the roots.
   sc.writes.clear();
+  bool exact = true;  // every written rotation is a rotation (no projection)
   for (std::size_t e = 0; e < n; ++e) {
     if (sc.free[e]) continue;
     if (body_rigid && ix.ctrls[sc.ctrl[e]].parent >= 0 && sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] >= 0) continue;
@@ -830,6 +845,7 @@ Status Session::solve(const Delta& delta) {
       rest.rotate_axis = math::to_radians(rotate_axis);
       rotation = rotation * lin(math::compose(rest)).inverse();  // local = R * (RA * SH * S)
     }
+    if (!(rotation.transpose() * rotation).isIdentity(1e-10)) exact = false;
     const Vec3 t = pos(local);
     const Vec3& t0 = std::get<Vec3>(node.value(xform::kTranslate));
     const bool same_t = (t - t0).norm() <= 1e-12 * std::max(1.0, t0.norm());
@@ -850,7 +866,17 @@ Status Session::solve(const Delta& delta) {
     }
     if (write.set_t || write.set_r) sc.writes.push_back(write);
   }
-  if (sc.writes.empty()) return Status::ok();
+  // What the next drag of this plan may take as the current world matrices.
+  auto remember = [&](bool valid) {
+    for (std::size_t e = 0; e < n; ++e) {
+      sc.has_last[e] = valid && sc.has_wn[e];
+      if (sc.has_last[e]) sc.last[e] = sc.wn[e];
+    }
+  };
+  if (sc.writes.empty()) {
+    remember(false);
+    return Status::ok();
+  }
 
   graph::Transaction tx(graph, std::string("ephemeral drag (") + mode_name(plan.mode) + ")", gesture_);
   writing_ = true;
@@ -872,7 +898,10 @@ Status Session::solve(const Delta& delta) {
     return false;
   };
   auto write = [&](NodeId id, graph::AttrIndex attr, graph::Value value) {
-    if (connected(*graph.node(id), attr)) return write_channel(graph, id, attr, value, false);
+    if (connected(*graph.node(id), attr)) {
+      exact = false;  // a key evaluated at a time within 1e-6 s of it: re-read next time
+      return write_channel(graph, id, attr, value, false);
+    }
     return graph.set_value(Plug{id, attr, -1}, std::move(value));
   };
   for (const Scratch::Write& wr : sc.writes) {
@@ -890,9 +919,11 @@ Status Session::solve(const Delta& delta) {
   if (!status) {
     tx.rollback();
     writing_ = false;
+    remember(false);
     return status.with_context("drag");
   }
   writing_ = false;
+  remember(exact);
   if (plan.mode == Mode::kBody) {
     plan_body_pivot_ = pivot_new;
     if (body_pivot_) body_pivot_ = pivot_new;
