@@ -35,7 +35,11 @@ std::unique_ptr<scene::Scene> metarig() {
   return std::move(*loaded);
 }
 
-void drag(benchmark::State& state, Mode mode, const char* joint, bool rotate, bool replan, int max_chain, bool scale) {
+// `display`: also bring the whole scene up to date after each drag
+// (Graph::evaluate_all: controls, joints and the skinned mesh), as a
+// viewport showing the character would.
+void drag(benchmark::State& state, Mode mode, const char* joint, bool rotate, bool replan, int max_chain, bool scale,
+          bool display = false) {
   auto scene = metarig();
   if (!scene) {
     state.SkipWithError("could not build the metarig");
@@ -62,6 +66,7 @@ void drag(benchmark::State& state, Mode mode, const char* joint, bool rotate, bo
       state.SkipWithError(s.message().c_str());
       break;
     }
+    if (display) scene->graph().evaluate_all(graph::Execution::kSerial);
     sign = -sign;
     trim.tick();
   }
@@ -78,6 +83,8 @@ BENCHMARK_CAPTURE(drag, inverse2, Mode::kInverse, "hand.L", false, false, 3, fal
 BENCHMARK_CAPTURE(drag, inverse2_plan, Mode::kInverse, "hand.L", false, true, 3, false)->Name("ephemeral/inverse/two_bone_hand/plan+drag");
 BENCHMARK_CAPTURE(drag, inverse_fabrik, Mode::kInverse, "hand.L", false, false, 0, false)->Name("ephemeral/inverse/fabrik_hand_to_chest");
 BENCHMARK_CAPTURE(drag, magnet, Mode::kMagnet, "spine.003", false, false, 0, false)->Name("ephemeral/magnet/chest_translate");
+BENCHMARK_CAPTURE(drag, magnet_display, Mode::kMagnet, "spine.003", false, false, 0, false, true)->Name("ephemeral/magnet/chest_translate/+evaluate_all");
+BENCHMARK_CAPTURE(drag, inverse2_display, Mode::kInverse, "hand.L", false, false, 3, false, true)->Name("ephemeral/inverse/two_bone_hand/+evaluate_all");
 BENCHMARK_CAPTURE(drag, magnet_plan, Mode::kMagnet, "spine.003", false, true, 0, false)->Name("ephemeral/magnet/chest_translate/plan+drag");
 BENCHMARK_CAPTURE(drag, magnet_radius, Mode::kMagnetRadius, "hand.L", false, false, 0, false)->Name("ephemeral/magnet-radius/hand_translate");
 BENCHMARK_CAPTURE(drag, body, Mode::kBody, "spine", true, false, 0, false)->Name("ephemeral/body/rotate");
