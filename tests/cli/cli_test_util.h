@@ -8,8 +8,10 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <ostream>
 #include <string>
@@ -74,5 +76,19 @@ inline bool contains(const std::string& text, const std::string& part) { return 
 
 // A run that exited with `code` (not a crash).
 inline bool exited_with(const CliRun& run, int code) { return run.exited && run.exit_code == code; }
+
+// A point read from --json output ([x, y, z]) and its comparisons.
+struct V3 {
+  double x, y, z;
+};
+inline V3 v3(const nlohmann::ordered_json& a) { return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()}; }
+inline double dist(V3 a, V3 b) { return std::hypot(a.x - b.x, a.y - b.y, a.z - b.z); }
+#define EXPECT_V3_NEAR(actual, ex, ey, ez, tol) \
+  do {                                          \
+    const V3 v_ = (actual);                     \
+    EXPECT_NEAR(v_.x, (ex), (tol));             \
+    EXPECT_NEAR(v_.y, (ey), (tol));             \
+    EXPECT_NEAR(v_.z, (ez), (tol));             \
+  } while (0)
 
 }  // namespace rigel::cli::testing

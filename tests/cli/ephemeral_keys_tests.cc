@@ -40,17 +40,6 @@ using Names = std::vector<std::string>;
 using Frames = std::vector<double>;
 const Names kArmControls = {"shoulder_ctrl", "elbow_ctrl", "wrist_ctrl", "hand_ctrl"};
 
-struct V3 {
-  double x, y, z;
-};
-V3 v3(const Json& a) { return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()}; }
-#define EXPECT_V3_NEAR(actual, ex, ey, ez, tol) \
-  do {                                          \
-    const V3 v_ = (actual);                     \
-    EXPECT_NEAR(v_.x, (ex), (tol));             \
-    EXPECT_NEAR(v_.y, (ey), (tol));             \
-    EXPECT_NEAR(v_.z, (ez), (tol));             \
-  } while (0)
 
 // The arm rigged as "ephemeralRig" and the sword as "swordRig" (rig.rigel),
 // both made by the CLI, in a fresh folder.

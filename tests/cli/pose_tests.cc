@@ -35,18 +35,6 @@ constexpr const char* kArm = R"({
   "connections": []
 })";
 
-struct V3 {
-  double x, y, z;
-};
-V3 v3(const Json& a) { return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()}; }
-double dist(V3 a, V3 b) { return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z)); }
-#define EXPECT_V3_NEAR(actual, ex, ey, ez, tol) \
-  do {                                          \
-    const V3 v_ = (actual);                     \
-    EXPECT_NEAR(v_.x, (ex), (tol));             \
-    EXPECT_NEAR(v_.y, (ey), (tol));             \
-    EXPECT_NEAR(v_.z, (ez), (tol));             \
-  } while (0)
 
 // The arm, and the arm with its ephemeral rig (made by the CLI), in a fresh folder.
 class CliPose : public ::testing::Test {
