@@ -187,7 +187,8 @@ TEST_F(CliKeys, key__delete_removes_the_keys_at_the_frame) {
   EXPECT_TRUE(contains(last.err, "deleted the keys of 4 controls at frame 0")) << last;
   EXPECT_TRUE(contains(last.err, "key frames: none")) << last;
   EXPECT_EQ(key_frames(path("e.rigel"), "hand_ctrl"), Frames{});
-  for (const Json& n : Json::parse(read_text(path("e.rigel")))["nodes"])
+  const Json file = Json::parse(read_text(path("e.rigel")));  // named: a range-for must not iterate a temporary's member
+  for (const Json& n : file["nodes"])
     EXPECT_EQ(n["type"].get<std::string>().find("animCurve"), std::string::npos) << n["name"];
   EXPECT_V3_NEAR(v3(eval(path("e.rigel"), 0)["wrist"]["t"]), 2, 1, 0, 1e-12);
   ok({"pose", path("e.rigel"), "--control", "elbow_ctrl", "--mode", "forward", "--rotate", "0,0,90", "--frame", "7", "-o",
