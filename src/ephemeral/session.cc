@@ -806,8 +806,13 @@ Status Session::solve(const Delta& delta) {
       }
       case Role::kBody:
         // Rigid: only the roots are needed (the hierarchy carries the rest).
-        if (!body_rigid || ix.ctrls[sc.ctrl[e]].parent < 0 || sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] < 0)
-          set_new(e, math::concat_without_scale_shear(pivot_motion, world(e)));
+        // Every control turns by the pivot's rotation exactly (its own
+        // linear part kept as it is, so local rotations do not change and
+        // are not rewritten); the pivot's scale moves positions only.
+        if (!body_rigid || ix.ctrls[sc.ctrl[e]].parent < 0 || sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] < 0) {
+          const Mat4& w = world(e);
+          set_new(e, make(rot_m * lin(w), (pivot_motion * w.col(3)).head<3>()));
+        }
         break;
       case Role::kKeepWorld:
         set_new(e, world(e));
@@ -830,12 +835,24 @@ Status Session::solve(const Delta& delta) {
     const int pe = parent >= 0 ? sc.entry_of[parent] : -1;
     const Mat4 parent_world =
         pe >= 0 ? new_world(new_world, pe) : eval_mat(graph, entries[e].control, xform::kParentMatrix);
-    const Mat4 local = math::affine_inverse(parent_world * std::get<Mat4>(node.value(xform::kOffsetParentMatrix))) *
-                       new_world(new_world, static_cast<int>(e));
+    // local = (parent_world * offset)^-1 * world, in 3x3 + translation.
+    const Mat4& offset = std::get<Mat4>(node.value(xform::kOffsetParentMatrix));
+    const Mat3 po_inverse = (lin(parent_world) * lin(offset)).inverse();
+    const Vec3 po_t = lin(parent_world) * pos(offset) + pos(parent_world);
+    const Mat4& world_new = new_world(new_world, static_cast<int>(e));
+    const Vec3 t = po_inverse * (pos(world_new) - po_t);
+    const Vec3& t0 = std::get<Vec3>(node.value(xform::kTranslate));
+    const bool same_t = (t - t0).norm() <= 1e-12 * std::max(1.0, t0.norm());
+    if (entries[e].role == Role::kBody && pe >= 0 && entries[pe].role == Role::kBody) {
+      // Control and parent both turned by the pivot's rotation: the local
+      // rotation is unchanged, only the translation is new.
+      if (!same_t) sc.writes.push_back(Scratch::Write{static_cast<int>(e), t, Quat::Identity(), Vec3::Zero(), true, false});
+      continue;
+    }
     const Vec3& scale = std::get<Vec3>(node.value(xform::kScale));
     const Vec3& shear = std::get<Vec3>(node.value(xform::kShear));
     const Vec3& rotate_axis = std::get<Vec3>(node.value(xform::kRotateAxis));
-    Mat3 rotation = lin(local);
+    Mat3 rotation = po_inverse * lin(world_new);
     if (shear == Vec3::Zero() && rotate_axis == Vec3::Zero()) {
       rotation = rotation * scale.cwiseInverse().asDiagonal();  // local = R * S
     } else {
@@ -846,9 +863,6 @@ Status Session::solve(const Delta& delta) {
       rotation = rotation * lin(math::compose(rest)).inverse();  // local = R * (RA * SH * S)
     }
     if (!(rotation.transpose() * rotation).isIdentity(1e-10)) exact = false;
-    const Vec3 t = pos(local);
-    const Vec3& t0 = std::get<Vec3>(node.value(xform::kTranslate));
-    const bool same_t = (t - t0).norm() <= 1e-12 * std::max(1.0, t0.norm());
     Scratch::Write write{static_cast<int>(e), same_t ? t0 : t, Quat::Identity(), Vec3::Zero(), !same_t, false};
     if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1) {
       const Quat& q0 = std::get<Quat>(node.value(xform::kRotateQuaternion));

@@ -260,5 +260,51 @@ TEST(EphemeralCharacter, rigged_figure_inverse_arm_reaches_and_keeps_lengths) {
   EXPECT_EQ(plan->chains[0].entries.size(), 3u);
 }
 
+// Body mode on the Rigify metarig, whose offset matrices are floats: every
+// control turns by the pivot's rotation and is repositioned by its scale,
+// and below the roots no rotation channel is rewritten (local rotations do
+// not change, so drags of the plan keep their exact world cache).
+TEST(EphemeralCharacter, rigify_body_scale_turns_and_repositions__local_rotations_untouched) {
+  Rig r = import_character("rigify_human_metarig.glb");
+  ASSERT_TRUE(r.scene);
+  ASSERT_GE(r.rig.controls.size(), 150u);
+  Graph& g = r.scene->graph();
+  const NodeId grabbed = g.find("spine_ctrl");
+  ASSERT_TRUE(grabbed.is_valid());
+  const Mat4 pivot = r.scene->world_matrix(grabbed);
+  std::vector<Mat4> before;
+  std::vector<graph::Value> rotations, quaternions;
+  for (NodeId c : r.rig.controls) {
+    before.push_back(r.scene->world_matrix(c));
+    rotations.push_back(g.node(c)->value(xform::kRotate));
+    quaternions.push_back(g.node(c)->value(xform::kRotateQuaternion));
+  }
+  Session session(*r.scene);
+  session.set_mode(Mode::kBody);
+  session.select({grabbed});
+  const Quat turn(Eigen::AngleAxisd(0.4, Vec3(0.2, 1, -0.3).normalized()));
+  Delta d;
+  d.rotate = turn;
+  d.scale = Vec3(1.3, 0.8, 1.1);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(succeeded(session.drag(i == 0 ? d : Delta{Vec3(0.01, 0, 0)})));
+  const math::Mat3 rot = turn.toRotationMatrix();
+  const math::Mat3 lp = pivot.topLeftCorner<3, 3>();
+  const math::Mat3 m = rot * lp * d.scale.asDiagonal() * lp.inverse();
+  const Vec3 o = pivot.topRightCorner<3, 1>();
+  for (std::size_t i = 0; i < r.rig.controls.size(); ++i) {
+    const NodeId c = r.rig.controls[i];
+    const Mat4 w = r.scene->world_matrix(c);
+    const Vec3 expected = o + Vec3(0.02, 0, 0) + m * (before[i].topRightCorner<3, 1>() - o);
+    EXPECT_TRUE(vec_near(Vec3(w.topRightCorner<3, 1>()), expected, 1e-9)) << g.node(c)->name();
+    const bool turned = w.topLeftCorner<3, 3>().isApprox(rot * before[i].topLeftCorner<3, 3>(), 1e-9);
+    EXPECT_TRUE(turned) << g.node(c)->name();
+    if (std::find(r.rig.controls.begin(), r.rig.controls.end(), g.parent(c)) != r.rig.controls.end()) {
+      EXPECT_TRUE(graph::values_identical(g.node(c)->value(xform::kRotate), rotations[i])) << g.node(c)->name();
+      EXPECT_TRUE(graph::values_identical(g.node(c)->value(xform::kRotateQuaternion), quaternions[i]))
+          << g.node(c)->name();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rigel::ephemeral::testing
