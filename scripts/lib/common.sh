@@ -5,7 +5,7 @@
 RIGEL_PACKAGES=(
   g++ make cmake
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev
-  libtinygltf-dev libgtest-dev libbenchmark-dev
+  libtinygltf-dev libpugixml-dev libgtest-dev libbenchmark-dev
 )
 
 rigel_log() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }

@@ -1,0 +1,94 @@
+// Component schemas: what each component type accepts (seed 003's UI
+// templates, made data). One schema drives validation (`rigel validate`),
+// the CLI's help (`rigel components`), the shipped JSON Schema and XSD, and
+// the web app's forms.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/rig/definition.h"
+
+namespace rigel::rig {
+
+enum class ParamType { kBool, kInt, kDouble, kString, kEnum, kVec3 };
+const char* param_type_name(ParamType type);  // "bool", "int", "double", "string", "enum", "vec3"
+
+struct ParamSpec {
+  std::string name;
+  ParamType type = ParamType::kDouble;
+  ParamValue default_value;                // of the matching alternative (kEnum: a string)
+  std::optional<double> min, max;          // kInt, kDouble (inclusive)
+  std::vector<std::string> choices;        // kEnum
+  std::string help;
+};
+
+// How many guides a component takes, and their names when fixed.
+struct GuideSpec {
+  int min = 0;
+  int max = -1;                     // -1: no upper limit
+  std::vector<std::string> names;   // fixed roles, in order (size == min == max); empty = numbered
+  std::string help;
+};
+
+// A control role with its default look.
+struct ControlSpec {
+  std::string role;
+  std::string shape;
+  std::string color;
+  double size = 1.0;
+  std::string help;
+};
+
+// A step of a component's build, as the schema announces it (the component
+// class supplies the construct function; build.h). `feature`/`switch_name`
+// empty = always runs.
+struct StepSpec {
+  std::string name;
+  std::string feature;
+  std::string switch_name;
+  std::string help;
+};
+
+struct ComponentSchema {
+  std::string type;
+  std::string help;
+  std::vector<ParamSpec> params;
+  GuideSpec guides;
+  std::vector<ControlSpec> controls;
+  std::vector<std::string> features;  // feature names its steps use
+  // Hooks it publishes, by name, in index order. "guide[i]" entries are
+  // expanded per guide: a component with hooks {"guide[i]"} and 4 guides
+  // publishes hooks 0..3 named by its guides (or "0".."3").
+  std::vector<std::string> hooks;
+  bool root_only = false;    // may only be a root (global)
+  bool needs_parent = false;  // may not be a root
+
+  const ParamSpec* param(std::string_view name) const;
+  const ControlSpec* control(std::string_view role) const;
+  // Hook names of `component` (expanded per guide); index = position.
+  std::vector<std::string> hook_names(const Component& component) const;
+};
+
+class SchemaRegistry {
+ public:
+  // Fails (kAlreadyExists) on a duplicate type, (kInvalidArgument) on a
+  // default that does not fit its own spec.
+  Status add(ComponentSchema schema);
+  const ComponentSchema* find(std::string_view type) const;
+  std::vector<std::string> types() const;  // sorted
+ private:
+  std::vector<ComponentSchema> schemas_;
+};
+
+// Every component type rigel ships (src/rig/builtin_schemas.cc).
+const SchemaRegistry& builtin_schemas();
+
+// Resolves a hook reference ("2", "END", "START", "MIDDLE", a hook name) of
+// a component with hooks `names`: the index, or nullopt.
+std::optional<int> resolve_hook(const std::vector<std::string>& names, std::string_view ref);
+
+}  // namespace rigel::rig

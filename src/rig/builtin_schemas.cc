@@ -1,0 +1,217 @@
+// The schemas of the component types rigel ships: the contract between
+// definition files and the component classes (components/*.cc implement
+// the steps; the `ephemeral` class lives in the ephemeral layer). docs/RIG.md
+// lists them for people; `rigel components` prints them.
+#include <cstdio>
+
+#include "rigel/rig/schema.h"
+
+namespace rigel::rig {
+namespace {
+
+ParamSpec p_bool(std::string name, bool value, std::string help) {
+  return ParamSpec{std::move(name), ParamType::kBool, value, {}, {}, {}, std::move(help)};
+}
+ParamSpec p_int(std::string name, std::int64_t value, double min, double max, std::string help) {
+  return ParamSpec{std::move(name), ParamType::kInt, value, min, max, {}, std::move(help)};
+}
+ParamSpec p_double(std::string name, double value, std::optional<double> min, std::optional<double> max,
+                   std::string help) {
+  return ParamSpec{std::move(name), ParamType::kDouble, value, min, max, {}, std::move(help)};
+}
+ParamSpec p_enum(std::string name, std::string value, std::vector<std::string> choices, std::string help) {
+  return ParamSpec{std::move(name), ParamType::kEnum, std::move(value), {}, {}, std::move(choices), std::move(help)};
+}
+
+std::vector<ComponentSchema> make_schemas() {
+  std::vector<ComponentSchema> s;
+
+  {
+    ComponentSchema c;
+    c.type = "global";
+    c.help = "The rig's root: one control that moves, turns and scales the whole rig (no joint).";
+    c.guides = {1, 1, {"main"}, "Where the global control sits (usually the origin)."};
+    c.controls = {{"main", "fourArrowCircle", "yellow", 1.0, "The global control."}};
+    c.hooks = {"main"};
+    c.root_only = true;
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "hip";
+    c.help = "Centre of gravity: one control driving the hip joint; the body hangs from it.";
+    c.guides = {1, 1, {"hip"}, "The hip joint."};
+    c.controls = {{"main", "circle", "yellow", 0.6, "The hip (COG) control."}};
+    c.hooks = {"hip"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "spine";
+    c.help = "A spine of 3 or more joints: FK, spline IK, or stretchy spline IK with a shoulder control.";
+    c.params = {p_enum("kinematicType", "fk", {"fk", "splineIK", "stretchySplineIK"},
+                       "How the joints are driven (seed 002's KinematicType).")};
+    c.guides = {3, -1, {}, "The spine joints, hips end first."};
+    c.controls = {{"fk", "circle", "yellow", 0.5, "One FK control per joint."},
+                  {"shoulder", "cube", "orange", 0.3, "The spline IK's end (splineIK, stretchySplineIK)."}};
+    c.hooks = {"guide[i]"};
+    c.features = {"stretch"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "neck";
+    c.help = "Neck joints and the head: FK with a head control that can keep its world orientation.";
+    c.params = {p_enum("headOrient", "local", {"local", "world"},
+                       "local: the head follows the neck; world: it keeps its orientation in the world.")};
+    c.guides = {2, -1, {}, "The neck joints, then the head joint last."};
+    c.controls = {{"neck", "circle", "yellow", 0.3, "One control per neck joint."},
+                  {"head", "circle", "yellow", 0.4, "The head control."}};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "fkChain";
+    c.help = "A chain of joints, one FK control each.";
+    c.guides = {1, -1, {}, "The joints, root first."};
+    c.controls = {{"fk", "circle", "yellow", 0.3, "One FK control per joint."}};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "ikChain";
+    c.help = "A chain of 2 or more joints solved by IK toward an IK control, with a pole control.";
+    c.params = {p_enum("solver", "auto", {"auto", "twoBone", "fabrik", "ccd"},
+                       "auto: two-bone for 3 joints, FABRIK beyond."),
+                p_bool("stretch", false, "Joints stretch to reach the IK control (two-bone)."),
+                p_double("poleDistance", 0.5, 0.0, {}, "Distance of the pole control from the middle joint, m.")};
+    c.guides = {2, -1, {}, "The joints, root first."};
+    c.controls = {{"ik", "cube", "red", 0.2, "The IK target."}, {"pole", "diamond", "red", 0.1, "The pole vector."}};
+    c.hooks = {"guide[i]"};
+    c.features = {"stretch"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "limb";
+    c.help = "An arm or leg of three joints: FK and IK with a switch matching both ways, pole vector, stretch.";
+    c.params = {p_enum("kind", "arm", {"arm", "leg"}, "Arm or leg: sets default shapes and pole direction."),
+                p_enum("defaultMode", "fk", {"fk", "ik"}, "The mode the switch starts in."),
+                p_bool("stretch", true, "IK stretches past full extension."),
+                p_double("maxStretch", 1.5, 1.0, {}, "Largest stretch factor."),
+                p_double("poleDistance", 0.5, 0.0, {}, "Distance of the pole control from the middle joint, m.")};
+    c.guides = {3, 3, {"upper", "lower", "end"}, "Shoulder/hip, elbow/knee, wrist/ankle."};
+    c.controls = {{"fk", "circle", "yellow", 0.25, "FK controls, one per joint."},
+                  {"ik", "cube", "red", 0.15, "IK control at the end joint."},
+                  {"pole", "diamond", "red", 0.08, "Pole vector control."},
+                  {"switch", "cross", "green", 0.1, "Holds fkIk (0 = FK, 1 = IK)."}};
+    c.hooks = {"upper", "lower", "end"};
+    c.features = {"ik", "stretch"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "foot";
+    c.help = "Reverse foot: heel, toe and ball roll, banking, toe tap, as attributes of a foot control.";
+    c.params = {p_double("rollBreak", 30.0, 0.0, 90.0, "Roll angle (degrees) where the ball stops and the toe lifts.")};
+    c.guides = {6, 6, {"ankle", "ball", "toe", "heel", "inner", "outer"},
+                "Ankle, ball and toe joints; heel, inner and outer edge pivots."};
+    c.controls = {{"foot", "square", "red", 0.3, "Foot control with roll, bank, heel, toe, ball and toeTap."}};
+    c.hooks = {"ankle", "ball", "toe"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "hand";
+    c.help = "A hand control with FK fingers; curl and spread attributes drive every finger.";
+    c.params = {p_bool("curlAttributes", true, "Add curl and spread attributes to the hand control.")};
+    c.guides = {1, -1, {},
+                "The hand joint first, then finger joints named FINGER.N (thumb.0, thumb.1, index.0, ...)."};
+    c.controls = {{"hand", "square", "yellow", 0.15, "The hand control."},
+                  {"finger", "circle", "lightBlue", 0.04, "One control per finger joint."}};
+    c.hooks = {"hand"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "twist";
+    c.help = "Twist joints between a start and an end joint, sharing the end's twist along the bone.";
+    c.params = {p_int("count", 3, 1, 16, "Number of twist joints."),
+                p_enum("axis", "y", {"x", "y", "z"}, "The bone's axis (glTF from Blender: y).")};
+    c.guides = {2, 2, {"start", "end"}, "The joints the twist runs between."};
+    c.hooks = {"start", "end"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "eye";
+    c.help = "Eyes aimed at controls in front of them, with one master aim control.";
+    c.params = {p_double("aimDistance", 0.5, 0.0, {}, "Distance of the aim controls in front of the eyes, m."),
+                p_enum("aimAxis", "y", {"x", "y", "z", "-x", "-y", "-z"}, "The eye joint's looking axis.")};
+    c.guides = {1, -1, {}, "The eye joints."};
+    c.controls = {{"aim", "circle", "yellow", 0.05, "One aim control per eye."},
+                  {"master", "square", "yellow", 0.15, "Moves every aim control."}};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "tail";
+    c.help = "A tail or tentacle: the joints follow a spline moved by a few controls.";
+    c.params = {p_int("controlCount", 3, 2, 32, "Number of spline controls."),
+                p_bool("stretch", true, "The joints stretch with the spline.")};
+    c.guides = {3, -1, {}, "The joints, root first."};
+    c.controls = {{"main", "circle", "green", 0.2, "The spline controls."}};
+    c.hooks = {"guide[i]"};
+    c.features = {"stretch"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "simple";
+    c.help =
+        "Wraps given nodes: an existing control is adopted as it is; for any other node a control is made "
+        "at the guide and drives it.";
+    c.params = {p_enum("constrain", "parent", {"parent", "point", "orient", "none"},
+                       "How a made control drives its node.")};
+    c.guides = {1, -1, {}, "The nodes to wrap (guide joint = node name)."};
+    c.controls = {{"main", "circle", "yellow", 0.2, "Controls made for nodes that are not controls."}};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "ephemeral";
+    c.help = "Ephemeral rigging (seeds 000, 001): one control per joint below the guide joint, with relations.";
+    c.params = {p_double("magnetFraction", 0.65, 0.0, 1.0, "Share of its driver's motion per hop in magnet mode."),
+                p_enum("keyScope", "character", {"character", "controls"},
+                       "character: keying one control keys the whole pose."),
+                p_bool("keepAnimation", true, "Move the joints' animation onto the controls.")};
+    c.guides = {0, 1, {}, "The root joint of the hierarchy to rig (none: the whole character)."};
+    c.controls = {{"joint", "sphere", "yellow", 0.05, "One control per joint."}};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  return s;
+}
+
+}  // namespace
+
+const SchemaRegistry& builtin_schemas() {
+  static const SchemaRegistry registry = [] {
+    SchemaRegistry r;
+    for (ComponentSchema& s : make_schemas()) {
+      Status st = r.add(std::move(s));
+      if (!st) {
+        std::fprintf(stderr, "rigel: built-in component schema: %s\n", st.message().c_str());
+        std::abort();
+      }
+    }
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace rigel::rig

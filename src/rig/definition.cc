@@ -1,0 +1,151 @@
+#include "rigel/rig/definition.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <utility>
+
+#include "rigel/graph/uuid.h"
+
+namespace rigel::rig {
+
+const char* side_name(Side side) {
+  switch (side) {
+    case Side::kCenter: return "C";
+    case Side::kLeft: return "L";
+    case Side::kRight: return "R";
+  }
+  return "C";
+}
+
+std::optional<Side> side_from_name(std::string_view name) {
+  if (name == "C") return Side::kCenter;
+  if (name == "L") return Side::kLeft;
+  if (name == "R") return Side::kRight;
+  return std::nullopt;
+}
+
+Side mirror_side(Side side) {
+  return side == Side::kLeft ? Side::kRight : side == Side::kRight ? Side::kLeft : Side::kCenter;
+}
+
+const Param* Component::param(std::string_view n) const {
+  for (const Param& p : params)
+    if (p.name == n) return &p;
+  return nullptr;
+}
+
+const ControlStyle* Component::control(std::string_view role) const {
+  for (const ControlStyle& c : controls)
+    if (c.role == role) return &c;
+  return nullptr;
+}
+
+namespace {
+template <typename C, typename F>
+void walk(C& component, F&& f) {
+  f(component);
+  for (auto& child : component.children) walk(child, f);
+}
+}  // namespace
+
+std::vector<const Component*> Definition::all_components() const {
+  std::vector<const Component*> out;
+  for (const Component& root : components) walk(root, [&](const Component& c) { out.push_back(&c); });
+  return out;
+}
+
+const Component* Definition::find_by_rig_id(std::string_view rig_id) const {
+  for (const Component* c : all_components())
+    if (c->rig_id == rig_id) return c;
+  return nullptr;
+}
+
+Component* Definition::find_by_rig_id(std::string_view rig_id) {
+  return const_cast<Component*>(std::as_const(*this).find_by_rig_id(rig_id));
+}
+
+const Component* Definition::find_by_name(std::string_view n) const {
+  for (const Component* c : all_components())
+    if (c->name == n) return c;
+  return nullptr;
+}
+
+namespace {
+
+std::vector<std::string_view> split_dots(std::string_view v) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  while (true) {
+    std::size_t dot = v.find('.', start);
+    out.push_back(v.substr(start, dot == std::string_view::npos ? std::string_view::npos : dot - start));
+    if (dot == std::string_view::npos) break;
+    start = dot + 1;
+  }
+  return out;
+}
+
+std::optional<unsigned long long> number(std::string_view s) {
+  if (s.empty()) return std::nullopt;
+  unsigned long long n = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), n);
+  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return n;
+}
+
+}  // namespace
+
+int compare_versions(std::string_view a, std::string_view b) {
+  const auto pa = split_dots(a), pb = split_dots(b);
+  for (std::size_t i = 0; i < std::max(pa.size(), pb.size()); ++i) {
+    const std::string_view x = i < pa.size() ? pa[i] : "0";
+    const std::string_view y = i < pb.size() ? pb[i] : "0";
+    const auto nx = number(x), ny = number(y);
+    if (nx && ny) {
+      if (*nx != *ny) return *nx < *ny ? -1 : 1;
+    } else if (int c = x.compare(y); c != 0) {
+      return c < 0 ? -1 : 1;
+    }
+  }
+  return 0;
+}
+
+std::string bump_version(std::string_view version) {
+  auto parts = split_dots(version);
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i) out += '.';
+    if (i + 1 == parts.size()) {
+      if (auto n = number(parts[i])) {
+        out += std::to_string(*n + 1);
+      } else {
+        out += std::string(parts[i]) + ".1";
+      }
+    } else {
+      out += parts[i];
+    }
+  }
+  return out.empty() ? "1" : out;
+}
+
+std::string new_rig_id() { return graph::Uuid::generate().str(); }
+
+bool is_rig_id(std::string_view text) {
+  std::string hex;
+  if (text.size() == 36) {
+    for (std::size_t i : {8u, 13u, 18u, 23u})
+      if (text[i] != '-') return false;
+    for (std::size_t i = 0; i < text.size(); ++i)
+      if (i != 8 && i != 13 && i != 18 && i != 23) hex += text[i];
+  } else if (text.size() == 32) {
+    hex = text;
+  } else {
+    return false;
+  }
+  for (char c : hex)
+    if (!std::isxdigit(static_cast<unsigned char>(c))) return false;
+  const char variant = static_cast<char>(std::tolower(static_cast<unsigned char>(hex[16])));
+  return hex[12] == '4' && (variant == '8' || variant == '9' || variant == 'a' || variant == 'b');
+}
+
+}  // namespace rigel::rig
