@@ -434,6 +434,10 @@ Status Graph::set_value(const Plug& plug, Value value) {
   n->values_[plug.attr] = whole;
   edit.after = std::move(whole);
   dirty_downstream(plug.node, plug.attr);
+  if (!observers_.empty()) {
+    const Plug whole_plug{plug.node, plug.attr, -1};
+    notify([&](Observer& o) { o.attribute_set(*this, whole_plug, edit.before); });
+  }
   record(std::move(edit));
   notify([&](Observer& o) { o.attribute_changed(*this, plug); });
   return Status::ok();

@@ -22,6 +22,17 @@ Status Registry::add(NodeTypeSpec spec) {
   };
   if (!is_identifier(spec.name)) return fail("the type name is not an identifier");
   if (by_name_.count(spec.name)) return error(ErrorCode::kAlreadyExists, "node type '" + spec.name + "' is already registered");
+  // Every type ends with `metaParent` (seed 002's MetaParent): the metadata
+  // network's link from the component that built a node (rig/meta.h). A
+  // message input, so it holds nothing, is never saved as a value, and a
+  // node has at most one.
+  if (std::none_of(spec.attrs.begin(), spec.attrs.end(), [](const AttrSpec& a) { return a.name == kMetaParentAttr; })) {
+    AttrSpec meta;
+    meta.name = kMetaParentAttr;
+    meta.type = AttrType{ValueType::kMessage, false};
+    meta.flags = kInput | kHidden;
+    spec.attrs.push_back(std::move(meta));
+  }
   if (spec.attrs.size() >= kNoAttr) return fail("too many attributes");
 
   auto type = std::make_unique<NodeType>();

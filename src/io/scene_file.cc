@@ -389,6 +389,14 @@ class ErrorLocator : public nlohmann::json_sax<Json> {
 
 }  // namespace
 
+nlohmann::ordered_json attribute_to_json(const graph::Value& value, const graph::AttrSpec& spec) {
+  return encode_value(value, spec);
+}
+
+Result<graph::Value> attribute_from_json(const nlohmann::ordered_json& json, const graph::AttrSpec& spec) {
+  return decode_value(json, spec);
+}
+
 Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source,
                                                   std::shared_ptr<const graph::Registry> registry) {
   Json root;

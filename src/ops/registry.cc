@@ -6,6 +6,7 @@
 #include "rigel/ops/constraints/nodes.h"
 #include "rigel/ops/deform/nodes.h"
 #include "rigel/ops/ik/nodes.h"
+#include "rigel/ops/util/nodes.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::ops {
@@ -15,6 +16,7 @@ Status register_ops_types(graph::Registry& registry) {
   if (Status s = constraints::register_constraint_types(registry); !s) return s;
   if (Status s = register_deform_types(registry); !s) return s;
   if (Status s = ik::register_ik_types(registry); !s) return s;
+  if (Status s = util::register_util_types(registry); !s) return s;
   return Status::ok();
 }
 

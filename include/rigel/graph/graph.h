@@ -113,6 +113,9 @@ class Observer {
   virtual void node_removed(const Graph&, NodeId) {}
   virtual void node_renamed(const Graph&, NodeId, const std::string& /*old_name*/) {}
   virtual void attribute_changed(const Graph&, const Plug&) {}
+  // Called by set_value (not by undo/redo) just before attribute_changed,
+  // with the attribute's whole value before the set (recorders keep it).
+  virtual void attribute_set(const Graph&, const Plug&, const Value& /*before*/) {}
   virtual void connection_made(const Graph&, const Connection&) {}
   virtual void connection_broken(const Graph&, const Connection&) {}
   virtual void tag_changed(const Graph&, NodeId, const std::string& /*key*/) {}

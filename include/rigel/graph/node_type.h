@@ -20,6 +20,10 @@ namespace rigel::graph {
 using AttrIndex = std::uint16_t;
 inline constexpr AttrIndex kNoAttr = 0xffff;
 
+// The message input every node type gets last (Registry::add adds it): the
+// metadata network connects a component's meta node to each node it built.
+inline constexpr const char* kMetaParentAttr = "metaParent";
+
 // Attribute flags. Every attribute is exactly one of kInput or kOutput.
 enum AttrFlag : std::uint32_t {
   kInput = 1u << 0,     // set by the user or fed by a connection

@@ -19,6 +19,8 @@
 #include <string>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "rigel/base/status.h"
 #include "rigel/scene/scene.h"
 
@@ -41,6 +43,11 @@ Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& pa
 std::string write_scene(scene::Scene& scene);
 // Writes atomically: a temporary file beside `path`, flushed, then renamed.
 Status save_scene(scene::Scene& scene, const std::filesystem::path& path);
+
+// One attribute value as scene files write it (enums by name, quaternions
+// [x, y, z, w], matrices column-major, NaN/inf as strings), and back.
+nlohmann::ordered_json attribute_to_json(const graph::Value& value, const graph::AttrSpec& spec);
+Result<graph::Value> attribute_from_json(const nlohmann::ordered_json& json, const graph::AttrSpec& spec);
 
 // Writes `content` to `path` atomically (used by every rigel writer).
 Status write_file_atomic(const std::filesystem::path& path, std::string_view content);

@@ -1,0 +1,203 @@
+// Procedural builds (seed 003): a rig is the result of an ordered list of
+// steps, each with a construct and a destruct, that can be stepped forward
+// and back like a VCR, switched by features, and rebuilt in part.
+//
+// The plan: the rig's own step ("rig": metaRoot and groups), then every
+// component (parents before children, and after any component whose hook it
+// attaches to) with its steps in declared order; a component's first step
+// ("meta") makes its metaComponent. A step's construct runs through a
+// BuildContext; everything it does to the graph is recorded (nodes made,
+// connections made or broken, values, names and tags changed on nodes that
+// existed before) and the record is saved on the component's meta node
+// (`buildRecord`), so the destruct is exact and works in a later process:
+// construct all then destruct all gives back the scene file byte for byte.
+//
+// Components are C++ classes registered by type in a ComponentFactory
+// (component.h); the factory also instances the class of a built component
+// from its meta node's metaType.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/graph/graph.h"
+#include "rigel/math/types.h"
+#include "rigel/rig/definition.h"
+#include "rigel/rig/schema.h"
+#include "rigel/scene/scene.h"
+
+namespace rigel::rig {
+
+using graph::NodeId;
+
+class BuildContext;
+class ComponentFactory;
+
+// One step of a component's build.
+struct Step {
+  std::string name;
+  std::string feature;      // runs only while this feature is enabled ("" = always)
+  std::string switch_name;  // ... and this switch of it
+  std::function<Status(BuildContext&)> construct;
+};
+
+// A step in a build's plan.
+struct PlannedStep {
+  int component = -1;       // index into Build::components(); -1 = the rig's own step
+  std::string step;         // step name
+  std::string feature, switch_name;
+  bool enabled = true;      // false: passed over (its feature or switch is off)
+  std::string label() const;  // "arm_L/controls"
+};
+
+struct BuildOptions {
+  // Rig edit mode (seed 002): build in the default pose, never keyed.
+  bool edit_mode = false;
+};
+
+class Build {
+ public:
+  // Plans `definition` for `scene` (whose registry must hold the rig types:
+  // rig::default_registry() or above). If the scene already holds a rig of
+  // the same name, the build continues from what its metaRoot says was
+  // built; otherwise nothing is built yet (position 0). Fails on an invalid
+  // definition (validate()), an unknown component class, an attach cycle.
+  static Result<std::unique_ptr<Build>> open(scene::Scene& scene, Definition definition,
+                                             const ComponentFactory& factory, BuildOptions options = {});
+  ~Build();
+
+  const Definition& definition() const { return definition_; }
+  // Components in build order.
+  const std::vector<const Component*>& components() const { return components_; }
+  const std::vector<PlannedStep>& plan() const { return plan_; }
+  // Steps done: plan()[0 .. position) are constructed (or passed over), as
+  // the scene's metaRoot says at the last operation.
+  int position() const { return position_; }
+  scene::Scene& scene() { return scene_; }
+  NodeId root() const;  // the metaRoot (invalid at position 0)
+
+  // Each call is one undo step. A construct that fails is rolled back (its
+  // partial work undone) and the position stays; the error names the step.
+  Status forward();
+  Status back();
+  Status go_to(int position);
+  Status build_all() { return go_to(static_cast<int>(plan_.size())); }
+  // Destructs everything; the metaManager goes too when no rig is left.
+  Status remove();
+
+  // Feature switches (seed 003): changes the definition's rig-level feature
+  // and rebuilds from the first step whose enabled state changes.
+  Status set_feature(std::string_view feature, bool enabled, std::string_view switch_name = {});
+
+  // Which components an update rebuilds.
+  enum class Rebuild {
+    kChanged,       // whose own data (type, params, guides, controls, attach, features, version) differs
+    kNewerVersion,  // whose version differs (seed 002's update)
+    kAll,           // every one (--force)
+  };
+  // Replaces the definition and rebuilds only what changed (by rigId): such
+  // a component is destructed and constructed again, with the components
+  // that hang from it; components added or removed are built or destructed;
+  // nothing else is touched. Connections into the rebuilt controls from
+  // outside the rig (animation curves) re-attach to the new controls with
+  // the same role and index, values as they were. Returns the rigIds rebuilt
+  // or removed. One undo step; on failure nothing changes.
+  Result<std::vector<std::string>> rebuild_changed(Definition definition, Rebuild when = Rebuild::kChanged);
+
+ private:
+  Build(scene::Scene& scene, Definition definition, const ComponentFactory& factory, BuildOptions options);
+  Status replan();
+  // Re-reads the position and the step records from the scene (the truth:
+  // undo, redo or another Build may have changed it).
+  Status sync();
+  Status construct(int index);
+  Status destruct(int index);
+  Status save_state(const std::string& owner);  // owner: rigId, "" = the rig
+
+  scene::Scene& scene_;
+  Definition definition_;
+  const ComponentFactory& factory_;
+  BuildOptions options_;
+  std::vector<const Component*> components_;
+  std::vector<std::vector<Step>> steps_;  // per component
+  std::vector<PlannedStep> plan_;
+  int position_ = 0;
+  struct Records;
+  std::unique_ptr<Records> records_;
+  friend class BuildContext;
+};
+
+// What a step's construct works with. Everything it changes goes through
+// the graph while a recorder watches, so a step may call any rigel API
+// (ops::ik::setup_two_bone_ik, Scene::reparent, ...), not only these helpers.
+class BuildContext {
+ public:
+  scene::Scene& scene() { return scene_; }
+  graph::Graph& graph() { return scene_.graph(); }
+  const Definition& definition() const { return definition_; }
+  const Component& component() const { return *component_; }
+  const ComponentSchema& schema() const { return *schema_; }
+  // The rig's name and the component's full name ("arm_L"): node name prefix.
+  const std::string& rig_name() const { return definition_.name; }
+  std::string full_name() const;
+  NodeId meta() const { return meta_; }
+  NodeId root() const { return root_; }
+  const std::string& step() const { return step_; }
+  bool edit_mode() const { return edit_mode_; }
+
+  // Parameters, with the schema's defaults.
+  bool param_bool(std::string_view name) const;
+  std::int64_t param_int(std::string_view name) const;
+  double param_double(std::string_view name) const;
+  std::string param_string(std::string_view name) const;  // string and enum
+  // A control role's look: the definition's, else the schema's.
+  ControlStyle control_style(std::string_view role) const;
+
+  int guide_count() const { return static_cast<int>(component_->guides.size()); }
+  // The scene joint guide i names (kNotFound naming it when it has none or
+  // the scene has no such node).
+  Result<NodeId> guide_joint(int i);
+  // Guide i as a world matrix: its joint's world matrix, else its values.
+  Result<math::Mat4> guide_world(int i);
+
+  // Makes a node named PREFIX_role[index], tagged (role, index, step, guide)
+  // and linked to this component's meta node. `parent` may be invalid.
+  Result<NodeId> create(std::string_view type, std::string_view role, int index = -1, int guide = -1,
+                        NodeId parent = {});
+  // A control at `world`, zeroed (its offsetParentMatrix holds the place, its
+  // channels are 0/1), with the role's shape, colour and size.
+  Result<NodeId> create_control(std::string_view role, int index, int guide, const math::Mat4& world, NodeId parent);
+  // A group (transform) at `world`, zeroed likewise.
+  Result<NodeId> create_group(std::string_view role, int index, const math::Mat4& world, NodeId parent);
+  // Makes `driven` (a node of the character, e.g. a joint) follow `driver`
+  // keeping its current offset: a parentConstraint whose parent space follows
+  // the driven's parent.
+  Status drive(NodeId driver, NodeId driven);
+
+  // Nodes this component made in earlier steps, by role (in index order).
+  std::vector<NodeId> nodes(std::string_view role) const;
+  NodeId node(std::string_view role, int index = 0) const;
+  // Publishes `node` as hook `index` (hook names: the schema's hook_names()).
+  Status publish_hook(int index, NodeId node);
+  // Where this component hangs: the hook of its parent (or of the component
+  // its attach names) it attaches to; the rig's controls group for a root.
+  NodeId attach_node() const;
+  // The rig's groups: "controls" (controls hang here), "noTransform".
+  NodeId rig_group(std::string_view role) const;
+
+ private:
+  friend class Build;
+  BuildContext(scene::Scene& scene, const Definition& definition) : scene_(scene), definition_(definition) {}
+  scene::Scene& scene_;
+  const Definition& definition_;
+  const Component* component_ = nullptr;
+  const ComponentSchema* schema_ = nullptr;
+  NodeId meta_, root_, attach_;
+  std::string step_;
+  bool edit_mode_ = false;
+};
+
+}  // namespace rigel::rig

@@ -1,0 +1,52 @@
+// Component classes (seed 003's modules with constructor and destructor;
+// Luna's Component classes bound to metaType, seed 004 §4.8). A class
+// declares the steps that build one component of its type; the build
+// (build.h) records and undoes them, so a class writes constructs only.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/graph/graph.h"
+#include "rigel/rig/build.h"
+#include "rigel/rig/schema.h"
+
+namespace rigel::rig {
+
+class ComponentClass {
+ public:
+  virtual ~ComponentClass() = default;
+  // The component type this class builds (a type of the factory's schemas).
+  virtual std::string_view type() const = 0;
+  // The steps that build `component`, in order (the build adds its own
+  // "meta" step first). Step names are unique within a component.
+  virtual std::vector<Step> steps(const Component& component) const = 0;
+};
+
+// Component classes by type (a C++ factory registry). The rig layer's own
+// classes are in builtin_components(); higher layers add theirs to a copy
+// (the ephemeral layer: ephemeral::components()).
+class ComponentFactory {
+ public:
+  explicit ComponentFactory(const SchemaRegistry& schemas = builtin_schemas()) : schemas_(&schemas) {}
+  // Fails when the type has no schema or already has a class.
+  Status add(std::shared_ptr<const ComponentClass> component_class);
+  const ComponentClass* find(std::string_view type) const;
+  // Luna's metaType binding: the class that built a component, from its
+  // metaComponent node (kNotFound / kUnsupported naming the metaType).
+  Result<const ComponentClass*> class_of(const graph::Graph& graph, graph::NodeId meta) const;
+  const SchemaRegistry& schemas() const { return *schemas_; }
+  std::vector<std::string> types() const;
+
+ private:
+  const SchemaRegistry* schemas_;
+  std::vector<std::shared_ptr<const ComponentClass>> classes_;
+};
+
+// The rig layer's component classes (components/*.cc).
+const ComponentFactory& builtin_components();
+
+}  // namespace rigel::rig

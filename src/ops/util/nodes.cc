@@ -1,0 +1,46 @@
+#include "rigel/ops/util/nodes.h"
+
+#include <cmath>
+
+#include "rigel/graph/graph.h"
+#include "rigel/math/types.h"
+
+namespace rigel::ops::util {
+namespace {
+
+using graph::AttrType;
+using graph::ValueType;
+using math::Mat4;
+
+constexpr AttrType kMatrix{ValueType::kMatrix, false};
+
+enum : graph::AttrIndex { kInputMatrix = 0, kOffsetMatrix, kOutputMatrix, kError };
+
+void compute_inverse(graph::ComputeContext& c) {
+  const Mat4 m = c.get<Mat4>(kInputMatrix) * c.get<Mat4>(kOffsetMatrix);
+  const double det = m.topLeftCorner<3, 3>().determinant();
+  const double scale = m.topLeftCorner<3, 3>().cwiseAbs().maxCoeff();
+  if (!std::isfinite(det) || !m.allFinite() || std::abs(det) <= 1e-12 * scale * scale * scale || scale == 0) {
+    c.set(kOutputMatrix, Mat4(Mat4::Identity()));
+    c.set(kError, std::string("inputMatrix * offsetMatrix is singular or not finite"));
+    return;
+  }
+  c.set(kOutputMatrix, Mat4(m.inverse()));
+  c.set(kError, std::string());
+}
+
+}  // namespace
+
+Status register_util_types(graph::Registry& registry) {
+  graph::NodeTypeSpec spec;
+  spec.name = kInverseMatrixType;
+  spec.description = "outputMatrix = (inputMatrix * offsetMatrix)^-1";
+  spec.attrs = {graph::input_attr("inputMatrix", kMatrix, Mat4(Mat4::Identity()), {"outputMatrix", "error"}),
+                graph::input_attr("offsetMatrix", kMatrix, Mat4(Mat4::Identity()), {"outputMatrix", "error"}),
+                graph::output_attr("outputMatrix", kMatrix),
+                graph::output_attr("error", {ValueType::kString, false}, graph::kHidden)};
+  spec.compute = compute_inverse;
+  return registry.add(std::move(spec));
+}
+
+}  // namespace rigel::ops::util

@@ -1,0 +1,1151 @@
+#include "rigel/rig/build.h"
+
+#include <algorithm>
+#include <charconv>
+#include <map>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#include <nlohmann/json.hpp>
+
+#include "rigel/io/scene_file.h"
+#include "rigel/math/rotation.h"
+#include "rigel/math/transform.h"
+#include "rigel/ops/constraints/constraints.h"
+#include "rigel/ops/constraints/nodes.h"
+#include "rigel/ops/util/nodes.h"
+#include "rigel/rig/component.h"
+#include "rigel/rig/meta.h"
+#include "rigel/scene/shapes.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::rig {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using graph::Plug;
+using graph::Uuid;
+using graph::Value;
+using math::Mat4;
+namespace xform = scene::xform;
+
+constexpr const char* kRigStep = "rig";
+constexpr const char* kMetaStep = "meta";
+
+// ---- what a step did -----------------------------------------------------
+
+struct PlugRef {
+  Uuid node;
+  std::string attr;
+  int element = -1;
+};
+
+struct ValueChange {
+  PlugRef plug;
+  Value before;
+};
+
+struct ConnectionChange {
+  PlugRef src, dst;
+};
+
+struct StepRecord {
+  std::string step;
+  std::vector<Uuid> created;
+  std::vector<ValueChange> values;
+  std::vector<ConnectionChange> made, broken;
+  std::vector<std::pair<Uuid, std::string>> renamed;
+};
+
+PlugRef ref_of(const graph::Graph& g, const Plug& p) {
+  const graph::Node& n = *g.node(p.node);
+  return PlugRef{n.uuid(), n.type().attr(p.attr).name, p.element};
+}
+
+Result<Plug> plug_of(const graph::Graph& g, const PlugRef& r) {
+  NodeId id = g.find(r.node);
+  if (!id.is_valid()) return error(ErrorCode::kNotFound, "build record: node " + r.node.str() + " is gone");
+  const graph::AttrIndex a = g.node(id)->type().attr_find(r.attr);
+  if (a == graph::kNoAttr) return error(ErrorCode::kNotFound, "build record: no attribute " + r.attr);
+  return Plug{id, a, r.element};
+}
+
+Json plug_json(const PlugRef& r) {
+  Json j = Json::array({r.node.str(), r.attr});
+  if (r.element >= 0) j.push_back(r.element);
+  return j;
+}
+
+Result<PlugRef> plug_from_json(const Json& j) {
+  if (!j.is_array() || j.size() < 2 || !j[0].is_string() || !j[1].is_string())
+    return error(ErrorCode::kParseError, "build record: bad plug " + j.dump());
+  auto u = Uuid::parse(j[0].get<std::string>());
+  if (!u) return error(ErrorCode::kParseError, "build record: bad uuid " + j[0].dump());
+  PlugRef r{*u, j[1].get<std::string>(), -1};
+  if (j.size() > 2 && j[2].is_number_integer()) r.element = j[2].get<int>();
+  return r;
+}
+
+Json record_json(const graph::Graph& g, const StepRecord& r) {
+  Json j;
+  j["step"] = r.step;
+  Json created = Json::array();
+  for (const Uuid& u : r.created) created.push_back(u.str());
+  j["created"] = created;
+  Json values = Json::array();
+  for (const ValueChange& v : r.values) {
+    NodeId id = g.find(v.plug.node);
+    if (!id.is_valid()) continue;  // deleted by the user since: nothing to restore
+    const graph::AttrSpec& spec = g.node(id)->type().attr(g.node(id)->type().attr_find(v.plug.attr));
+    values.push_back(Json::array({plug_json(v.plug), io::attribute_to_json(v.before, spec)}));
+  }
+  j["values"] = values;
+  for (const char* key : {"made", "broken"}) {
+    Json list = Json::array();
+    for (const ConnectionChange& c : (std::string(key) == "made" ? r.made : r.broken))
+      list.push_back(Json::array({plug_json(c.src), plug_json(c.dst)}));
+    j[key] = list;
+  }
+  Json renamed = Json::array();
+  for (const auto& [u, name] : r.renamed) renamed.push_back(Json::array({u.str(), name}));
+  j["renamed"] = renamed;
+  return j;
+}
+
+Result<StepRecord> record_from_json(const graph::Graph& g, const Json& j) {
+  StepRecord r;
+  if (!j.is_object() || !j.contains("step")) return error(ErrorCode::kParseError, "build record: not a step record");
+  r.step = j["step"].get<std::string>();
+  for (const Json& u : j.value("created", Json::array())) {
+    auto id = Uuid::parse(u.get<std::string>());
+    if (!id) return error(ErrorCode::kParseError, "build record: bad uuid " + u.dump());
+    r.created.push_back(*id);
+  }
+  for (const Json& v : j.value("values", Json::array())) {
+    Result<PlugRef> p = plug_from_json(v.at(0));
+    if (!p) return p.status();
+    NodeId id = g.find(p->node);
+    if (!id.is_valid()) continue;  // a node the user deleted since: nothing to restore
+    const graph::AttrIndex a = g.node(id)->type().attr_find(p->attr);
+    if (a == graph::kNoAttr) return error(ErrorCode::kParseError, "build record: no attribute " + p->attr);
+    Result<Value> value = io::attribute_from_json(v.at(1), g.node(id)->type().attr(a));
+    if (!value) return value.status().with_context("build record");
+    r.values.push_back(ValueChange{*p, std::move(*value)});
+  }
+  for (const char* key : {"made", "broken"}) {
+    for (const Json& c : j.value(key, Json::array())) {
+      Result<PlugRef> s = plug_from_json(c.at(0)), d = plug_from_json(c.at(1));
+      if (!s) return s.status();
+      if (!d) return d.status();
+      (std::string(key) == "made" ? r.made : r.broken).push_back(ConnectionChange{*s, *d});
+    }
+  }
+  for (const Json& n : j.value("renamed", Json::array())) {
+    auto id = Uuid::parse(n.at(0).get<std::string>());
+    if (!id) return error(ErrorCode::kParseError, "build record: bad uuid");
+    r.renamed.emplace_back(*id, n.at(1).get<std::string>());
+  }
+  return r;
+}
+
+// Watches the graph while a construct runs. Nodes made by this step are its
+// own; everything it does to other nodes is remembered with how it was.
+class Recorder : public graph::Observer {
+ public:
+  Recorder(graph::Graph& g, StepRecord& record) : graph_(g), record_(record) { g.add_observer(this); }
+  ~Recorder() override { graph_.remove_observer(this); }
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  const std::string& failure() const { return failure_; }
+
+  void node_added(const graph::Graph& g, NodeId id) override {
+    const Uuid& u = g.node(id)->uuid();
+    record_.created.push_back(u);
+    own_.insert(u);
+  }
+  void node_removed(const graph::Graph& g, NodeId id) override {
+    const Uuid& u = g.node(id)->uuid();
+    if (own_.erase(u)) {
+      std::erase(record_.created, u);
+    } else if (failure_.empty()) {
+      failure_ = "a build step may not delete '" + g.node(id)->name() + "', which it did not make";
+    }
+  }
+  void node_renamed(const graph::Graph& g, NodeId id, const std::string& old_name) override {
+    const Uuid& u = g.node(id)->uuid();
+    if (own_.count(u)) return;
+    for (const auto& r : record_.renamed)
+      if (r.first == u) return;
+    record_.renamed.emplace_back(u, old_name);
+  }
+  void attribute_set(const graph::Graph& g, const Plug& plug, const Value& before) override {
+    if (own_.count(g.node(plug.node)->uuid())) return;
+    remember_value(g, plug, before);
+  }
+  void connection_made(const graph::Graph& g, const graph::Connection& c) override {
+    const bool src_own = own_.count(g.node(c.src.node)->uuid()) > 0;
+    const bool dst_own = own_.count(g.node(c.dst.node)->uuid()) > 0;
+    if (dst_own) return;
+    // The destination keeps what it pulls once the connection goes: remember
+    // what it holds now.
+    remember_value(g, Plug{c.dst.node, c.dst.attr, -1}, g.node(c.dst.node)->value(c.dst.attr));
+    if (!src_own) record_.made.push_back(ConnectionChange{ref_of(g, c.src), ref_of(g, c.dst)});
+  }
+  void connection_broken(const graph::Graph& g, const graph::Connection& c) override {
+    const graph::Node* s = g.node(c.src.node);
+    const graph::Node* d = g.node(c.dst.node);
+    if (!s || !d || own_.count(s->uuid()) || own_.count(d->uuid())) return;
+    const PlugRef src = ref_of(g, c.src), dst = ref_of(g, c.dst);
+    // Made by this step and broken again: forget it.
+    for (auto it = record_.made.begin(); it != record_.made.end(); ++it) {
+      if (it->src.node == src.node && it->src.attr == src.attr && it->src.element == src.element &&
+          it->dst.node == dst.node && it->dst.attr == dst.attr && it->dst.element == dst.element) {
+        record_.made.erase(it);
+        return;
+      }
+    }
+    record_.broken.push_back(ConnectionChange{src, dst});
+  }
+  void tag_changed(const graph::Graph& g, NodeId id, const std::string& key) override {
+    if (!own_.count(g.node(id)->uuid()) && failure_.empty())
+      failure_ = "a build step may not tag '" + g.node(id)->name() + "' (" + key + "), which it did not make";
+  }
+
+ private:
+  void remember_value(const graph::Graph& g, const Plug& plug, const Value& before) {
+    const PlugRef r = ref_of(g, Plug{plug.node, plug.attr, -1});
+    for (const ValueChange& v : record_.values)
+      if (v.plug.node == r.node && v.plug.attr == r.attr) return;
+    record_.values.push_back(ValueChange{r, before});
+  }
+
+  graph::Graph& graph_;
+  StepRecord& record_;
+  std::unordered_set<Uuid, graph::UuidHash> own_;
+  std::string failure_;
+};
+
+// Undoes what a step did, newest first.
+Status undo_record(graph::Graph& g, const StepRecord& r) {
+  for (auto it = r.created.rbegin(); it != r.created.rend(); ++it) {
+    NodeId id = g.find(*it);
+    if (!id.is_valid()) continue;
+    if (Status s = g.delete_node(id); !s) return s.with_context("destruct " + r.step);
+  }
+  for (auto it = r.made.rbegin(); it != r.made.rend(); ++it) {
+    Result<Plug> s = plug_of(g, it->src), d = plug_of(g, it->dst);
+    if (!s || !d) continue;
+    std::optional<Plug> now = g.source(*d);
+    if (now && now->node == s->node && now->attr == s->attr && now->element == s->element)
+      if (Status st = g.disconnect(*s, *d); !st) return st.with_context("destruct " + r.step);
+  }
+  for (auto it = r.broken.rbegin(); it != r.broken.rend(); ++it) {
+    Result<Plug> s = plug_of(g, it->src), d = plug_of(g, it->dst);
+    if (!s || !d || g.source(*d)) continue;
+    if (Status st = g.connect(*s, *d); !st) return st.with_context("destruct " + r.step);
+  }
+  for (auto it = r.values.rbegin(); it != r.values.rend(); ++it) {
+    Result<Plug> p = plug_of(g, it->plug);
+    if (!p) continue;
+    bool connected = false;
+    for (const graph::Connection& c : g.node(p->node)->inputs())
+      if (c.dst.attr == p->attr) connected = true;
+    if (connected) continue;
+    if (Status st = g.set_value(*p, it->before); !st) return st.with_context("destruct " + r.step);
+  }
+  for (auto it = r.renamed.rbegin(); it != r.renamed.rend(); ++it) {
+    NodeId id = g.find(it->first);
+    if (id.is_valid() && g.node(id)->name() != it->second)
+      if (Status st = g.rename(id, it->second); !st) return st.with_context("destruct " + r.step);
+  }
+  return Status::ok();
+}
+
+// A component's own data, for telling what changed (children left out).
+std::string signature(const Component& c) {
+  std::ostringstream o;
+  o.precision(17);
+  o << c.type << '|' << c.name << '|' << side_name(c.side) << '|' << c.version << '|' << c.attach << '|';
+  for (const Guide& g : c.guides)
+    o << g.name << ',' << g.joint << ',' << g.translate.transpose() << ',' << g.rotate.transpose() << ','
+      << g.scale.transpose() << ';';
+  o << '|';
+  for (const ControlStyle& s : c.controls) o << s.role << ',' << s.shape << ',' << s.color << ',' << s.size << ';';
+  o << '|';
+  for (const Param& p : c.params) {
+    o << p.name << '=';
+    std::visit(
+        [&](const auto& v) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, math::Vec3>) o << v.transpose();
+          else o << v;
+        },
+        p.value);
+    o << ';';
+  }
+  o << '|';
+  for (const Feature& f : c.features) {
+    o << f.name << '=' << f.enabled << '[';
+    for (const FeatureSwitch& s : f.switches) o << s.name << '=' << s.enabled << ',';
+    o << ']';
+  }
+  return o.str();
+}
+
+std::string full_name_of(const Component& c) {
+  return c.side == Side::kCenter ? c.name : c.name + "_" + side_name(c.side);
+}
+
+const Feature* find_feature(const std::vector<Feature>& list, std::string_view name) {
+  for (const Feature& f : list)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+bool step_enabled(const Definition& d, const Component* c, const std::string& feature, const std::string& sw) {
+  if (feature.empty()) return true;
+  const Feature* f = c ? find_feature(c->features, feature) : nullptr;
+  if (!f) f = find_feature(d.features, feature);
+  if (!f) return true;
+  if (!f->enabled) return false;
+  if (sw.empty()) return true;
+  for (const FeatureSwitch& s : f->switches)
+    if (s.name == sw) return s.enabled;
+  return true;
+}
+
+// Where a component attaches: (component index or -1 for the rig, hook reference).
+struct AttachTarget {
+  int component = -1;
+  std::string hook;
+};
+
+}  // namespace
+
+// ---- Build ---------------------------------------------------------------
+
+struct Build::Records {
+  // (rigId or "" for the rig, step) -> what the step did
+  std::map<std::pair<std::string, std::string>, StepRecord> done;
+  std::vector<int> parent;           // per component: index of its nesting parent, -1 for roots
+  std::vector<AttachTarget> attach;  // per component
+};
+
+std::string PlannedStep::label() const { return step; }
+
+Build::Build(scene::Scene& scene, Definition definition, const ComponentFactory& factory, BuildOptions options)
+    : scene_(scene), definition_(std::move(definition)), factory_(factory), options_(options),
+      records_(std::make_unique<Records>()) {}
+
+Build::~Build() = default;
+
+Result<std::unique_ptr<Build>> Build::open(scene::Scene& scene, Definition definition, const ComponentFactory& factory,
+                                           BuildOptions options) {
+  if (!scene.graph().registry().find(kMetaRootType))
+    return error(ErrorCode::kUnsupported, "build: the scene's registry has no rig types (use rig::default_registry())");
+  if (definition.name.empty() || !graph::Graph::is_valid_name(definition.name))
+    return error(ErrorCode::kInvalidArgument, "build: the rig needs a name usable in node names");
+  std::unique_ptr<Build> b(new Build(scene, std::move(definition), factory, options));
+  if (Status s = b->replan(); !s) return s;
+  // Continue a build the scene already holds.
+  if (Status s = b->sync(); !s) return s;
+  return b;
+}
+
+Status Build::sync() {
+  graph::Graph& g = scene_.graph();
+  records_->done.clear();
+  position_ = 0;
+  NodeId root = this->root();
+  if (!root.is_valid()) return Status::ok();
+  auto load = [&](NodeId meta, const std::string& key) -> Status {
+    const std::string text = meta_string(g, meta, "buildRecord");
+    if (text.empty()) return Status::ok();
+    Json j = Json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_array())
+      return error(ErrorCode::kParseError, g.node(meta)->name() + ".buildRecord: not a build record");
+    for (const Json& step : j) {
+      Result<StepRecord> r = error(ErrorCode::kParseError, "bad step record");
+      try {
+        r = record_from_json(g, step);
+      } catch (const Json::exception& e) {
+        r = error(ErrorCode::kParseError, std::string("build record: ") + e.what());
+      }
+      if (!r) return r.status().with_context(g.node(meta)->name());
+      records_->done[{key, r->step}] = std::move(*r);
+    }
+    return Status::ok();
+  };
+  if (Status s = load(root, ""); !s) return s;
+  for (NodeId c : rig_components(g, root)) {
+    const std::string id = meta_string(g, c, "rigId");
+    if (!definition_.find_by_rig_id(id))
+      return error(ErrorCode::kInvalidArgument,
+                   "build: the scene's rig '" + definition_.name + "' has a component '" +
+                       meta_string(g, c, "componentName") + "' (rigId " + id +
+                       ") that this definition does not: it was built from another definition (use update)");
+    if (Status s = load(c, id); !s) return s;
+  }
+  const auto& pos = g.node(root)->value(g.node(root)->type().attr_find("buildPosition"));
+  position_ = static_cast<int>(
+      std::clamp<std::int64_t>(std::get<std::int64_t>(pos), 0, static_cast<std::int64_t>(plan_.size())));
+  return Status::ok();
+}
+
+Status Build::replan() {
+  const Definition& d = definition_;
+  components_.clear();
+  std::vector<int> parent;
+  std::function<void(const Component&, int)> walk = [&](const Component& c, int p) {
+    const int me = static_cast<int>(components_.size());
+    components_.push_back(&c);
+    parent.push_back(p);
+    for (const Component& child : c.children) walk(child, me);
+  };
+  for (const Component& root : d.components) walk(root, -1);
+  const int n = static_cast<int>(components_.size());
+
+  // Classes, unique ids and names.
+  std::set<std::string> ids, names;
+  for (const Component* c : components_) {
+    const std::string who = "component '" + full_name_of(*c) + "'";
+    if (!factory_.find(c->type))
+      return error(ErrorCode::kNotFound, "build: " + who + ": no component class for type '" + c->type + "'");
+    if (c->rig_id.empty() || !ids.insert(c->rig_id).second)
+      return error(ErrorCode::kInvalidArgument, "build: " + who + ": missing or duplicate rigId");
+    if (!names.insert(full_name_of(*c)).second)
+      return error(ErrorCode::kInvalidArgument, "build: two components are named '" + full_name_of(*c) + "'");
+  }
+  // Attach targets: "HOOK" of the parent, or "OTHER.HOOK" of another component.
+  std::vector<AttachTarget> attach(n);
+  auto find_component_index = [&](std::string_view key) {
+    for (int i = 0; i < n; ++i)
+      if (components_[i]->rig_id == key || full_name_of(*components_[i]) == key || components_[i]->name == key) return i;
+    return -1;
+  };
+  for (int i = 0; i < n; ++i) {
+    const Component& c = *components_[i];
+    attach[i] = AttachTarget{parent[i], c.attach};
+    if (const std::size_t dot = c.attach.find('.'); dot != std::string::npos) {
+      const int other = find_component_index(std::string_view(c.attach).substr(0, dot));
+      if (other >= 0) attach[i] = AttachTarget{other, c.attach.substr(dot + 1)};
+    }
+    if (attach[i].component == i)
+      return error(ErrorCode::kCycle, "build: component '" + full_name_of(c) + "' attaches to itself");
+    if (attach[i].component >= 0) {
+      const Component& target = *components_[attach[i].component];
+      const ComponentSchema* ts = factory_.schemas().find(target.type);
+      if (!ts || !resolve_hook(ts->hook_names(target), attach[i].hook))
+        return error(ErrorCode::kNotFound, "build: component '" + full_name_of(c) + "' attaches to hook '" +
+                                               attach[i].hook + "', which '" + full_name_of(target) + "' does not have");
+    }
+  }
+  // Order: parents and attach targets first, file order otherwise (Kahn).
+  std::vector<int> order;
+  std::vector<int> state(n, 0);
+  std::vector<std::vector<int>> deps(n);
+  for (int i = 0; i < n; ++i) {
+    if (parent[i] >= 0) deps[i].push_back(parent[i]);
+    if (attach[i].component >= 0 && attach[i].component != parent[i]) deps[i].push_back(attach[i].component);
+  }
+  std::vector<char> placed(n, 0);
+  while (static_cast<int>(order.size()) < n) {
+    bool progress = false;
+    for (int i = 0; i < n; ++i) {
+      if (placed[i]) continue;
+      if (std::all_of(deps[i].begin(), deps[i].end(), [&](int d) { return placed[d] != 0; })) {
+        placed[i] = 1;
+        order.push_back(i);
+        progress = true;
+      }
+    }
+    if (!progress) {
+      std::string names_in_cycle;
+      for (int i = 0; i < n; ++i)
+        if (!placed[i]) names_in_cycle += (names_in_cycle.empty() ? "" : ", ") + full_name_of(*components_[i]);
+      return error(ErrorCode::kCycle, "build: components attach to each other in a cycle: " + names_in_cycle);
+    }
+  }
+  std::vector<const Component*> ordered;
+  std::vector<int> new_index(n);
+  for (int k = 0; k < n; ++k) {
+    new_index[order[k]] = k;
+    ordered.push_back(components_[order[k]]);
+  }
+  records_->parent.assign(n, -1);
+  records_->attach.assign(n, AttachTarget{});
+  for (int i = 0; i < n; ++i) {
+    records_->parent[new_index[i]] = parent[i] >= 0 ? new_index[parent[i]] : -1;
+    records_->attach[new_index[i]] =
+        AttachTarget{attach[i].component >= 0 ? new_index[attach[i].component] : -1, attach[i].hook};
+  }
+  components_ = std::move(ordered);
+
+  // Steps.
+  steps_.clear();
+  plan_.clear();
+  plan_.push_back(PlannedStep{-1, kRigStep, "", "", true});
+  for (int i = 0; i < n; ++i) {
+    const Component& c = *components_[i];
+    steps_.push_back(factory_.find(c.type)->steps(c));
+    std::set<std::string> step_names{kMetaStep};
+    plan_.push_back(PlannedStep{i, kMetaStep, "", "", true});
+    for (const Step& s : steps_.back()) {
+      if (!step_names.insert(s.name).second)
+        return error(ErrorCode::kInvalidArgument, "build: component type '" + c.type + "' has two steps named '" + s.name + "'");
+      plan_.push_back(PlannedStep{i, s.name, s.feature, s.switch_name, step_enabled(definition_, &c, s.feature, s.switch_name)});
+    }
+  }
+  return Status::ok();
+}
+
+NodeId Build::root() const { return find_rig(scene_.graph(), definition_.name); }
+
+namespace {
+
+std::string key_of(const Build& b, int component) {
+  return component < 0 ? std::string() : b.components()[component]->rig_id;
+}
+
+// The meta node that keeps the records of a component (or the rig).
+NodeId owner_meta(const graph::Graph& g, NodeId root, const std::string& key) {
+  if (!root.is_valid()) return {};
+  return key.empty() ? root : find_component(g, root, key);
+}
+
+}  // namespace
+
+Status Build::save_state(const std::string& owner) {
+  graph::Graph& g = scene_.graph();
+  NodeId root = this->root();
+  if (!root.is_valid()) return Status::ok();
+  Json list = Json::array();
+  for (const PlannedStep& p : plan_) {
+    if (key_of(*this, p.component) != owner) continue;
+    auto it = records_->done.find({owner, p.step});
+    if (it != records_->done.end()) list.push_back(record_json(g, it->second));
+  }
+  NodeId meta = owner_meta(g, root, owner);
+  if (meta.is_valid()) {
+    const graph::AttrIndex a = g.node(meta)->type().attr_find("buildRecord");
+    if (Status s = g.set_value(Plug{meta, a, -1}, Value(list.empty() ? std::string() : list.dump())); !s) return s;
+  }
+  const graph::AttrIndex pos = g.node(root)->type().attr_find("buildPosition");
+  return g.set_value(Plug{root, pos, -1}, Value(static_cast<std::int64_t>(position_)));
+}
+
+Status Build::construct(int index) {
+  const PlannedStep& p = plan_[index];
+  if (!p.enabled) return Status::ok();
+  graph::Graph& g = scene_.graph();
+  const std::string key = key_of(*this, p.component);
+  const Component* comp = p.component >= 0 ? components_[p.component] : nullptr;
+
+  // The manager is shared by every rig: made outside any record, removed by
+  // remove() when no rig is left.
+  if (!meta_manager(g).is_valid()) {
+    if (Result<NodeId> m = g.create_node(kMetaManagerType, "metaManager"); !m) return m.status();
+  }
+
+  BuildContext ctx(scene_, definition_);
+  ctx.edit_mode_ = options_.edit_mode;
+  ctx.step_ = p.step;
+  ctx.root_ = root();
+  if (comp) {
+    ctx.component_ = comp;
+    ctx.schema_ = factory_.schemas().find(comp->type);
+    ctx.meta_ = find_component(g, ctx.root_, comp->rig_id);
+    const AttachTarget& at = records_->attach[p.component];
+    if (at.component >= 0) {
+      NodeId target_meta = find_component(g, ctx.root_, components_[at.component]->rig_id);
+      const ComponentSchema* ts = factory_.schemas().find(components_[at.component]->type);
+      const std::optional<int> hook = resolve_hook(ts->hook_names(*components_[at.component]), at.hook);
+      for (NodeId m : meta_members(g, target_meta)) {
+        const std::string* h = g.node(m)->tag_find(kTagHook);
+        if (h && hook && *h == std::to_string(*hook)) ctx.attach_ = m;
+      }
+      if (!ctx.attach_.is_valid())
+        return error(ErrorCode::kNotFound, "build " + full_name_of(*comp) + ": '" +
+                                               full_name_of(*components_[at.component]) + "' published no hook '" +
+                                               at.hook + "'");
+    }
+  }
+
+  StepRecord record;
+  record.step = p.step;
+  Status status;
+  {
+    Recorder recorder(g, record);
+    if (p.component < 0) {
+      // The rig's own step: its metaRoot and groups.
+      Result<NodeId> r = g.create_node(kMetaRootType, definition_.name + "_meta");
+      if (!r) return r.status();
+      auto set = [&](NodeId node, const char* attr, Value v) {
+        return g.set_value(Plug{node, g.node(node)->type().attr_find(attr), -1}, std::move(v));
+      };
+      status = set(*r, "rigName", Value(definition_.name));
+      if (status) status = set(*r, "version", Value(definition_.version));
+      if (status) status = set(*r, "definitionPath", Value(definition_.source));
+      if (status) {
+        NodeId mgr = meta_manager(g);
+        status = g.connect(Plug{mgr, g.node(mgr)->type().attr_find("metaRoots"), -1},
+                           Plug{*r, g.node(*r)->type().attr_find(graph::kMetaParentAttr), -1});
+      }
+      ctx.root_ = *r;
+      ctx.meta_ = *r;
+      if (status) {
+        Result<NodeId> top = ctx.create(scene::kTransformType, "top", -1, -1, NodeId{});
+        Result<NodeId> controls = top ? ctx.create(scene::kTransformType, "controls", -1, -1, *top) : top;
+        Result<NodeId> still = top ? ctx.create(scene::kTransformType, "noTransform", -1, -1, *top) : top;
+        if (!top) status = top.status();
+        else if (!controls) status = controls.status();
+        else if (!still) status = still.status();
+      }
+    } else if (p.step == kMetaStep) {
+      Result<NodeId> m = g.create_node(kMetaComponentType, definition_.name + "_" + full_name_of(*comp) + "_meta");
+      if (!m) return m.status();
+      auto set = [&](const char* attr, Value v) {
+        return g.set_value(Plug{*m, g.node(*m)->type().attr_find(attr), -1}, std::move(v));
+      };
+      status = set("metaType", Value(comp->type));
+      if (status) status = set("componentName", Value(full_name_of(*comp)));
+      if (status) status = set("side", Value(std::string(side_name(comp->side))));
+      if (status) status = set("version", Value(comp->version));
+      if (status) status = set("rigId", Value(comp->rig_id));
+      if (status) {
+        const int parent = records_->parent[p.component];
+        NodeId up = parent >= 0 ? find_component(g, ctx.root_, components_[parent]->rig_id) : ctx.root_;
+        status = g.connect(Plug{up, g.node(up)->type().attr_find("metaChildren"), -1},
+                           Plug{*m, g.node(*m)->type().attr_find(graph::kMetaParentAttr), -1});
+      }
+    } else {
+      const std::vector<Step>& steps = steps_[p.component];
+      auto it = std::find_if(steps.begin(), steps.end(), [&](const Step& s) { return s.name == p.step; });
+      status = it->construct ? it->construct(ctx) : Status::ok();
+    }
+    if (status && !recorder.failure().empty()) status = error(ErrorCode::kInvalidArgument, recorder.failure());
+  }
+  if (!status) return status.with_context("build " + (comp ? full_name_of(*comp) + "/" : std::string()) + p.step);
+  records_->done[{key, p.step}] = std::move(record);
+  return Status::ok();
+}
+
+Status Build::destruct(int index) {
+  const PlannedStep& p = plan_[index];
+  const std::string key = key_of(*this, p.component);
+  auto it = records_->done.find({key, p.step});
+  if (it == records_->done.end()) return Status::ok();  // passed over
+  if (Status s = undo_record(scene_.graph(), it->second); !s) return s;
+  records_->done.erase(it);
+  return Status::ok();
+}
+
+Status Build::forward() {
+  if (Status s = sync(); !s) return s;
+  if (position_ >= static_cast<int>(plan_.size())) return error(ErrorCode::kInvalidArgument, "build: already at the end");
+  graph::Graph& g = scene_.graph();
+  g.begin_transaction("build " + definition_.name + ": " + plan_[position_].step);
+  Status s = construct(position_);
+  if (s) {
+    ++position_;
+    s = save_state(key_of(*this, plan_[position_ - 1].component));
+    if (!s) --position_;
+  }
+  if (!s) {
+    g.rollback_transaction();
+    records_->done.erase({key_of(*this, plan_[position_].component), plan_[position_].step});
+    return s;
+  }
+  g.commit_transaction();
+  return Status::ok();
+}
+
+Status Build::back() {
+  if (Status s = sync(); !s) return s;
+  if (position_ <= 0) return error(ErrorCode::kInvalidArgument, "build: already at the start");
+  graph::Graph& g = scene_.graph();
+  g.begin_transaction("unbuild " + definition_.name + ": " + plan_[position_ - 1].step);
+  Status s = destruct(position_ - 1);
+  if (s) {
+    --position_;
+    s = save_state(key_of(*this, plan_[position_].component));
+    if (s && position_ == 0 && list_rigs(g).empty()) {
+      if (NodeId m = meta_manager(g); m.is_valid()) s = g.delete_node(m);
+    }
+  }
+  if (!s) {
+    g.rollback_transaction();
+    return s;
+  }
+  g.commit_transaction();
+  return Status::ok();
+}
+
+Status Build::go_to(int position) {
+  if (position < 0 || position > static_cast<int>(plan_.size()))
+    return error(ErrorCode::kInvalidArgument, "build: no step " + std::to_string(position) + " (the plan has " +
+                                                  std::to_string(plan_.size()) + ")");
+  while (position_ < position)
+    if (Status s = forward(); !s) return s;
+  while (position_ > position)
+    if (Status s = back(); !s) return s;
+  return Status::ok();
+}
+
+Status Build::remove() { return go_to(0); }
+
+Status Build::set_feature(std::string_view feature, bool enabled, std::string_view switch_name) {
+  Definition next = definition_;
+  Feature* f = nullptr;
+  for (Feature& x : next.features)
+    if (x.name == feature) f = &x;
+  if (!f) {
+    next.features.push_back(Feature{std::string(feature), true, {}, {}});
+    f = &next.features.back();
+  }
+  if (switch_name.empty()) {
+    f->enabled = enabled;
+  } else {
+    FeatureSwitch* s = nullptr;
+    for (FeatureSwitch& x : f->switches)
+      if (x.name == switch_name) s = &x;
+    if (!s) {
+      f->switches.push_back(FeatureSwitch{std::string(switch_name), true, {}});
+      s = &f->switches.back();
+    }
+    s->enabled = enabled;
+  }
+  // Rebuild from the first step whose state changes.
+  std::vector<bool> before;
+  for (const PlannedStep& p : plan_) before.push_back(p.enabled);
+  int first = static_cast<int>(plan_.size());
+  for (std::size_t i = 0; i < plan_.size(); ++i) {
+    const Component* c = plan_[i].component >= 0 ? components_[plan_[i].component] : nullptr;
+    if (step_enabled(next, c, plan_[i].feature, plan_[i].switch_name) != before[i]) {
+      first = static_cast<int>(i);
+      break;
+    }
+  }
+  const int target = position_;
+  if (first < position_)
+    if (Status s = go_to(first); !s) return s;
+  definition_ = std::move(next);
+  if (Status s = replan(); !s) return s;
+  return go_to(target);
+}
+
+Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild when) {
+  if (Status s = sync(); !s) return s;
+  if (position_ != static_cast<int>(plan_.size()))
+    return error(ErrorCode::kInvalidArgument, "rebuild: the build is not complete (step " + std::to_string(position_) +
+                                                  " of " + std::to_string(plan_.size()) + ")");
+  if (next.name != definition_.name)
+    return error(ErrorCode::kInvalidArgument, "rebuild: the rig is '" + definition_.name + "', not '" + next.name + "'");
+  struct Old {
+    std::string signature, version, parent;
+  };
+  std::map<std::string, Old> old;
+  for (std::size_t i = 0; i < components_.size(); ++i) {
+    const int p = records_->parent[i];
+    old[components_[i]->rig_id] = Old{signature(*components_[i]), components_[i]->version,
+                                      p >= 0 ? components_[p]->rig_id : ""};
+  }
+  const Definition old_def = definition_;
+  std::vector<std::string> old_ids;
+  for (const Component* c : components_) old_ids.push_back(c->rig_id);
+  const std::vector<PlannedStep> old_plan = plan_;
+
+  definition_ = std::move(next);
+  if (Status s = replan(); !s) {
+    definition_ = old_def;
+    (void)replan();
+    return s;
+  }
+  std::set<std::string> dirty;
+  for (std::size_t i = 0; i < components_.size(); ++i) {
+    const Component& c = *components_[i];
+    const int p = records_->parent[i];
+    const std::string parent_id = p >= 0 ? components_[p]->rig_id : "";
+    auto it = old.find(c.rig_id);
+    const bool changed = it == old.end() || it->second.parent != parent_id ||
+                         (when == Rebuild::kAll) ||
+                         (when == Rebuild::kChanged && it->second.signature != signature(c)) ||
+                         (when == Rebuild::kNewerVersion && compare_versions(it->second.version, c.version) != 0);
+    if (changed) dirty.insert(c.rig_id);
+  }
+  // What hangs from a dirty component is dirty too (its hooks are made again).
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t i = 0; i < components_.size(); ++i) {
+      if (dirty.count(components_[i]->rig_id)) continue;
+      const int p = records_->parent[i];
+      const int a = records_->attach[i].component;
+      if ((p >= 0 && dirty.count(components_[p]->rig_id)) || (a >= 0 && dirty.count(components_[a]->rig_id))) {
+        dirty.insert(components_[i]->rig_id);
+        grew = true;
+      }
+    }
+  }
+  std::set<std::string> removed;
+  for (const std::string& id : old_ids) {
+    bool present = false;
+    for (const Component* c : components_) present = present || c->rig_id == id;
+    if (!present) removed.insert(id);
+  }
+  graph::Graph& g = scene_.graph();
+  NodeId root = this->root();
+
+  // Animation on the controls of what is rebuilt: curves and other inputs
+  // from outside the rig, remembered by (rigId, role, index, attribute) so
+  // they re-attach to the new controls, never by name.
+  struct Kept {
+    std::string rig_id, role, index, attr;
+    Plug src;
+  };
+  std::vector<Kept> kept;
+  for (const std::string& id : old_ids) {
+    if (!dirty.count(id) && !removed.count(id)) continue;
+    NodeId meta = find_component(g, root, id);
+    for (NodeId m : meta_members(g, meta)) {
+      const graph::Node& n = *g.node(m);
+      const std::string* role = n.tag_find(kTagRole);
+      if (!role) continue;
+      const std::string* index = n.tag_find(kTagIndex);
+      for (const graph::Connection& c : n.inputs()) {
+        if (n.type().attr(c.dst.attr).name == graph::kMetaParentAttr || c.dst.attr == xform::kParentMatrix) continue;
+        if (rig_of(g, c.src.node) == root) continue;  // the rig's own wiring is rebuilt
+        kept.push_back(Kept{id, *role, index ? *index : "", n.type().attr(c.dst.attr).name, c.src});
+      }
+    }
+  }
+
+  g.begin_transaction("update " + definition_.name);
+  Status s;
+  std::set<std::string> owners;
+  for (const Kept& k : kept) {
+    // The source keeps going; only its link to the old control goes.
+    std::optional<graph::Connection> link;
+    for (const graph::Connection& c : g.node(k.src.node)->outputs()) {
+      const graph::Node& d = *g.node(c.dst.node);
+      if (c.src.attr == k.src.attr && c.src.element == k.src.element && d.type().attr(c.dst.attr).name == k.attr &&
+          rig_of(g, c.dst.node) == root && component_of(g, c.dst.node) == find_component(g, root, k.rig_id)) {
+        link = c;  // a copy: disconnecting changes the list
+        break;
+      }
+    }
+    if (link) s = g.disconnect(link->src, link->dst);
+    if (!s) break;
+  }
+  // Destruct, newest first, the old steps of dirty and removed components.
+  for (int i = static_cast<int>(old_plan.size()) - 1; i >= 0 && s; --i) {
+    if (old_plan[i].component < 0) continue;
+    const std::string& id = old_ids[old_plan[i].component];
+    if (!dirty.count(id) && !removed.count(id)) continue;
+    auto it = records_->done.find({id, old_plan[i].step});
+    if (it == records_->done.end()) continue;
+    s = undo_record(g, it->second);
+    records_->done.erase(it);
+  }
+  // Construct theirs in the new plan's order.
+  for (std::size_t i = 0; i < plan_.size() && s; ++i) {
+    if (plan_[i].component < 0) continue;
+    const std::string& id = components_[plan_[i].component]->rig_id;
+    if (!dirty.count(id)) continue;
+    s = construct(static_cast<int>(i));
+    owners.insert(id);
+  }
+  position_ = static_cast<int>(plan_.size());
+  // Re-attach what was kept, where the new rig has the same control.
+  for (const Kept& k : kept) {
+    if (!s) break;
+    NodeId meta = find_component(g, root, k.rig_id);
+    if (!meta.is_valid()) continue;  // the component is gone
+    for (NodeId m : meta_members(g, meta)) {
+      const graph::Node& n = *g.node(m);
+      const std::string* role = n.tag_find(kTagRole);
+      const std::string* index = n.tag_find(kTagIndex);
+      if (!role || *role != k.role || (index ? *index : std::string()) != k.index) continue;
+      const graph::AttrIndex a = n.type().attr_find(k.attr);
+      if (a == graph::kNoAttr || g.source(Plug{m, a, -1})) break;
+      s = g.connect(k.src, Plug{m, a, -1});
+      break;
+    }
+  }
+  if (s) s = g.set_value(Plug{root, g.node(root)->type().attr_find("version"), -1}, Value(definition_.version));
+  for (const Component* c : components_) {
+    if (!s || dirty.count(c->rig_id)) continue;
+    NodeId meta = find_component(g, root, c->rig_id);
+    if (meta_string(g, meta, "version") != c->version)
+      s = g.set_value(Plug{meta, g.node(meta)->type().attr_find("version"), -1}, Value(c->version));
+  }
+  for (const std::string& owner : owners)
+    if (s) s = save_state(owner);
+  if (s) s = save_state("");
+  if (!s) {
+    g.rollback_transaction();
+    definition_ = old_def;
+    (void)replan();
+    records_->done.clear();
+    return s.with_context("update " + definition_.name);
+  }
+  g.commit_transaction();
+  std::vector<std::string> out;
+  for (const Component* c : components_)
+    if (dirty.count(c->rig_id)) out.push_back(c->rig_id);
+  for (const std::string& id : removed) out.push_back(id);
+  return out;
+}
+
+// ---- BuildContext --------------------------------------------------------
+
+std::string BuildContext::full_name() const { return component_ ? full_name_of(*component_) : std::string(); }
+
+namespace {
+const Param* find_param(const Component& c, std::string_view name) { return c.param(name); }
+}  // namespace
+
+bool BuildContext::param_bool(std::string_view name) const {
+  const Param* p = find_param(*component_, name);
+  if (p && std::holds_alternative<bool>(p->value)) return std::get<bool>(p->value);
+  const ParamSpec* s = schema_->param(name);
+  return s && std::holds_alternative<bool>(s->default_value) ? std::get<bool>(s->default_value) : false;
+}
+
+std::int64_t BuildContext::param_int(std::string_view name) const {
+  const Param* p = find_param(*component_, name);
+  if (p && std::holds_alternative<std::int64_t>(p->value)) return std::get<std::int64_t>(p->value);
+  const ParamSpec* s = schema_->param(name);
+  return s && std::holds_alternative<std::int64_t>(s->default_value) ? std::get<std::int64_t>(s->default_value) : 0;
+}
+
+double BuildContext::param_double(std::string_view name) const {
+  const Param* p = find_param(*component_, name);
+  if (p && std::holds_alternative<double>(p->value)) return std::get<double>(p->value);
+  if (p && std::holds_alternative<std::int64_t>(p->value)) return static_cast<double>(std::get<std::int64_t>(p->value));
+  const ParamSpec* s = schema_->param(name);
+  return s && std::holds_alternative<double>(s->default_value) ? std::get<double>(s->default_value) : 0.0;
+}
+
+std::string BuildContext::param_string(std::string_view name) const {
+  const Param* p = find_param(*component_, name);
+  if (p && std::holds_alternative<std::string>(p->value)) return std::get<std::string>(p->value);
+  const ParamSpec* s = schema_->param(name);
+  return s && std::holds_alternative<std::string>(s->default_value) ? std::get<std::string>(s->default_value)
+                                                                     : std::string();
+}
+
+ControlStyle BuildContext::control_style(std::string_view role) const {
+  ControlStyle out;
+  out.role = std::string(role);
+  if (const ControlSpec* s = schema_ ? schema_->control(role) : nullptr) {
+    out.shape = s->shape;
+    out.color = s->color;
+    out.size = s->size;
+  } else {
+    out.shape = "circle";
+    out.color = "yellow";
+  }
+  if (const ControlStyle* c = component_ ? component_->control(role) : nullptr) {
+    if (!c->shape.empty()) out.shape = c->shape;
+    if (!c->color.empty()) out.color = c->color;
+    out.size = c->size;
+  }
+  return out;
+}
+
+Result<NodeId> BuildContext::guide_joint(int i) {
+  if (i < 0 || i >= guide_count())
+    return error(ErrorCode::kNotFound, full_name() + ": no guide " + std::to_string(i));
+  const Guide& guide = component_->guides[i];
+  if (guide.joint.empty())
+    return error(ErrorCode::kNotFound, full_name() + ": guide " + std::to_string(i) + " names no joint");
+  NodeId id = graph().find(guide.joint);
+  if (!id.is_valid())
+    return error(ErrorCode::kNotFound, full_name() + ": guide " + std::to_string(i) + ": the scene has no node '" +
+                                           guide.joint + "'");
+  return id;
+}
+
+Result<Mat4> BuildContext::guide_world(int i) {
+  if (i < 0 || i >= guide_count()) return error(ErrorCode::kNotFound, full_name() + ": no guide " + std::to_string(i));
+  const Guide& guide = component_->guides[i];
+  if (!guide.joint.empty()) {
+    Result<NodeId> j = guide_joint(i);
+    if (!j) return j.status();
+    if (!scene_.is_transform(*j))
+      return error(ErrorCode::kInvalidArgument, full_name() + ": guide " + std::to_string(i) + ": '" + guide.joint +
+                                                    "' is not a transform");
+    return scene_.world_matrix(*j);
+  }
+  math::TransformParts parts;
+  parts.translate = guide.translate;
+  parts.rotate = math::to_radians(guide.rotate);
+  parts.scale = guide.scale;
+  return math::compose(parts);
+}
+
+Result<NodeId> BuildContext::create(std::string_view type, std::string_view role, int index, int guide, NodeId parent) {
+  std::string name = rig_name();
+  if (component_) name += "_" + full_name();
+  name += "_" + std::string(role);
+  if (index >= 0) name += std::to_string(index);
+  Result<NodeId> id = parent.is_valid() ? scene_.create(type, name, parent) : graph().create_node(type, name);
+  if (!id) return id.status();
+  graph::Graph& g = graph();
+  Status s = g.set_tag(*id, kTagRole, std::string(role));
+  if (s && index >= 0) s = g.set_tag(*id, kTagIndex, std::to_string(index));
+  if (s) s = g.set_tag(*id, kTagStep, step_);
+  if (s && guide >= 0) s = g.set_tag(*id, kTagGuide, std::to_string(guide));
+  if (s && meta_.is_valid())
+    s = g.connect(Plug{meta_, g.node(meta_)->type().attr_find("members"), -1},
+                  Plug{*id, g.node(*id)->type().attr_find(graph::kMetaParentAttr), -1});
+  if (!s) return s;
+  return id;
+}
+
+namespace {
+Status place_zeroed(scene::Scene& scene, NodeId id, const Mat4& world, NodeId parent) {
+  const Mat4 parent_world = parent.is_valid() ? scene.world_matrix(parent) : Mat4(Mat4::Identity());
+  const Mat4 offset = math::affine_inverse(parent_world) * world;
+  return scene.graph().set_value(Plug{id, xform::kOffsetParentMatrix, -1}, Value(offset));
+}
+}  // namespace
+
+Result<NodeId> BuildContext::create_group(std::string_view role, int index, const Mat4& world, NodeId parent) {
+  Result<NodeId> id = create(scene::kTransformType, role, index, -1, parent);
+  if (!id) return id;
+  if (Status s = place_zeroed(scene_, *id, world, parent); !s) return s;
+  return id;
+}
+
+Result<NodeId> BuildContext::create_control(std::string_view role, int index, int guide, const Mat4& world,
+                                            NodeId parent) {
+  Result<NodeId> id = create(scene::kControlType, role, index, guide, parent);
+  if (!id) return id;
+  if (Status s = place_zeroed(scene_, *id, world, parent); !s) return s;
+  const ControlStyle style = control_style(role);
+  if (Status s = scene::apply_control_shape(graph(), *id, style.shape, style.size, style.color); !s)
+    return s.with_context(full_name() + " control '" + std::string(role) + "'");
+  return id;
+}
+
+Status BuildContext::drive(NodeId driver, NodeId driven) {
+  graph::Graph& g = graph();
+  const graph::Node* d = g.node(driven);
+  if (!d || !scene_.is_transform(driven)) return error(ErrorCode::kInvalidArgument, "drive: the driven is not a transform");
+  const std::string base = std::string(d->name());
+  int count = static_cast<int>(nodes("drive").size());
+  Result<NodeId> c = create(ops::constraints::kParentConstraintType, "drive", count);
+  if (!c) return c.status();
+  Result<NodeId> inv = create(ops::util::kInverseMatrixType, "parentSpace", count);
+  if (!inv) return inv.status();
+  auto attr = [&](NodeId n, const char* a) { return g.node(n)->type().attr_find(a); };
+  const Mat4 driver_world = scene_.world_matrix(driver);
+  const Mat4 driven_world = scene_.world_matrix(driven);
+  Status s = g.connect(Plug{driver, xform::kWorldMatrix, -1}, Plug{*c, attr(*c, "targetWorldMatrix"), 0});
+  if (s)
+    s = g.set_value(Plug{*c, attr(*c, "targetOffset"), -1},
+                    Value(std::vector<Mat4>{ops::constraints::compute_offset(driver_world, driven_world)}));
+  // Parent space: (parent world * offsetParentMatrix)^-1, live.
+  NodeId parent = g.parent(driven);
+  if (s && parent.is_valid())
+    s = g.connect(Plug{parent, xform::kWorldMatrix, -1}, Plug{*inv, attr(*inv, "inputMatrix"), -1});
+  if (s) s = g.set_value(Plug{*inv, attr(*inv, "offsetMatrix"), -1}, d->value(xform::kOffsetParentMatrix));
+  if (s) s = g.connect(Plug{*inv, attr(*inv, "outputMatrix"), -1}, Plug{*c, attr(*c, "parentInverseMatrix"), -1});
+  // Euler channels in the driven's order, past its joint orient.
+  if (s) s = g.set_value(Plug{*c, attr(*c, "rotateOrder"), -1}, d->value(xform::kRotateOrder));
+  if (s && d->type().name() == scene::kJointType)
+    s = g.set_value(Plug{*c, attr(*c, "jointOrient"), -1}, d->value(scene::joint_attr::kJointOrient));
+  if (s && std::get<std::int64_t>(d->value(xform::kRotateMode)) != 0)
+    s = g.set_value(Plug{driven, xform::kRotateMode, -1}, Value(std::int64_t{0}));
+  if (s) s = g.set_value(Plug{*c, attr(*c, "restTranslate"), -1}, d->value(xform::kTranslate));
+  if (s) s = g.set_value(Plug{*c, attr(*c, "restScale"), -1}, d->value(xform::kScale));
+  for (const char* ch : {"translate", "rotate", "scale"}) {
+    if (!s) break;
+    const graph::AttrIndex dst = d->type().attr_find(ch);
+    if (g.source(Plug{driven, dst, -1})) s = g.disconnect_input(Plug{driven, dst, -1});
+    if (s) s = g.connect(Plug{*c, attr(*c, ch), -1}, Plug{driven, dst, -1});
+  }
+  return s.is_ok() ? s : s.with_context("drive " + base);
+}
+
+std::vector<NodeId> BuildContext::nodes(std::string_view role) const {
+  std::vector<std::pair<int, NodeId>> hits;
+  if (!meta_.is_valid()) return {};
+  const graph::Graph& g = scene_.graph();
+  for (NodeId m : meta_members(g, meta_)) {
+    const graph::Node& n = *g.node(m);
+    const std::string* r = n.tag_find(kTagRole);
+    if (!r || *r != role) continue;
+    const std::string* i = n.tag_find(kTagIndex);
+    int index = 0;
+    if (i) std::from_chars(i->data(), i->data() + i->size(), index);
+    hits.emplace_back(index, m);
+  }
+  std::stable_sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<NodeId> out;
+  for (const auto& h : hits) out.push_back(h.second);
+  return out;
+}
+
+NodeId BuildContext::node(std::string_view role, int index) const {
+  std::vector<NodeId> all = nodes(role);
+  return index >= 0 && index < static_cast<int>(all.size()) ? all[index] : NodeId{};
+}
+
+Status BuildContext::publish_hook(int index, NodeId node) {
+  graph::Graph& g = graph();
+  if (!g.node(node)) return error(ErrorCode::kNotFound, "publish_hook: no such node");
+  if (meta_parent(g, node) != meta_)
+    return error(ErrorCode::kInvalidArgument, "publish_hook: " + g.node(node)->name() + " was not made by " + full_name());
+  return g.set_tag(node, kTagHook, std::to_string(index));
+}
+
+NodeId BuildContext::attach_node() const { return attach_.is_valid() ? attach_ : rig_group("controls"); }
+
+NodeId BuildContext::rig_group(std::string_view role) const {
+  if (!root_.is_valid()) return {};
+  const graph::Graph& g = scene_.graph();
+  for (NodeId m : meta_members(g, root_)) {
+    const std::string* r = g.node(m)->tag_find(kTagRole);
+    if (r && *r == role) return m;
+  }
+  return {};
+}
+
+// ---- ComponentFactory ----------------------------------------------------
+
+Status ComponentFactory::add(std::shared_ptr<const ComponentClass> component_class) {
+  const std::string type(component_class->type());
+  if (!schemas_->find(type)) return error(ErrorCode::kNotFound, "component class '" + type + "' has no schema");
+  if (find(type)) return error(ErrorCode::kAlreadyExists, "component type '" + type + "' already has a class");
+  classes_.push_back(std::move(component_class));
+  return Status::ok();
+}
+
+const ComponentClass* ComponentFactory::find(std::string_view type) const {
+  for (const auto& c : classes_)
+    if (c->type() == type) return c.get();
+  return nullptr;
+}
+
+Result<const ComponentClass*> ComponentFactory::class_of(const graph::Graph& graph, NodeId meta) const {
+  const graph::Node* n = graph.node(meta);
+  if (!n || n->type().name() != kMetaComponentType)
+    return error(ErrorCode::kNotFound, "class_of: not a metaComponent node");
+  const std::string type = meta_string(graph, meta, "metaType");
+  const ComponentClass* c = find(type);
+  if (!c) return error(ErrorCode::kUnsupported, n->name() + ": no component class for metaType '" + type + "'");
+  return c;
+}
+
+std::vector<std::string> ComponentFactory::types() const {
+  std::vector<std::string> out;
+  for (const auto& c : classes_) out.emplace_back(c->type());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace rigel::rig

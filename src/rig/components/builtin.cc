@@ -1,0 +1,22 @@
+#include <cstdio>
+#include <cstdlib>
+
+#include "rigel/rig/component.h"
+#include "rigel/rig/components/basic.h"
+
+namespace rigel::rig {
+
+const ComponentFactory& builtin_components() {
+  static const ComponentFactory factory = [] {
+    ComponentFactory f;
+    Status s = components::add_basic_components(f);
+    if (!s) {
+      std::fprintf(stderr, "rigel: built-in component classes: %s\n", s.message().c_str());
+      std::abort();
+    }
+    return f;
+  }();
+  return factory;
+}
+
+}  // namespace rigel::rig

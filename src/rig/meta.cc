@@ -1,0 +1,327 @@
+#include "rigel/rig/meta.h"
+
+#include <algorithm>
+#include <cassert>
+#include <charconv>
+
+#include "rigel/ops/registry.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::rig {
+namespace {
+
+using graph::AttrSpec;
+using graph::AttrType;
+using graph::Value;
+using graph::ValueType;
+
+constexpr AttrType kString{ValueType::kString, false};
+constexpr AttrType kStrings{ValueType::kString, true};
+constexpr AttrType kInt{ValueType::kInt, false};
+constexpr AttrType kMessage{ValueType::kMessage, false};
+
+AttrSpec string_attr(std::string name, std::string value = "") {
+  return graph::input_attr(std::move(name), kString, Value(std::move(value)));
+}
+AttrSpec message_attr(std::string name) {
+  AttrSpec a;
+  a.name = std::move(name);
+  a.type = kMessage;
+  a.flags = graph::kInput | graph::kHidden;
+  return a;
+}
+
+bool has_type(const Graph& g, NodeId id, std::string_view type) {
+  const graph::Node* n = g.node(id);
+  return n && n->type().name() == type;
+}
+
+// Nodes fed by `meta.attr` through their metaParent, in creation order.
+std::vector<NodeId> fed_by(const Graph& g, NodeId meta, std::string_view attr, std::string_view type = {}) {
+  std::vector<NodeId> out;
+  const graph::Node* n = g.node(meta);
+  if (!n) return out;
+  const graph::AttrIndex a = n->type().attr_find(attr);
+  if (a == graph::kNoAttr) return out;
+  for (const graph::Connection& c : n->outputs()) {
+    if (c.src.attr != a) continue;
+    const graph::Node* d = g.node(c.dst.node);
+    if (d->type().attr(c.dst.attr).name != graph::kMetaParentAttr) continue;
+    if (!type.empty() && d->type().name() != type) continue;
+    out.push_back(c.dst.node);
+  }
+  std::sort(out.begin(), out.end(), [&](NodeId x, NodeId y) { return g.node(x)->order() < g.node(y)->order(); });
+  return out;
+}
+
+std::optional<int> int_tag(const graph::Node& n, const char* key) {
+  const std::string* t = n.tag_find(key);
+  if (!t) return std::nullopt;
+  int v = 0;
+  auto [end, ec] = std::from_chars(t->data(), t->data() + t->size(), v);
+  if (ec != std::errc() || end != t->data() + t->size()) return std::nullopt;
+  return v;
+}
+
+// START / MIDDLE / END / an integer, against `count` elements.
+std::optional<int> index_ref(std::string_view ref, int count) {
+  if (ref == "START") return count > 0 ? std::optional<int>(0) : std::nullopt;
+  if (ref == "END") return count > 0 ? std::optional<int>(count - 1) : std::nullopt;
+  if (ref == "MIDDLE") return count > 0 ? std::optional<int>((count - 1) / 2) : std::nullopt;
+  int v = 0;
+  auto [end, ec] = std::from_chars(ref.data(), ref.data() + ref.size(), v);
+  if (ec != std::errc() || end != ref.data() + ref.size() || v < 0) return std::nullopt;
+  return v;
+}
+
+// "name[ref]" -> (name, ref); "name" -> (name, "").
+std::pair<std::string_view, std::string_view> split_index(std::string_view part) {
+  if (part.size() >= 3 && part.back() == ']') {
+    const std::size_t open = part.find('[');
+    if (open != std::string_view::npos) return {part.substr(0, open), part.substr(open + 1, part.size() - open - 2)};
+  }
+  return {part, {}};
+}
+
+}  // namespace
+
+Status register_rig_types(graph::Registry& registry) {
+  graph::NodeTypeSpec manager;
+  manager.name = kMetaManagerType;
+  manager.description = "The scene's metadata manager (seed 002): metaRoots links every rig's metaRoot";
+  manager.attrs = {string_attr("metaType", "manager"), message_attr("metaRoots")};
+  if (Status s = registry.add(std::move(manager)); !s) return s;
+
+  graph::NodeTypeSpec root;
+  root.name = kMetaRootType;
+  root.description = "One built rig: its definition, version and build position; links its components and groups";
+  root.attrs = {string_attr("metaType", "rig"),
+                string_attr("rigName"),
+                string_attr("version"),
+                string_attr("definitionPath"),
+                string_attr("definition"),
+                graph::input_attr("buildPosition", kInt, Value(std::int64_t{0})),
+                string_attr("buildRecord"),
+                message_attr("metaChildren"),
+                message_attr("members")};
+  if (Status s = registry.add(std::move(root)); !s) return s;
+
+  graph::NodeTypeSpec component;
+  component.name = kMetaComponentType;
+  component.description = "One built component: its type (metaType), id and version; links every node it built";
+  component.attrs = {string_attr("metaType"),
+                     string_attr("componentName"),
+                     string_attr("side", "C"),
+                     string_attr("version"),
+                     string_attr("rigId"),
+                     graph::input_attr("tags", kStrings, Value(std::vector<std::string>{})),
+                     string_attr("buildRecord"),
+                     message_attr("metaChildren"),
+                     message_attr("members")};
+  return registry.add(std::move(component));
+}
+
+std::shared_ptr<const graph::Registry> default_registry() {
+  static const std::shared_ptr<const graph::Registry> registry = [] {
+    auto r = std::make_shared<graph::Registry>();
+    Status s = scene::register_scene_types(*r);
+    if (s) s = ops::register_ops_types(*r);
+    if (s) s = register_rig_types(*r);
+    assert(s.is_ok() && "the built-in node types must register");
+    (void)s;
+    return r;
+  }();
+  return registry;
+}
+
+bool is_meta_node(const Graph& g, NodeId id) {
+  return has_type(g, id, kMetaManagerType) || has_type(g, id, kMetaRootType) || has_type(g, id, kMetaComponentType);
+}
+
+NodeId meta_manager(const Graph& g) {
+  for (NodeId id : g.nodes())
+    if (has_type(g, id, kMetaManagerType)) return id;
+  return {};
+}
+
+std::vector<NodeId> list_rigs(const Graph& g) {
+  std::vector<NodeId> out;
+  for (NodeId id : g.nodes())
+    if (has_type(g, id, kMetaRootType)) out.push_back(id);
+  std::sort(out.begin(), out.end(), [&](NodeId x, NodeId y) { return g.node(x)->order() < g.node(y)->order(); });
+  return out;
+}
+
+std::string meta_string(const Graph& g, NodeId meta, std::string_view attr) {
+  const graph::Node* n = g.node(meta);
+  if (!n) return {};
+  const graph::AttrIndex a = n->type().attr_find(attr);
+  if (a == graph::kNoAttr) return {};
+  if (const auto* s = std::get_if<std::string>(&n->value(a))) return *s;
+  if (const auto* i = std::get_if<std::int64_t>(&n->value(a))) return std::to_string(*i);
+  return {};
+}
+
+NodeId find_rig(const Graph& g, std::string_view name) {
+  for (NodeId r : list_rigs(g))
+    if (meta_string(g, r, "rigName") == name) return r;
+  return {};
+}
+
+NodeId meta_parent(const Graph& g, NodeId node) {
+  const graph::Node* n = g.node(node);
+  if (!n) return {};
+  const graph::AttrIndex a = n->type().attr_find(graph::kMetaParentAttr);
+  if (a == graph::kNoAttr) return {};
+  std::optional<graph::Plug> src = g.source(graph::Plug{node, a, -1});
+  return src ? src->node : NodeId{};
+}
+
+std::vector<NodeId> meta_children(const Graph& g, NodeId meta) {
+  return fed_by(g, meta, "metaChildren", kMetaComponentType);
+}
+
+std::vector<NodeId> meta_members(const Graph& g, NodeId meta) { return fed_by(g, meta, "members"); }
+
+NodeId get_meta_child_by_id(const Graph& g, NodeId meta, std::string_view rig_id) {
+  for (NodeId c : meta_children(g, meta))
+    if (meta_string(g, c, "rigId") == rig_id) return c;
+  return {};
+}
+
+std::vector<NodeId> rig_components(const Graph& g, NodeId rig) {
+  std::vector<NodeId> out;
+  std::vector<NodeId> stack = meta_children(g, rig);
+  std::reverse(stack.begin(), stack.end());
+  while (!stack.empty()) {
+    NodeId c = stack.back();
+    stack.pop_back();
+    out.push_back(c);
+    std::vector<NodeId> kids = meta_children(g, c);
+    for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back(*it);
+  }
+  return out;
+}
+
+NodeId find_component(const Graph& g, NodeId rig, std::string_view key) {
+  for (NodeId c : rig_components(g, rig))
+    if (meta_string(g, c, "rigId") == key) return c;
+  for (NodeId c : rig_components(g, rig))
+    if (meta_string(g, c, "componentName") == key) return c;
+  return {};
+}
+
+Result<NodeId> get_meta_connection(const Graph& g, NodeId meta, std::string_view role, int index) {
+  std::vector<std::pair<int, NodeId>> hits;
+  for (NodeId m : meta_members(g, meta)) {
+    const graph::Node& n = *g.node(m);
+    const std::string* r = n.tag_find(kTagRole);
+    const std::string* s = n.tag_find(kTagStep);
+    if ((r && *r == role) || (!r && s && *s == role)) hits.emplace_back(int_tag(n, kTagIndex).value_or(0), m);
+  }
+  std::stable_sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  const std::string who = g.node(meta) ? g.node(meta)->name() : std::string("?");
+  if (hits.empty()) return error(ErrorCode::kNotFound, who + " has no '" + std::string(role) + "'");
+  if (index < 0 || index >= static_cast<int>(hits.size()))
+    return error(ErrorCode::kNotFound, who + " has " + std::to_string(hits.size()) + " '" + std::string(role) +
+                                           "', no index " + std::to_string(index));
+  return hits[index].second;
+}
+
+NodeId component_of(const Graph& g, NodeId node) {
+  NodeId m = meta_parent(g, node);
+  return m.is_valid() && (has_type(g, m, kMetaComponentType) || has_type(g, m, kMetaRootType)) ? m : NodeId{};
+}
+
+NodeId rig_of(const Graph& g, NodeId node) {
+  NodeId m = is_meta_node(g, node) ? node : component_of(g, node);
+  for (int guard = 0; m.is_valid() && guard < 100000; ++guard) {
+    if (has_type(g, m, kMetaRootType)) return m;
+    m = meta_parent(g, m);
+  }
+  return {};
+}
+
+Result<NodeId> resolve_address(const Graph& g, std::string_view address) {
+  const std::string whole(address);
+  const std::size_t colon = address.find(':');
+  if (colon == std::string_view::npos)
+    return error(ErrorCode::kInvalidArgument, "address '" + whole + "': expected RIG:COMPONENT/NAME[INDEX]");
+  const std::string_view rig_name = address.substr(0, colon);
+  NodeId rig = find_rig(g, rig_name);
+  if (!rig.is_valid()) return error(ErrorCode::kNotFound, "address '" + whole + "': no rig '" + std::string(rig_name) + "'");
+  std::string_view rest = address.substr(colon + 1);
+  if (rest.empty()) return rig;
+  std::vector<std::string_view> parts;
+  for (std::size_t start = 0;;) {
+    const std::size_t slash = rest.find('/', start);
+    parts.push_back(rest.substr(start, slash == std::string_view::npos ? std::string_view::npos : slash - start));
+    if (slash == std::string_view::npos) break;
+    start = slash + 1;
+  }
+  NodeId component = find_component(g, rig, parts[0]);
+  if (!component.is_valid())
+    return error(ErrorCode::kNotFound, "address '" + whole + "': rig '" + std::string(rig_name) + "' has no component '" +
+                                           std::string(parts[0]) + "'");
+  if (parts.size() == 1) return component;
+  std::vector<NodeId> members = meta_members(g, component);
+  std::size_t next = 1;
+  if (auto [name, ref] = split_index(parts[1]); name == "joint" && parts.size() > 2) {
+    int guides = 0;
+    for (NodeId m : members) guides = std::max(guides, int_tag(*g.node(m), kTagGuide).value_or(-1) + 1);
+    std::optional<int> j = index_ref(ref, guides);
+    if (!j) return error(ErrorCode::kNotFound, "address '" + whole + "': no joint [" + std::string(ref) + "]");
+    std::erase_if(members, [&](NodeId m) { return int_tag(*g.node(m), kTagGuide) != j; });
+    next = 2;
+  }
+  if (next + 1 != parts.size())
+    return error(ErrorCode::kInvalidArgument, "address '" + whole + "': expected RIG:COMPONENT[/joint[J]]/NAME[INDEX]");
+  auto [name, ref] = split_index(parts[next]);
+  std::vector<std::pair<int, NodeId>> hits;
+  for (NodeId m : members) {
+    const graph::Node& n = *g.node(m);
+    const std::string* r = n.tag_find(kTagRole);
+    const std::string* s = n.tag_find(kTagStep);
+    if ((r && *r == name) || (s && *s == name)) hits.emplace_back(int_tag(n, kTagIndex).value_or(0), m);
+  }
+  std::stable_sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::optional<int> i = ref.empty() ? std::optional<int>(0) : index_ref(ref, static_cast<int>(hits.size()));
+  if (hits.empty() || !i || *i >= static_cast<int>(hits.size()))
+    return error(ErrorCode::kNotFound, "address '" + whole + "': component '" + std::string(parts[0]) + "' has no '" +
+                                           std::string(parts[next]) + "'");
+  return hits[*i].second;
+}
+
+Result<std::string> address_of(const Graph& g, NodeId node) {
+  const graph::Node* n = g.node(node);
+  if (!n) return error(ErrorCode::kNotFound, "address: no such node");
+  NodeId rig = rig_of(g, node);
+  if (!rig.is_valid()) return error(ErrorCode::kNotFound, "address: " + n->name() + " is not part of a rig");
+  const std::string rig_name = meta_string(g, rig, "rigName");
+  if (node == rig) return rig_name + ":";
+  if (has_type(g, node, kMetaComponentType)) return rig_name + ":" + meta_string(g, node, "componentName");
+  NodeId comp = component_of(g, node);
+  const std::string* role = n->tag_find(kTagRole);
+  if (!role) role = n->tag_find(kTagStep);
+  if (!comp.is_valid() || !role || comp == rig)
+    return error(ErrorCode::kNotFound, "address: " + n->name() + " has no component address");
+  // Index among the members with the same role (and guide), as resolve_address counts.
+  std::optional<int> guide = int_tag(*n, kTagGuide);
+  std::vector<std::pair<int, NodeId>> hits;
+  for (NodeId m : meta_members(g, comp)) {
+    const graph::Node& x = *g.node(m);
+    if (guide && int_tag(x, kTagGuide) != guide) continue;
+    const std::string* r = x.tag_find(kTagRole);
+    if (!r) r = x.tag_find(kTagStep);
+    if (r && *r == *role) hits.emplace_back(int_tag(x, kTagIndex).value_or(0), m);
+  }
+  std::stable_sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  int index = 0;
+  for (std::size_t i = 0; i < hits.size(); ++i)
+    if (hits[i].second == node) index = static_cast<int>(i);
+  std::string out = rig_name + ":" + meta_string(g, comp, "componentName");
+  if (guide) out += "/joint[" + std::to_string(*guide) + "]";
+  return out + "/" + *role + "[" + std::to_string(index) + "]";
+}
+
+}  // namespace rigel::rig
