@@ -8,6 +8,9 @@
 #include <iostream>
 
 #include "rigel/ephemeral/rig.h"
+#include "rigel/io/bvh.h"
+#include "rigel/io/bvh_import.h"
+#include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 
 namespace rigel::cli {
@@ -26,6 +29,26 @@ int usage_error(const std::string& message) {
 
 Result<std::unique_ptr<scene::Scene>> load(const std::string& path) {
   return io::load_scene(path, ephemeral::default_registry());
+}
+
+// A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
+// import` does (units kept); either way over ephemeral::default_registry().
+Result<std::unique_ptr<scene::Scene>> load_or_import(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  // The importers build over ops::default_registry(), which has no
+  // ephemeralRig type: carry the scene over through its file text.
+  auto reload = [&](Result<std::unique_ptr<scene::Scene>> imported)
+      -> Result<std::unique_ptr<scene::Scene>> {
+    if (!imported) return imported.status();
+    return io::parse_scene(io::write_scene(**imported), path, ephemeral::default_registry());
+  };
+  if (ext == ".glb" || ext == ".gltf") return reload(io::import_gltf(path));
+  if (ext == ".bvh") {
+    auto file = io::load_bvh(path);
+    if (!file) return file.status();
+    return reload(io::import_bvh(*file));
+  }
+  return load(path);
 }
 
 std::string lower_extension(const std::string& path) {

@@ -27,6 +27,9 @@ int usage_error(const std::string& message);
 // plus ephemeralRig), so scenes holding an ephemeral rig load everywhere.
 Result<std::unique_ptr<scene::Scene>> load(const std::string& path);
 
+// A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
+// import` does (units kept); either way over ephemeral::default_registry().
+Result<std::unique_ptr<scene::Scene>> load_or_import(const std::string& path);
 // The extension of `path`, lower case, with its dot ("" when none).
 std::string lower_extension(const std::string& path);
 

@@ -45,26 +45,6 @@ struct EphemeralSetupArgs {
   bool json = false;
 };
 
-// A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
-// import` does (units kept); either way over ephemeral::default_registry().
-rigel::Result<std::unique_ptr<rigel::scene::Scene>> load_or_import(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  // The importers build over ops::default_registry(), which has no
-  // ephemeralRig type: carry the scene over through its file text.
-  auto reload = [&](rigel::Result<std::unique_ptr<rigel::scene::Scene>> imported)
-      -> rigel::Result<std::unique_ptr<rigel::scene::Scene>> {
-    if (!imported) return imported.status();
-    return rigel::io::parse_scene(rigel::io::write_scene(**imported), path, rigel::ephemeral::default_registry());
-  };
-  if (ext == ".glb" || ext == ".gltf") return reload(rigel::io::import_gltf(path));
-  if (ext == ".bvh") {
-    auto file = rigel::io::load_bvh(path);
-    if (!file) return file.status();
-    return reload(rigel::io::import_bvh(*file));
-  }
-  return load(path);
-}
-
 int run_ephemeral_setup(const EphemeralSetupArgs& args) {
   if (!(args.shape_radius >= 0.0) || !std::isfinite(args.shape_radius)) {
     std::cerr << "rigel: --shape-radius must be a number >= 0\n";

@@ -17,7 +17,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "definition_commands.h"
 #include "ephemeral_commands.h"
+#include "rig_commands.h"
 #include "rigel/io/bvh_import.h"
 #include "rigel/io/gltf_export.h"
 #include "rigel/io/gltf_import.h"
@@ -304,6 +306,12 @@ int main(int argc, char** argv) {
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge` and `pose`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
+  // `validate`, `components`, `schema`, `diff`: rig definitions.
+  rigel::cli::DefinitionCommands definition;
+  rigel::cli::add_definition_commands(app, definition);
+  // `build`, `update`, `rigs`, `remove`, `address`: built rigs.
+  rigel::cli::RigCommands rig;
+  rigel::cli::add_rig_commands(app, rig);
 
   try {
     app.parse(argc, argv);
@@ -317,6 +325,8 @@ int main(int argc, char** argv) {
     if (*import_cmd) return run_import(import);
     if (*export_cmd) return run_export(export_args);
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_rig_commands(rig)) return *code;
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something
     // does, report it as an error instead of crashing.

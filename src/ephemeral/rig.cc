@@ -7,6 +7,7 @@
 
 #include "rigel/math/transform.h"
 #include "rigel/ops/registry.h"
+#include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::ephemeral {
@@ -138,6 +139,7 @@ std::shared_ptr<const graph::Registry> default_registry() {
     auto r = std::make_shared<graph::Registry>();
     Status s = scene::register_scene_types(*r);
     if (s) s = ops::register_ops_types(*r);
+    if (s) s = rig::register_rig_types(*r);
     if (s) s = register_ephemeral_types(*r);
     assert(s.is_ok() && "the built-in node types must register");
     (void)s;

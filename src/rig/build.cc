@@ -17,6 +17,7 @@
 #include "rigel/ops/constraints/nodes.h"
 #include "rigel/ops/util/nodes.h"
 #include "rigel/rig/component.h"
+#include "rigel/rig/definition_io.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/shapes.h"
 #include "rigel/scene/transform_types.h"
@@ -354,6 +355,20 @@ Result<std::unique_ptr<Build>> Build::open(scene::Scene& scene, Definition defin
   return b;
 }
 
+Result<std::unique_ptr<Build>> Build::reopen(scene::Scene& scene, std::string_view rig_name,
+                                             const ComponentFactory& factory, BuildOptions options) {
+  const graph::Graph& g = scene.graph();
+  NodeId root = find_rig(g, rig_name);
+  if (!root.is_valid()) return error(ErrorCode::kNotFound, "the scene has no rig '" + std::string(rig_name) + "'");
+  const std::string text = meta_string(g, root, "definition");
+  const std::string source = g.node(root)->name() + ".definition";
+  if (text.empty()) return error(ErrorCode::kParseError, source + ": empty");
+  ParseResult parsed = parse_definition(text, Syntax::kJson, source, factory.schemas());
+  if (!parsed.ok()) return error(ErrorCode::kParseError, parsed.errors.front().str());
+  parsed.definition.source = meta_string(g, root, "definitionPath");
+  return open(scene, std::move(parsed.definition), factory, options);
+}
+
 Status Build::sync() {
   graph::Graph& g = scene_.graph();
   records_->done.clear();
@@ -528,6 +543,11 @@ Status Build::save_state(const std::string& owner) {
     if (it != records_->done.end()) list.push_back(record_json(g, it->second));
   }
   NodeId meta = owner_meta(g, root, owner);
+  if (owner.empty()) {
+    // The definition as built: update, the Rig Manager and edit mode start from it.
+    const graph::AttrIndex d = g.node(root)->type().attr_find("definition");
+    if (Status s = g.set_value(Plug{root, d, -1}, Value(write_definition(definition_, Syntax::kJson))); !s) return s;
+  }
   if (meta.is_valid()) {
     const graph::AttrIndex a = g.node(meta)->type().attr_find("buildRecord");
     if (Status s = g.set_value(Plug{meta, a, -1}, Value(list.empty() ? std::string() : list.dump())); !s) return s;
@@ -733,7 +753,10 @@ Status Build::set_feature(std::string_view feature, bool enabled, std::string_vi
     if (Status s = go_to(first); !s) return s;
   definition_ = std::move(next);
   if (Status s = replan(); !s) return s;
-  return go_to(target);
+  if (Status s = go_to(target); !s) return s;
+  if (!root().is_valid()) return Status::ok();
+  graph::Transaction tx(scene_.graph(), "feature " + std::string(feature));
+  return save_state("");
 }
 
 Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild when) {

@@ -53,7 +53,10 @@ std::vector<ComponentSchema> make_schemas() {
                        "How the joints are driven (seed 002's KinematicType).")};
     c.guides = {3, -1, {}, "The spine joints, hips end first."};
     c.controls = {{"fk", "circle", "yellow", 0.5, "One FK control per joint."},
-                  {"shoulder", "cube", "orange", 0.3, "The spline IK's end (splineIK, stretchySplineIK)."}};
+                  {"shoulder", "cube", "orange", 0.3, "The spline IK's end (splineIK, stretchySplineIK)."},
+                  {"mid", "circle", "orange", 0.4,
+                   "The spline's middle; follows halfway between the base and the shoulder (splineIK, "
+                   "stretchySplineIK)."}};
     c.hooks = {"guide[i]"};
     c.features = {"stretch"};
     s.push_back(std::move(c));

@@ -256,6 +256,7 @@ std::vector<NodeId> build_random_dag(Graph& graph, std::uint32_t seed, int count
     for (AttrIndex a = 0; a < t.attr_count(); ++a) {
       if (!t.is_input(a)) continue;
       const AttrSpec& spec = t.attr(a);
+      if (spec.type.value == ValueType::kMessage) continue;  // metaParent
       if (!spec.type.array) {
         if (!double_sources.empty() && chance(0.6)) {
           EXPECT_TRUE(testing::succeeded(graph.connect(pick(double_sources), Plug{id, a, -1}))) << "test setup";
@@ -296,7 +297,8 @@ void random_edits(Graph& graph, const std::vector<NodeId>& ids, std::uint32_t se
     // First unconnected scalar input, if any.
     const NodeType& t = graph.node(id)->type();
     for (AttrIndex a = 0; a < t.attr_count(); ++a) {
-      if (t.is_input(a) && !t.attr(a).type.array && !graph.source(Plug{id, a, -1})) {
+      if (t.is_input(a) && !t.attr(a).type.array && t.attr(a).type.value != ValueType::kMessage &&
+          !graph.source(Plug{id, a, -1})) {
         EXPECT_TRUE(testing::succeeded(graph.set_value(Plug{id, a, -1}, v))) << "test setup";
         break;
       }

@@ -44,7 +44,9 @@ TEST(Registry, add__valid_type_is_found_with_its_attributes) {
   ASSERT_TRUE(registry.add(valid_spec()).is_ok()) << "the baseline spec is valid";
   const NodeType* t = registry.find("valid");
   ASSERT_NE(t, nullptr) << "a registered type is found by name";
-  EXPECT_EQ(t->attr_count(), 3u) << "three attributes declared";
+  EXPECT_EQ(t->attr_count(), 4u) << "three attributes declared, and metaParent added last";
+  EXPECT_EQ(t->attr_find(kMetaParentAttr), 3) << "every type ends with metaParent";
+  EXPECT_EQ(t->attr(3).type.value, ValueType::kMessage);
   EXPECT_EQ(t->attr_find("b"), 1) << "attributes keep declaration order";
   EXPECT_EQ(t->attr_find("missing"), kNoAttr) << "an unknown attribute is kNoAttr";
   ASSERT_EQ(t->affected_outputs(0).size(), 1u) << "'a' affects 'out'";
@@ -77,7 +79,7 @@ TEST(Registry, add__duplicate_type_is_refused) {
   Status s = registry.add(std::move(again));
   EXPECT_EQ(s.code(), ErrorCode::kAlreadyExists) << "a second type with the same name is refused: " << s.message();
   EXPECT_EQ(registry.find("twice"), first) << "the first registration stays, unchanged";
-  EXPECT_EQ(registry.find("twice")->attr_count(), 3u) << "types never change once added";
+  EXPECT_EQ(registry.find("twice")->attr_count(), 4u) << "types never change once added";
 }
 
 TEST(Registry, add__invalid_type_name_is_refused) {

@@ -75,7 +75,8 @@ struct Relation {
 
 // Adds the `ephemeralRig` type.
 Status register_ephemeral_types(graph::Registry& registry);
-// ops::default_registry() types plus the ephemeral types. Shared, immutable.
+// rig::default_registry() types (ops and the metadata network) plus the
+// ephemeral types. Shared, immutable.
 std::shared_ptr<const graph::Registry> default_registry();
 
 struct SetupOptions {

@@ -67,6 +67,10 @@ class Build {
   // definition (validate()), an unknown component class, an attach cycle.
   static Result<std::unique_ptr<Build>> open(scene::Scene& scene, Definition definition,
                                              const ComponentFactory& factory, BuildOptions options = {});
+  // Continues the rig `rig_name` of the scene from the definition it was
+  // built from (kept on its metaRoot).
+  static Result<std::unique_ptr<Build>> reopen(scene::Scene& scene, std::string_view rig_name,
+                                               const ComponentFactory& factory, BuildOptions options = {});
   ~Build();
 
   const Definition& definition() const { return definition_; }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,8 +35,9 @@ struct Diagnostic {
 // Parses text into the model. Syntax errors and structural errors (unknown
 // element or key, a value of the wrong kind, a bad number) are reported,
 // every one, with file:line:column; `source` names the file in messages.
-// Parameters are typed here by their schema in `schemas` (an unknown type
-// or parameter is kept as a string and left to validate()).
+// Parameters are typed here by their schema in `schemas`; a value that does
+// not fit, an unknown parameter or one of an unknown type is kept as it is
+// (XML: a string; JSON: its JSON kind) and left to validate().
 struct ParseResult {
   Definition definition;
   std::vector<Diagnostic> errors;  // empty = parsed
@@ -53,6 +55,12 @@ ParseResult load_definition(const std::filesystem::path& path, const SchemaRegis
 // attach to a hook that does not exist, a cycle through hooks, a root-only
 // component nested or a component that needs a parent at the root.
 std::vector<Diagnostic> validate(const Definition& definition, const SchemaRegistry& schemas = builtin_schemas());
+
+// Everything `rigel validate` reports for one file: load_definition()'s
+// errors and, unless the text could not be read at all (a missing file, a
+// syntax error), validate()'s, sorted by place.
+std::vector<Diagnostic> check_definition(const std::filesystem::path& path,
+                                         const SchemaRegistry& schemas = builtin_schemas());
 
 // Deterministic text: the same model always gives the same bytes. XML:
 // two-space indent, attributes in a fixed order; JSON: two-space indent,

@@ -4,6 +4,8 @@
 
 #include "rigel/graph/graph.h"
 #include "rigel/math/types.h"
+#include "rigel/ops/util/blend.h"
+#include "rigel/ops/util/twist.h"
 
 namespace rigel::ops::util {
 namespace {
@@ -40,7 +42,9 @@ Status register_util_types(graph::Registry& registry) {
                 graph::output_attr("outputMatrix", kMatrix),
                 graph::output_attr("error", {ValueType::kString, false}, graph::kHidden)};
   spec.compute = compute_inverse;
-  return registry.add(std::move(spec));
+  if (Status s = registry.add(std::move(spec)); !s) return s;
+  if (Status s = register_blend_types(registry); !s) return s;
+  return register_twist_types(registry);
 }
 
 }  // namespace rigel::ops::util

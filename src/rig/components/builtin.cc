@@ -3,6 +3,8 @@
 
 #include "rigel/rig/component.h"
 #include "rigel/rig/components/basic.h"
+#include "rigel/rig/components/limbs.h"
+#include "rigel/rig/components/body.h"
 
 namespace rigel::rig {
 
@@ -10,6 +12,8 @@ const ComponentFactory& builtin_components() {
   static const ComponentFactory factory = [] {
     ComponentFactory f;
     Status s = components::add_basic_components(f);
+    if (s) s = components::add_limb_components(f);
+    if (s) s = components::add_body_components(f);
     if (!s) {
       std::fprintf(stderr, "rigel: built-in component classes: %s\n", s.message().c_str());
       std::abort();

@@ -131,7 +131,7 @@ TEST(IkNodes, register_ik_types__adds_four_types_with_documented_layout) {
     EXPECT_NE(t->attr(ik_attr::kError).flags & graph::kHidden, 0u) << "error is a hidden output";
   }
   const graph::NodeType& two = *registry.find(kIkTwoBoneType);
-  EXPECT_EQ(two.attr_count(), two_bone_attr::kCount);
+  EXPECT_EQ(two.attr_count(), two_bone_attr::kCount + 1u) << "+ metaParent";
   for (const auto& [name, index] :
        std::vector<std::pair<const char*, graph::AttrIndex>>{{"targetMatrix", two_bone_attr::kTargetMatrix},
                                                              {"poleMode", two_bone_attr::kPoleMode},
@@ -152,7 +152,7 @@ TEST(IkNodes, register_ik_types__adds_four_types_with_documented_layout) {
   }
   for (const char* type : {kIkFabrikType, kIkCcdType}) {
     const graph::NodeType& t = *registry.find(type);
-    EXPECT_EQ(t.attr_count(), chain_attr::kCount);
+    EXPECT_EQ(t.attr_count(), chain_attr::kCount + 1u);
     for (const auto& [name, index] :
          std::vector<std::pair<const char*, graph::AttrIndex>>{{"targetMatrix", chain_attr::kTargetMatrix},
                                                                {"tolerance", chain_attr::kTolerance},
@@ -170,7 +170,7 @@ TEST(IkNodes, register_ik_types__adds_four_types_with_documented_layout) {
     }
   }
   const graph::NodeType& spline = *registry.find(kIkSplineType);
-  EXPECT_EQ(spline.attr_count(), spline_attr::kCount);
+  EXPECT_EQ(spline.attr_count(), spline_attr::kCount + 1u);
   for (const auto& [name, index] :
        std::vector<std::pair<const char*, graph::AttrIndex>>{{"controlMatrix", spline_attr::kControlMatrix},
                                                              {"aimAxis", spline_attr::kAimAxis},

@@ -1,0 +1,359 @@
+// The rig commands of `rigel` (see rig_commands.h): build, update, rigs,
+// remove, address.
+
+#include "rig_commands.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "rigel/io/scene_file.h"
+#include "rigel/rig/build.h"
+#include "rigel/rig/component.h"
+#include "rigel/rig/definition_io.h"
+#include "rigel/rig/meta.h"
+
+namespace rigel::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+using graph::NodeId;
+
+const rig::ComponentFactory& factory() { return rig::builtin_components(); }
+
+// Reads and checks a definition; prints every problem (file:line:column).
+std::optional<rig::Definition> read_definition(const std::string& path) {
+  const std::vector<rig::Diagnostic> problems = rig::check_definition(path);
+  if (!problems.empty()) {
+    for (const rig::Diagnostic& d : problems) std::cerr << d.str() << "\n";
+    std::cerr << "rigel: " << path << ": " << problems.size() << (problems.size() == 1 ? " error\n" : " errors\n");
+    return std::nullopt;
+  }
+  rig::ParseResult parsed = rig::load_definition(path);
+  if (!parsed.ok()) {
+    for (const rig::Diagnostic& d : parsed.errors) std::cerr << d.str() << "\n";
+    return std::nullopt;
+  }
+  return std::move(parsed.definition);
+}
+
+void print_json(const Json& j) { std::cout << j.dump(2, ' ', false, Json::error_handler_t::replace) << "\n"; }
+
+// ---- build ---------------------------------------------------------------
+
+struct BuildArgs {
+  std::string definition;
+  std::string character;  // "" = the definition's first geometry file
+  std::string output;
+  int steps = -1;  // -1 = all
+  bool json = false;
+};
+
+int run_build(const BuildArgs& args) {
+  std::optional<rig::Definition> def = read_definition(args.definition);
+  if (!def) return kExitInvalidInput;
+  std::string character = args.character;
+  if (character.empty()) {
+    if (def->geometry.empty())
+      return usage_error(args.definition + ": the definition names no geometry; give --character");
+    character = (fs::path(args.definition).parent_path() / def->geometry.front().file).string();
+  }
+  auto scene = load_or_import(character);
+  if (!scene) return fail(scene.status().with_context(character));
+  auto build = rig::Build::open(**scene, *def, factory());
+  if (!build) return fail(build.status().with_context(args.definition));
+  const int total = static_cast<int>((*build)->plan().size());
+  if (args.steps > total) return usage_error("--steps " + std::to_string(args.steps) + ": the build has " + std::to_string(total) + " steps");
+  const int target = args.steps < 0 ? total : args.steps;
+  const bool progress = !args.json && isatty(2);
+  for (int i = (*build)->position(); i < target; ++i) {
+    if (progress) std::cerr << "\rrigel: building " << (i + 1) << "/" << target << std::flush;
+    if (Status s = (*build)->forward(); !s) {
+      if (progress) std::cerr << "\n";
+      return fail(s.with_context(args.definition));
+    }
+  }
+  if (progress) std::cerr << "\n";
+  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  const graph::Graph& g = (*scene)->graph();
+  NodeId root = (*build)->root();
+  std::size_t made = 0;
+  if (root.is_valid()) {
+    made = rig::meta_members(g, root).size();
+    for (NodeId c : rig::rig_components(g, root)) made += rig::meta_members(g, c).size() + 1;
+  }
+  if (args.json) {
+    Json comps = Json::array();
+    for (const rig::Component* c : (*build)->components())
+      comps.push_back(Json{{"name", c->name}, {"side", rig::side_name(c->side)}, {"type", c->type}, {"rigId", c->rig_id}});
+    print_json(Json{{"rig", def->name},
+                    {"version", def->version},
+                    {"steps", target},
+                    {"of", total},
+                    {"components", comps},
+                    {"nodes", made},
+                    {"output", args.output}});
+  } else {
+    std::cerr << "rigel: built " << def->name << " " << def->version << " (" << (*build)->components().size()
+              << " components, " << target << "/" << total << " steps, " << made << " nodes) on " << character
+              << " into " << args.output << "\n";
+  }
+  return 0;
+}
+
+// ---- update --------------------------------------------------------------
+
+struct UpdateArgs {
+  std::string scene;
+  std::string rig;         // "" = every rig
+  std::string definition;  // "" = each rig's definitionPath
+  bool force = false;
+  std::string keep_keys = "local";
+  std::string output;
+  bool json = false;
+};
+
+int run_update(const UpdateArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  graph::Graph& g = (*scene)->graph();
+  std::vector<NodeId> rigs;
+  if (args.rig.empty()) {
+    rigs = rig::list_rigs(g);
+  } else {
+    NodeId r = rig::find_rig(g, args.rig);
+    if (!r.is_valid()) return fail(error(ErrorCode::kNotFound, args.scene + ": no rig '" + args.rig + "'"));
+    rigs.push_back(r);
+  }
+  if (rigs.empty()) return fail(error(ErrorCode::kNotFound, args.scene + ": the scene holds no rig"));
+  if (!args.definition.empty() && rigs.size() > 1)
+    return usage_error("--definition applies to one rig: name it with --rig");
+  Json report = Json::array();
+  for (NodeId root : rigs) {
+    const std::string name = rig::meta_string(g, root, "rigName");
+    const std::string path = args.definition.empty() ? rig::meta_string(g, root, "definitionPath") : args.definition;
+    if (path.empty()) return fail(error(ErrorCode::kNotFound, name + ": no definition path; give --definition"));
+    std::optional<rig::Definition> def = read_definition(path);
+    if (!def) return kExitInvalidInput;
+    def->source = path;
+    const std::string old_version = rig::meta_string(g, root, "version");
+    if (def->name != name)
+      return fail(error(ErrorCode::kInvalidArgument, path + ": defines rig '" + def->name + "', not '" + name + "'"));
+    const bool newer = rig::compare_versions(old_version, def->version) != 0;
+    std::vector<std::string> rebuilt;
+    if (newer || args.force) {
+      auto build = rig::Build::reopen(**scene, name, factory());
+      if (!build) return fail(build.status().with_context(args.scene));
+      auto r = (*build)->rebuild_changed(*def, args.force ? rig::Build::Rebuild::kAll : rig::Build::Rebuild::kNewerVersion);
+      if (!r) return fail(r.status());
+      rebuilt = *r;
+    }
+    Json names = Json::array();
+    for (const std::string& id : rebuilt) {
+      const rig::Component* c = def->find_by_rig_id(id);
+      names.push_back(c ? c->name + (c->side == rig::Side::kCenter ? "" : std::string("_") + rig::side_name(c->side)) : id);
+    }
+    report.push_back(Json{{"rig", name},
+                          {"from", old_version},
+                          {"to", def->version},
+                          {"definition", path},
+                          {"rebuilt", names}});
+    if (!args.json) {
+      if (!newer && !args.force) {
+        std::cerr << "rigel: " << name << " " << old_version << " is up to date with " << path << "\n";
+      } else {
+        std::cerr << "rigel: " << name << " " << old_version << " -> " << def->version << ": rebuilt "
+                  << rebuilt.size() << " component(s)";
+        for (std::size_t i = 0; i < names.size(); ++i) std::cerr << (i ? ", " : ": ") << names[i].get<std::string>();
+        std::cerr << "\n";
+      }
+    }
+  }
+  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  if (args.json) print_json(Json{{"rigs", report}, {"output", args.output}});
+  return 0;
+}
+
+// ---- rigs ----------------------------------------------------------------
+
+struct RigsArgs {
+  std::string scene;
+  bool json = false;
+};
+
+int run_rigs(const RigsArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  const graph::Graph& g = (*scene)->graph();
+  Json list = Json::array();
+  for (NodeId root : rig::list_rigs(g)) {
+    const std::string path = rig::meta_string(g, root, "definitionPath");
+    const std::string version = rig::meta_string(g, root, "version");
+    // The Rig Manager's red button: the definition on disk has another version.
+    Json on_disk = nullptr;
+    if (!path.empty() && fs::exists(path)) {
+      rig::ParseResult p = rig::load_definition(path);
+      if (p.ok()) on_disk = p.definition.version;
+    }
+    Json comps = Json::array();
+    for (NodeId c : rig::rig_components(g, root)) {
+      NodeId parent = rig::meta_parent(g, c);
+      comps.push_back(Json{{"name", rig::meta_string(g, c, "componentName")},
+                           {"type", rig::meta_string(g, c, "metaType")},
+                           {"version", rig::meta_string(g, c, "version")},
+                           {"rigId", rig::meta_string(g, c, "rigId")},
+                           {"parent", parent == root ? "" : rig::meta_string(g, parent, "componentName")},
+                           {"nodes", rig::meta_members(g, c).size()}});
+    }
+    list.push_back(Json{{"name", rig::meta_string(g, root, "rigName")},
+                        {"version", version},
+                        {"definition", path},
+                        {"definitionVersion", on_disk},
+                        {"outOfDate", on_disk.is_string() && on_disk.get<std::string>() != version},
+                        {"buildPosition", std::stoll("0" + rig::meta_string(g, root, "buildPosition"))},
+                        {"components", comps}});
+  }
+  if (args.json) {
+    print_json(Json{{"rigs", list}});
+    return 0;
+  }
+  if (list.empty()) std::cout << "no rigs\n";
+  for (const Json& r : list) {
+    std::cout << r["name"].get<std::string>() << " " << r["version"].get<std::string>() << "  "
+              << r["definition"].get<std::string>();
+    if (r["outOfDate"].get<bool>()) std::cout << "  (definition on disk: " << r["definitionVersion"].get<std::string>() << ")";
+    std::cout << "\n";
+    for (const Json& c : r["components"])
+      std::cout << "  " << c["name"].get<std::string>() << " (" << c["type"].get<std::string>() << " "
+                << c["version"].get<std::string>() << ")  " << c["rigId"].get<std::string>() << "\n";
+  }
+  return 0;
+}
+
+// ---- remove --------------------------------------------------------------
+
+struct RemoveArgs {
+  std::string scene;
+  std::string rig;
+  std::string output;
+};
+
+int run_remove(const RemoveArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  auto build = rig::Build::reopen(**scene, args.rig, factory());
+  if (!build) return fail(build.status().with_context(args.scene));
+  if (Status s = (*build)->remove(); !s) return fail(s.with_context(args.scene));
+  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  std::cerr << "rigel: removed " << args.rig << " into " << args.output << "\n";
+  return 0;
+}
+
+// ---- address -------------------------------------------------------------
+
+struct AddressArgs {
+  std::string scene;
+  std::vector<std::string> addresses;
+  bool json = false;
+};
+
+int run_address(const AddressArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  const graph::Graph& g = (*scene)->graph();
+  Json out = Json::array();
+  for (const std::string& a : args.addresses) {
+    Result<NodeId> id = rig::resolve_address(g, a);
+    if (!id) return fail(id.status().with_context(args.scene));
+    const graph::Node& n = *g.node(*id);
+    if (args.json) {
+      out.push_back(Json{{"address", a}, {"node", n.name()}, {"type", n.type().name()}, {"uuid", n.uuid().str()}});
+    } else {
+      std::cout << n.name() << "\n";
+    }
+  }
+  if (args.json) print_json(Json{{"addresses", out}});
+  return 0;
+}
+
+}  // namespace
+
+struct RigCommands::State {
+  CLI::App* build_cmd = nullptr;
+  CLI::App* update_cmd = nullptr;
+  CLI::App* rigs_cmd = nullptr;
+  CLI::App* remove_cmd = nullptr;
+  CLI::App* address_cmd = nullptr;
+  BuildArgs build;
+  UpdateArgs update;
+  RigsArgs rigs;
+  RemoveArgs remove;
+  AddressArgs address;
+};
+
+RigCommands::RigCommands() : state_(std::make_unique<State>()) {}
+RigCommands::~RigCommands() = default;
+
+void add_rig_commands(CLI::App& app, RigCommands& commands) {
+  RigCommands::State& s = commands.state();
+  s.build_cmd = app.add_subcommand("build", "Build a rig definition onto a character");
+  s.build_cmd->footer(
+      "Example:\n  rigel build examples/biped.rig.xml -o hero.rigel\n"
+      "  rigel build arm.rig.json --character tests/data/gltf/rigify_human_metarig.glb --steps 5 -o partial.rigel");
+  s.build_cmd->add_option("DEFINITION", s.build.definition, "Rig definition (.rig.xml, .rig.json)")->required();
+  s.build_cmd->add_option("--character", s.build.character,
+                          "Character to build on (.glb, .gltf, .bvh, .rigel); default: the definition's geometry");
+  s.build_cmd->add_option("-o,--output", s.build.output, "Scene file to write (.rigel)")->required();
+  s.build_cmd->add_option("--steps", s.build.steps, "Stop after this many steps (seed 003's VCR)")->check(CLI::NonNegativeNumber);
+  s.build_cmd->add_flag("--json", s.build.json, "Print a JSON summary on stdout");
+
+  s.update_cmd = app.add_subcommand("update", "Rebuild the components of rigs whose definition changed, keeping animation");
+  s.update_cmd->footer(
+      "Example:\n  rigel update shot.rigel -o shot_v2.rigel\n"
+      "  rigel update shot.rigel --rig hero --definition hero_v2.rig.xml --force -o shot_v2.rigel");
+  s.update_cmd->add_option("SCENE", s.update.scene, "Scene file (.rigel)")->required();
+  s.update_cmd->add_option("--rig", s.update.rig, "Only this rig (default: every rig)");
+  s.update_cmd->add_option("--definition", s.update.definition, "Use this definition instead of the rig's definition path");
+  s.update_cmd->add_flag("--force", s.update.force, "Rebuild every component, whatever its version");
+  s.update_cmd->add_option("--keep-keys", s.update.keep_keys,
+                           "local: keys keep their values on the rebuilt controls (by rigId and control role)")
+      ->check(CLI::IsMember({"local"}));
+  s.update_cmd->add_option("-o,--output", s.update.output, "Scene file to write (.rigel)")->required();
+  s.update_cmd->add_flag("--json", s.update.json, "Print a JSON report on stdout");
+
+  s.rigs_cmd = app.add_subcommand("rigs", "List the rigs in a scene: definition, version, components (the Rig Manager)");
+  s.rigs_cmd->footer("Example:\n  rigel rigs shot.rigel --json");
+  s.rigs_cmd->add_option("SCENE", s.rigs.scene, "Scene file (.rigel)")->required();
+  s.rigs_cmd->add_flag("--json", s.rigs.json, "Print JSON on stdout");
+
+  s.remove_cmd = app.add_subcommand("remove", "Remove a rig: exactly what its metadata network links to");
+  s.remove_cmd->footer("Example:\n  rigel remove shot.rigel --rig hero -o clean.rigel");
+  s.remove_cmd->add_option("SCENE", s.remove.scene, "Scene file (.rigel)")->required();
+  s.remove_cmd->add_option("--rig", s.remove.rig, "The rig to remove")->required();
+  s.remove_cmd->add_option("-o,--output", s.remove.output, "Scene file to write (.rigel)")->required();
+
+  s.address_cmd = app.add_subcommand("address", "Resolve nameless addresses (RIG:COMPONENT[/joint[J]]/NAME[I]) to nodes");
+  s.address_cmd->footer("Example:\n  rigel address hero.rigel 'hero:arm_L/fk[END]' 'hero:arm_L/joint[1]/fk'");
+  s.address_cmd->add_option("SCENE", s.address.scene, "Scene file (.rigel)")->required();
+  s.address_cmd->add_option("ADDRESS", s.address.addresses, "Addresses")->required();
+  s.address_cmd->add_flag("--json", s.address.json, "Print JSON on stdout");
+}
+
+std::optional<int> run_rig_commands(const RigCommands& commands) {
+  const RigCommands::State& s = commands.state();
+  if (*s.build_cmd) return run_build(s.build);
+  if (*s.update_cmd) return run_update(s.update);
+  if (*s.rigs_cmd) return run_rigs(s.rigs);
+  if (*s.remove_cmd) return run_remove(s.remove);
+  if (*s.address_cmd) return run_address(s.address);
+  return std::nullopt;
+}
+
+}  // namespace rigel::cli

@@ -1,0 +1,510 @@
+// ikChain, limb and twist (components/limbs.h).
+#include "rigel/rig/components/limbs.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "rigel/math/rotation.h"
+#include "rigel/math/transform.h"
+#include "rigel/ops/ik/nodes.h"
+#include "rigel/ops/util/blend.h"
+#include "rigel/ops/util/twist.h"
+#include "rigel/rig/component.h"
+#include "rigel/rig/meta.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::rig::components {
+namespace {
+
+using graph::AttrIndex;
+using graph::Plug;
+using graph::Value;
+using math::Mat4;
+using math::Quat;
+using math::Vec3;
+namespace xform = scene::xform;
+namespace ik = ops::ik;
+namespace sw = ops::util::fk_ik_attr;
+
+Vec3 position_of(const Mat4& m) { return m.topRightCorner<3, 1>(); }
+
+Plug plug(NodeId node, AttrIndex attr, std::int32_t element = -1) { return Plug{node, attr, element}; }
+
+AttrIndex attr_of(const graph::Graph& g, NodeId node, const char* name) { return g.node(node)->type().attr_find(name); }
+
+Status fail(BuildContext& ctx, const std::string& what) {
+  return error(ErrorCode::kInvalidArgument, ctx.full_name() + " (" + ctx.component().type + "): " + what);
+}
+
+// The guide joints, each the child of the one before.
+Result<std::vector<NodeId>> chain_joints(BuildContext& ctx) {
+  std::vector<NodeId> joints;
+  graph::Graph& g = ctx.graph();
+  for (int i = 0; i < ctx.guide_count(); ++i) {
+    Result<NodeId> j = ctx.guide_joint(i);
+    if (!j) return j.status();
+    if (!ctx.scene().is_transform(*j))
+      return fail(ctx, "guide " + std::to_string(i) + ": '" + g.node(*j)->name() + "' is not a transform");
+    if (i > 0 && g.parent(*j) != joints.back())
+      return fail(ctx, "guide " + std::to_string(i) + ": '" + g.node(*j)->name() + "' is not a child of '" +
+                           g.node(joints.back())->name() + "'");
+    joints.push_back(*j);
+  }
+  return joints;
+}
+
+// The direction from the start-end line toward `mid` (unit), or, for a
+// straight chain, `fallback` made perpendicular to the line (then world x).
+Vec3 bend_direction(const Vec3& start, const Vec3& mid, const Vec3& end, const Vec3& fallback) {
+  Vec3 line = end - start;
+  if (line.norm() < 1e-12) line = mid - start;
+  line.normalize();
+  const Vec3 to_mid = mid - start;
+  Vec3 perp = to_mid - line * line.dot(to_mid);
+  if (perp.norm() > 1e-6 * std::max(to_mid.norm(), 1e-12)) return perp.normalized();
+  for (const Vec3& f : {fallback, Vec3(Vec3::UnitX()), Vec3(Vec3::UnitY())}) {
+    perp = f - line * line.dot(f);
+    if (perp.norm() > 1e-6) return perp.normalized();
+  }
+  return Vec3::UnitZ();
+}
+
+// Creates the solver (role "ikSolver") on `joints`, with the rest data copied
+// and its parent space from `space`'s worldMatrix.
+Result<NodeId> make_solver(BuildContext& ctx, const char* type, const std::vector<NodeId>& joints, NodeId space) {
+  graph::Graph& g = ctx.graph();
+  Result<NodeId> created = ctx.create(type, "ikSolver");
+  if (!created) return created;
+  const NodeId solver = *created;
+  std::vector<Mat4> rest, offset;
+  std::vector<Vec3> orient, axis;
+  for (NodeId joint : joints) {
+    rest.push_back(std::get<Mat4>(g.evaluate(joint, xform::kMatrix)));
+    offset.push_back(std::get<Mat4>(g.evaluate(joint, xform::kOffsetParentMatrix)));
+    const AttrIndex jo = attr_of(g, joint, "jointOrient");
+    orient.push_back(jo == graph::kNoAttr ? Vec3(Vec3::Zero()) : std::get<Vec3>(g.evaluate(joint, jo)));
+    axis.push_back(std::get<Vec3>(g.evaluate(joint, xform::kRotateAxis)));
+  }
+  Status s = g.set_value(plug(solver, ik::ik_attr::kRestMatrix), Value(rest));
+  if (s) s = g.set_value(plug(solver, ik::ik_attr::kRestOffsetParentMatrix), Value(offset));
+  if (s) s = g.set_value(plug(solver, ik::ik_attr::kRestJointOrient), Value(orient));
+  if (s) s = g.set_value(plug(solver, ik::ik_attr::kRestRotateAxis), Value(axis));
+  if (s) s = g.connect(plug(space, xform::kWorldMatrix), plug(solver, ik::ik_attr::kParentMatrix));
+  if (!s) return s.with_context(ctx.full_name() + " ikSolver");
+  return solver;
+}
+
+// The group the solver works in: under the attach point, at the world
+// matrix of the root joint's parent (identity for a root joint).
+Result<NodeId> make_ik_space(BuildContext& ctx, NodeId root_joint) {
+  const NodeId parent = ctx.graph().parent(root_joint);
+  const Mat4 world = parent.is_valid() ? ctx.scene().world_matrix(parent) : Mat4(Mat4::Identity());
+  return ctx.create_group("ikSpace", -1, world, ctx.attach_node());
+}
+
+// A two-bone solver toward `target`, bending toward `pole`.
+Result<NodeId> make_two_bone(BuildContext& ctx, const std::vector<NodeId>& joints, NodeId target, NodeId pole) {
+  scene::Scene& scene = ctx.scene();
+  const Vec3 start = position_of(scene.world_matrix(joints[0]));
+  const Mat4 mid_world = scene.world_matrix(joints[1]);
+  const Vec3 upper = position_of(mid_world) - start;
+  const Vec3 lower = position_of(scene.world_matrix(joints[2])) - position_of(mid_world);
+  Vec3 hinge = upper.cross(lower);
+  if (hinge.norm() <= 1e-9 * upper.norm() * lower.norm()) hinge = (position_of(scene.world_matrix(pole)) - start).cross(upper);
+  const math::Mat3 mid_linear = mid_world.topLeftCorner<3, 3>();
+  if (hinge.norm() < 1e-12 || !(std::abs(mid_linear.determinant()) > 1e-300))
+    return fail(ctx, "cannot find the middle joint's hinge (the chain is straight and the pole lies on it)");
+  Vec3 mid_axis = (mid_linear.inverse() * hinge.normalized()).normalized();
+  Result<NodeId> space = make_ik_space(ctx, joints[0]);
+  if (!space) return space;
+  Result<NodeId> solver = make_solver(ctx, ik::kIkTwoBoneType, joints, *space);
+  if (!solver) return solver;
+  graph::Graph& g = ctx.graph();
+  namespace a = ik::two_bone_attr;
+  Status s = g.set_value(plug(*solver, a::kMidAxis), Value(mid_axis));
+  if (s) s = g.connect(plug(target, xform::kWorldMatrix), plug(*solver, a::kTargetMatrix));
+  if (s) s = g.set_value(plug(*solver, a::kUsePoleMatrix), Value(true));
+  if (s) s = g.connect(plug(pole, xform::kWorldMatrix), plug(*solver, a::kPoleMatrix));
+  if (!s) return s.with_context(ctx.full_name() + " ikSolver");
+  return solver;
+}
+
+// The fkIkSwitch (role "fkIkSwitch") for `joints`: FK from `fk` (may be
+// empty), IK from `solver` (may be invalid), the last joint oriented by
+// `ik_control` (may be invalid); parent space from the root's real parent.
+Result<NodeId> make_switch(BuildContext& ctx, const std::vector<NodeId>& joints, const std::vector<NodeId>& fk,
+                           NodeId solver, NodeId ik_control, double fk_ik) {
+  graph::Graph& g = ctx.graph();
+  Result<NodeId> created = ctx.create(ops::util::kFkIkSwitchType, "fkIkSwitch");
+  if (!created) return created;
+  const NodeId node = *created;
+  std::vector<Mat4> offset;
+  std::vector<Vec3> orient, axis;
+  for (NodeId joint : joints) {
+    offset.push_back(std::get<Mat4>(g.evaluate(joint, xform::kOffsetParentMatrix)));
+    const AttrIndex jo = attr_of(g, joint, "jointOrient");
+    orient.push_back(jo == graph::kNoAttr ? Vec3(Vec3::Zero()) : std::get<Vec3>(g.evaluate(joint, jo)));
+    axis.push_back(std::get<Vec3>(g.evaluate(joint, xform::kRotateAxis)));
+  }
+  Status s = g.set_value(plug(node, sw::kRestOffsetParentMatrix), Value(offset));
+  if (s) s = g.set_value(plug(node, sw::kRestJointOrient), Value(orient));
+  if (s) s = g.set_value(plug(node, sw::kRestRotateAxis), Value(axis));
+  if (s) s = g.set_value(plug(node, sw::kFkIk), Value(fk_ik));
+  const NodeId parent = g.parent(joints[0]);
+  if (s && parent.is_valid()) s = g.connect(plug(parent, xform::kWorldMatrix), plug(node, sw::kParentMatrix));
+  if (s && !parent.is_valid())
+    s = g.set_value(plug(node, sw::kParentMatrix), g.evaluate(joints[0], xform::kParentMatrix));
+  for (std::size_t i = 0; s && i < fk.size(); ++i)
+    s = g.connect(plug(fk[i], xform::kWorldMatrix), plug(node, sw::kFkMatrix, static_cast<std::int32_t>(i)));
+  for (std::size_t i = 0; s && solver.is_valid() && i < joints.size(); ++i) {
+    const auto e = static_cast<std::int32_t>(i);
+    s = g.connect(plug(solver, ik::ik_attr::kOutWorldMatrices, e), plug(node, sw::kIkMatrix, e));
+  }
+  if (s && ik_control.is_valid()) {
+    s = g.set_value(plug(node, sw::kUseIkEndMatrix), Value(true));
+    if (s) s = g.connect(plug(ik_control, xform::kWorldMatrix), plug(node, sw::kIkEndMatrix));
+  }
+  if (!s) return s.with_context(ctx.full_name() + " fkIkSwitch");
+  return node;
+}
+
+// Connects the switch's channels to the joints (quaternion mode) and
+// publishes hook i as a group following joint i.
+Status drive_joints(BuildContext& ctx, const std::vector<NodeId>& joints, NodeId node) {
+  graph::Graph& g = ctx.graph();
+  const std::pair<AttrIndex, AttrIndex> channels[] = {{sw::kOutTranslations, xform::kTranslate},
+                                                      {sw::kOutRotations, xform::kRotateQuaternion},
+                                                      {sw::kOutScales, xform::kScale},
+                                                      {sw::kOutShears, xform::kShear}};
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const auto e = static_cast<std::int32_t>(i);
+    const NodeId joint = joints[i];
+    Status s = g.set_value(plug(joint, xform::kRotateMode), Value(std::int64_t{1}));
+    for (const auto& [src, dst] : channels) {
+      if (!s) break;
+      if (g.source(plug(joint, dst))) s = g.disconnect_input(plug(joint, dst));
+      if (s) s = g.connect(plug(node, src, e), plug(joint, dst));
+    }
+    if (!s) return s.with_context(ctx.full_name() + ": drive " + g.node(joint)->name());
+  }
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    Result<NodeId> hook = ctx.create(scene::kTransformType, "hook", static_cast<int>(i), static_cast<int>(i),
+                                     ctx.rig_group("noTransform"));
+    if (!hook) return hook.status();
+    Status s = g.connect(plug(node, sw::kOutWorldMatrices, static_cast<std::int32_t>(i)),
+                         plug(*hook, xform::kOffsetParentMatrix));
+    if (s) s = ctx.publish_hook(static_cast<int>(i), *hook);
+    if (!s) return s.with_context(ctx.full_name() + " hook " + std::to_string(i));
+  }
+  return Status::ok();
+}
+
+// ---- ikChain ------------------------------------------------------------
+
+Result<std::string> chain_solver(BuildContext& ctx) {
+  const std::string solver = ctx.param_string("solver");
+  const int n = ctx.guide_count();
+  if (solver == "auto" || solver.empty()) return std::string(n == 3 ? "twoBone" : "fabrik");
+  if (solver == "twoBone" && n != 3)
+    return fail(ctx, "solver twoBone needs exactly 3 joints, got " + std::to_string(n));
+  if (solver != "twoBone" && solver != "fabrik" && solver != "ccd") return fail(ctx, "unknown solver '" + solver + "'");
+  return solver;
+}
+
+class IkChain : public ComponentClass {
+ public:
+  std::string_view type() const override { return "ikChain"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        Step{"controls", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::string> solver = chain_solver(ctx);
+               if (!solver) return solver.status();
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               const int n = ctx.guide_count();
+               const Mat4 end = ctx.scene().world_matrix(joints->back());
+               Result<NodeId> control = ctx.create_control("ik", -1, n - 1, end, ctx.attach_node());
+               if (!control) return control.status();
+               if (*solver != "twoBone") return Status::ok();
+               const Vec3 a = position_of(ctx.scene().world_matrix((*joints)[0]));
+               const Vec3 m = position_of(ctx.scene().world_matrix((*joints)[1]));
+               const Vec3 dir = bend_direction(a, m, position_of(end), Vec3::UnitZ());
+               Mat4 pole = Mat4::Identity();
+               pole.topRightCorner<3, 1>() = m + dir * ctx.param_double("poleDistance");
+               return ctx.create_control("pole", -1, 1, pole, ctx.attach_node()).status();
+             }},
+        Step{"ik", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::string> solver = chain_solver(ctx);
+               if (!solver) return solver.status();
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               const NodeId target = ctx.node("ik");
+               if (*solver == "twoBone") return make_two_bone(ctx, *joints, target, ctx.node("pole")).status();
+               Result<NodeId> space = make_ik_space(ctx, joints->front());
+               if (!space) return space.status();
+               Result<NodeId> node = make_solver(ctx, *solver == "ccd" ? ik::kIkCcdType : ik::kIkFabrikType,
+                                                 *joints, *space);
+               if (!node) return node.status();
+               return ctx.graph().connect(plug(target, xform::kWorldMatrix),
+                                          plug(*node, ik::chain_attr::kTargetMatrix));
+             }},
+        Step{"stretch", "stretch", "",
+             [](BuildContext& ctx) -> Status {
+               const NodeId solver = ctx.node("ikSolver");
+               if (!ctx.param_bool("stretch") || ctx.graph().node(solver)->type().name() != ik::kIkTwoBoneType)
+                 return Status::ok();
+               return ctx.graph().set_value(plug(solver, ik::two_bone_attr::kStretch), Value(true));
+             }},
+        Step{"drive", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               Result<NodeId> node = make_switch(ctx, *joints, {}, ctx.node("ikSolver"), ctx.node("ik"), 1.0);
+               if (!node) return node.status();
+               return drive_joints(ctx, *joints, *node);
+             }},
+    };
+  }
+};
+
+// ---- limb ---------------------------------------------------------------
+
+class Limb : public ComponentClass {
+ public:
+  std::string_view type() const override { return "limb"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        Step{"fk", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               NodeId parent = ctx.attach_node();
+               for (int i = 0; i < 3; ++i) {
+                 Result<NodeId> c = ctx.create_control("fk", i, i, ctx.scene().world_matrix((*joints)[i]), parent);
+                 if (!c) return c.status();
+                 parent = *c;
+               }
+               return Status::ok();
+             }},
+        Step{"ik", "ik", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               const Mat4 end = ctx.scene().world_matrix((*joints)[2]);
+               Result<NodeId> control = ctx.create_control("ik", -1, 2, end, ctx.attach_node());
+               if (!control) return control.status();
+               const Vec3 a = position_of(ctx.scene().world_matrix((*joints)[0]));
+               const Vec3 m = position_of(ctx.scene().world_matrix((*joints)[1]));
+               // Straight limbs: knees forward, elbows back (glTF: +z is the character's front).
+               const Vec3 front = ctx.param_string("kind") == "leg" ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ());
+               Mat4 pole_world = Mat4::Identity();
+               pole_world.topRightCorner<3, 1>() =
+                   m + bend_direction(a, m, position_of(end), front) * ctx.param_double("poleDistance");
+               Result<NodeId> pole = ctx.create_control("pole", -1, 1, pole_world, ctx.attach_node());
+               if (!pole) return pole.status();
+               return make_two_bone(ctx, *joints, *control, *pole).status();
+             }},
+        Step{"stretch", "stretch", "",
+             [](BuildContext& ctx) -> Status {
+               const NodeId solver = ctx.node("ikSolver");
+               if (!solver.is_valid() || !ctx.param_bool("stretch")) return Status::ok();
+               Status s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kStretch), Value(true));
+               if (s)
+                 s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kMaxStretch),
+                                           Value(ctx.param_double("maxStretch")));
+               return s;
+             }},
+        Step{"switch", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               const NodeId solver = ctx.node("ikSolver");
+               // The switch control floats above the end joint by a fifth of the limb's reach.
+               const Mat4 end = ctx.scene().world_matrix((*joints)[2]);
+               const double reach = (position_of(ctx.scene().world_matrix((*joints)[1])) -
+                                     position_of(ctx.scene().world_matrix((*joints)[0]))).norm() +
+                                    (position_of(end) - position_of(ctx.scene().world_matrix((*joints)[1]))).norm();
+               Mat4 place = Mat4::Identity();
+               place.topRightCorner<3, 1>() = position_of(end) + Vec3(0, 0.2 * reach, 0);
+               Result<NodeId> control = ctx.create_control("switch", -1, 2, place, ctx.attach_node());
+               if (!control) return control.status();
+               const double fk_ik = solver.is_valid() && ctx.param_string("defaultMode") == "ik" ? 1.0 : 0.0;
+               return make_switch(ctx, *joints, ctx.nodes("fk"), solver, ctx.node("ik"), fk_ik).status();
+             }},
+        Step{"drive", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               return drive_joints(ctx, *joints, ctx.node("fkIkSwitch"));
+             }},
+    };
+  }
+};
+
+// ---- twist --------------------------------------------------------------
+
+class Twist : public ComponentClass {
+ public:
+  std::string_view type() const override { return "twist"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        Step{"joints", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<NodeId> start = ctx.guide_joint(0);
+               if (!start) return start.status();
+               Result<NodeId> end = ctx.guide_joint(1);
+               if (!end) return end.status();
+               if (!ctx.scene().is_transform(*start) || !ctx.scene().is_transform(*end))
+                 return fail(ctx, "the start and end guides must name transforms");
+               const std::int64_t count = ctx.param_int("count");
+               if (count < 1 || count > 16) return fail(ctx, "count must be 1..16, got " + std::to_string(count));
+               const std::string axis_name = ctx.param_string("axis");
+               const std::int64_t axis = axis_name == "x" ? 0 : axis_name == "z" ? 2 : 1;
+               graph::Graph& g = ctx.graph();
+               const Mat4 start_world = ctx.scene().world_matrix(*start);
+               const Mat4 end_world = ctx.scene().world_matrix(*end);
+               const Vec3 end_local = position_of(math::affine_inverse(start_world) * end_world);
+               Result<NodeId> share = ctx.create(ops::util::kTwistShareType, "twistShare");
+               if (!share) return share.status();
+               namespace t = ops::util::twist_attr;
+               const Quat rest = math::decompose(start_world).rotation.conjugate() * math::decompose(end_world).rotation;
+               Status s = g.set_value(plug(*share, t::kRestRelative), Value(Quat(rest.normalized())));
+               if (s) s = g.set_value(plug(*share, t::kAxis), Value(axis));
+               if (s) s = g.set_value(plug(*share, t::kCount), Value(count));
+               if (s) s = g.connect(plug(*start, xform::kWorldMatrix), plug(*share, t::kStartMatrix));
+               if (s) s = g.connect(plug(*end, xform::kWorldMatrix), plug(*share, t::kEndMatrix));
+               if (!s) return s.with_context(ctx.full_name() + " twistShare");
+               for (std::int64_t i = 0; i < count; ++i) {
+                 const int index = static_cast<int>(i);
+                 Result<NodeId> joint = ctx.create(scene::kJointType, "twistJoint", index, 0, *start);
+                 if (!joint) return joint.status();
+                 const double f = double(i + 1) / double(count + 1);
+                 s = g.set_value(plug(*joint, xform::kTranslate), Value(Vec3(end_local * f)));
+                 if (s) s = g.set_value(plug(*joint, xform::kRotateMode), Value(std::int64_t{1}));
+                 if (s) s = g.connect(plug(*share, t::kOutRotations, index), plug(*joint, xform::kRotateQuaternion));
+                 if (!s) return s.with_context(ctx.full_name() + " twistJoint" + std::to_string(i));
+               }
+               return Status::ok();
+             }},
+        Step{"hooks", "", "",
+             [](BuildContext& ctx) -> Status {
+               for (int i = 0; i < 2; ++i) {
+                 Result<NodeId> joint = ctx.guide_joint(i);
+                 if (!joint) return joint.status();
+                 Result<NodeId> hook = ctx.create(scene::kTransformType, "hook", i, i, ctx.rig_group("noTransform"));
+                 if (!hook) return hook.status();
+                 Status s = ctx.graph().connect(plug(*joint, xform::kWorldMatrix), plug(*hook, xform::kOffsetParentMatrix));
+                 if (s) s = ctx.publish_hook(i, *hook);
+                 if (!s) return s;
+               }
+               return Status::ok();
+             }},
+    };
+  }
+};
+
+// ---- matching -----------------------------------------------------------
+
+struct LimbNodes {
+  NodeId fk[3], ik, pole, solver, blend;
+};
+
+Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
+  const graph::Node* n = g.node(meta);
+  if (!n || n->type().name() != kMetaComponentType || meta_string(g, meta, "metaType") != "limb")
+    return error(ErrorCode::kInvalidArgument, "match: not the metaComponent of a limb");
+  LimbNodes out;
+  auto find = [&](const char* role, int index, NodeId& into) -> Status {
+    Result<NodeId> r = get_meta_connection(g, meta, role, index);
+    if (!r) return r.status().with_context("match " + meta_string(g, meta, "componentName"));
+    into = *r;
+    return Status::ok();
+  };
+  for (int i = 0; i < 3; ++i)
+    if (Status s = find("fk", i, out.fk[i]); !s) return s;
+  for (auto [role, into] : {std::pair<const char*, NodeId*>{"ik", &out.ik}, {"pole", &out.pole},
+                            {"ikSolver", &out.solver}, {"fkIkSwitch", &out.blend}})
+    if (Status s = find(role, 0, *into); !s) return s;
+  return out;
+}
+
+// Sets a control's channels so that its world matrix is `world`.
+Status set_world(scene::Scene& scene, NodeId control, const Mat4& world) {
+  graph::Graph& g = scene.graph();
+  const NodeId parent = g.parent(control);
+  const Mat4 parent_world = parent.is_valid() ? scene.world_matrix(parent) : Mat4(Mat4::Identity());
+  const Mat4 offset = std::get<Mat4>(g.evaluate(control, xform::kOffsetParentMatrix));
+  const Mat4 local = math::affine_inverse(parent_world * offset) * world;
+  const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(g.evaluate(control, xform::kRotateOrder)));
+  const math::TransformParts parts = math::decompose_to_parts(local, order);
+  Status s = g.set_value(plug(control, xform::kTranslate), Value(parts.translate));
+  if (s && std::get<std::int64_t>(g.evaluate(control, xform::kRotateMode)) == 1)
+    s = g.set_value(plug(control, xform::kRotateQuaternion), Value(math::euler_to_quat(parts.rotate, order)));
+  else if (s)
+    s = g.set_value(plug(control, xform::kRotate), Value(Vec3(math::to_degrees(parts.rotate))));
+  if (s) s = g.set_value(plug(control, xform::kScale), Value(parts.scale));
+  if (s) s = g.set_value(plug(control, xform::kShear), Value(parts.shear));
+  return s.is_ok() ? s : s.with_context("match: " + g.node(control)->name());
+}
+
+}  // namespace
+
+Status add_limb_components(ComponentFactory& factory) {
+  if (Status s = factory.add(std::make_shared<IkChain>()); !s) return s;
+  if (Status s = factory.add(std::make_shared<Limb>()); !s) return s;
+  return factory.add(std::make_shared<Twist>());
+}
+
+Status match_fk_to_ik(scene::Scene& scene, NodeId limb_meta) {
+  graph::Graph& g = scene.graph();
+  Result<LimbNodes> nodes = limb_nodes(g, limb_meta);
+  if (!nodes) return nodes.status();
+  std::vector<Mat4> ik_worlds = std::get<std::vector<Mat4>>(g.evaluate(nodes->solver, ik::ik_attr::kOutWorldMatrices));
+  if (ik_worlds.size() != 3) return error(ErrorCode::kInvalidArgument, "match_fk_to_ik: the IK solver has no 3-joint pose");
+  if (std::get<bool>(g.evaluate(nodes->blend, sw::kUseIkEndMatrix)))
+    ik_worlds[2] = ops::util::ik_end_world(ik_worlds[2], scene.world_matrix(nodes->ik));
+  graph::Transaction tx(g, "match FK to IK");
+  for (int i = 0; i < 3; ++i) {
+    if (Status s = set_world(scene, nodes->fk[i], ik_worlds[i]); !s) {
+      tx.rollback();
+      return s;
+    }
+  }
+  return Status::ok();
+}
+
+Status match_ik_to_fk(scene::Scene& scene, NodeId limb_meta) {
+  graph::Graph& g = scene.graph();
+  Result<LimbNodes> nodes = limb_nodes(g, limb_meta);
+  if (!nodes) return nodes.status();
+  Mat4 fk[3];
+  for (int i = 0; i < 3; ++i) fk[i] = scene.world_matrix(nodes->fk[i]);
+  const std::vector<Mat4> ik_worlds =
+      std::get<std::vector<Mat4>>(g.evaluate(nodes->solver, ik::ik_attr::kOutWorldMatrices));
+  const Mat4 pole_world = scene.world_matrix(nodes->pole);
+  graph::Transaction tx(g, "match IK to FK");
+  Status s = set_world(scene, nodes->ik, fk[2]);
+  const Vec3 a = position_of(fk[0]), m = position_of(fk[1]), e = position_of(fk[2]);
+  Vec3 line = e - a;
+  const Vec3 to_mid = m - a;
+  if (s && line.norm() > 1e-12) {
+    line.normalize();
+    const Vec3 perp = to_mid - line * line.dot(to_mid);
+    if (perp.norm() > 1e-9 * to_mid.norm()) {
+      const Vec3 ik_mid = ik_worlds.size() == 3 ? position_of(ik_worlds[1]) : m;
+      double distance = (position_of(pole_world) - ik_mid).norm();
+      if (!(distance > 1e-9)) distance = to_mid.norm();
+      Mat4 place = pole_world;
+      place.topRightCorner<3, 1>() = m + perp.normalized() * distance;
+      s = set_world(scene, nodes->pole, place);
+    }
+  }
+  if (!s) tx.rollback();
+  return s;
+}
+
+}  // namespace rigel::rig::components
