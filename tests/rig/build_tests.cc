@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <map>
-#include <regex>
 
 #include <nlohmann/json.hpp>
 
@@ -83,17 +82,30 @@ std::string normalized(scene::Scene& scene) {
   std::string text = io::write_scene(scene);
   std::map<std::string, std::string> names;
   for (NodeId id : scene.graph().nodes()) names[scene.graph().node(id)->uuid().str()] = scene.graph().node(id)->name();
-  static const std::regex uuid("[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}");
+  // Canonical uuids: 8-4-4-4-12 lower-case hex (no std::regex: GCC 12 warns inside it at -O1).
+  auto is_uuid_at = [&](std::size_t i) {
+    if (i + 36 > text.size()) return false;
+    for (std::size_t k = 0; k < 36; ++k) {
+      const char c = text[i + k];
+      if (k == 8 || k == 13 || k == 18 || k == 23) {
+        if (c != '-') return false;
+      } else if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) {
+        return false;
+      }
+    }
+    return true;
+  };
   std::string out;
-  std::sregex_iterator it(text.begin(), text.end(), uuid), end;
-  std::size_t last = 0;
-  for (; it != end; ++it) {
-    out += text.substr(last, it->position() - last);
-    auto n = names.find(it->str());
-    out += n != names.end() ? "<" + n->second + ">" : "<?>";
-    last = it->position() + it->length();
+  for (std::size_t i = 0; i < text.size();) {
+    if (is_uuid_at(i)) {
+      auto n = names.find(text.substr(i, 36));
+      out += n != names.end() ? "<" + n->second + ">" : "<?>";
+      i += 36;
+    } else {
+      out += text[i++];
+    }
   }
-  return out + text.substr(last);
+  return out;
 }
 
 // Where two texts first differ (the line of each), for short failure messages.
