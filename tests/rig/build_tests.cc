@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rig_test_util.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/ops/anim/nodes.h"
@@ -20,6 +21,8 @@ namespace rigel::rig {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::first_difference;
+using testing::normalized;
 using graph::Plug;
 using math::Mat4;
 using math::Vec3;
@@ -74,51 +77,6 @@ Definition biped() {
   global.children = {hip};
   d.components = {global};
   return d;
-}
-
-// The scene's text with every uuid replaced by the name of its node, so two
-// builds that made the same nodes compare equal.
-std::string normalized(scene::Scene& scene) {
-  std::string text = io::write_scene(scene);
-  std::map<std::string, std::string> names;
-  for (NodeId id : scene.graph().nodes()) names[scene.graph().node(id)->uuid().str()] = scene.graph().node(id)->name();
-  // Canonical uuids: 8-4-4-4-12 lower-case hex (no std::regex: GCC 12 warns inside it at -O1).
-  auto is_uuid_at = [&](std::size_t i) {
-    if (i + 36 > text.size()) return false;
-    for (std::size_t k = 0; k < 36; ++k) {
-      const char c = text[i + k];
-      if (k == 8 || k == 13 || k == 18 || k == 23) {
-        if (c != '-') return false;
-      } else if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) {
-        return false;
-      }
-    }
-    return true;
-  };
-  std::string out;
-  for (std::size_t i = 0; i < text.size();) {
-    if (is_uuid_at(i)) {
-      auto n = names.find(text.substr(i, 36));
-      out += n != names.end() ? "<" + n->second + ">" : "<?>";
-      i += 36;
-    } else {
-      out += text[i++];
-    }
-  }
-  return out;
-}
-
-// Where two texts first differ (the line of each), for short failure messages.
-std::string first_difference(const std::string& a, const std::string& b) {
-  std::size_t i = 0;
-  while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
-  if (i == a.size() && i == b.size()) return "identical";
-  auto line_at = [](const std::string& t, std::size_t at) {
-    const std::size_t start = t.rfind('\n', at == 0 ? 0 : at - 1);
-    const std::size_t s = start == std::string::npos ? 0 : start + 1;
-    return t.substr(s, std::min<std::size_t>(t.find('\n', at) - s, 200));
-  };
-  return "first difference at byte " + std::to_string(i) + ":\n  " + line_at(a, i) + "\n  " + line_at(b, i);
 }
 
 Vec3 position(scene::Scene& s, NodeId id) { return s.world_matrix(id).topRightCorner<3, 1>(); }

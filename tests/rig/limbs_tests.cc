@@ -6,8 +6,8 @@
 
 #include <filesystem>
 #include <map>
-#include <regex>
 
+#include "rig_test_util.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/rotation.h"
@@ -22,6 +22,9 @@
 
 namespace rigel::rig {
 namespace {
+
+using testing::first_difference;
+using testing::normalized;
 
 namespace fs = std::filesystem;
 using graph::Plug;
@@ -83,34 +86,6 @@ Definition limbs() {
   return d;
 }
 
-std::string normalized(scene::Scene& scene) {
-  std::string text = io::write_scene(scene);
-  std::map<std::string, std::string> names;
-  for (NodeId id : scene.graph().nodes()) names[scene.graph().node(id)->uuid().str()] = scene.graph().node(id)->name();
-  static const std::regex uuid("[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}");
-  std::string out;
-  std::sregex_iterator it(text.begin(), text.end(), uuid), end;
-  std::size_t last = 0;
-  for (; it != end; ++it) {
-    out += text.substr(last, it->position() - last);
-    auto n = names.find(it->str());
-    out += n != names.end() ? "<" + n->second + ">" : "<?>";
-    last = it->position() + it->length();
-  }
-  return out + text.substr(last);
-}
-
-std::string first_difference(const std::string& a, const std::string& b) {
-  std::size_t i = 0;
-  while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
-  if (i == a.size() && i == b.size()) return "identical";
-  auto line_at = [](const std::string& t, std::size_t at) {
-    const std::size_t start = t.rfind('\n', at == 0 ? 0 : at - 1);
-    const std::size_t s = start == std::string::npos ? 0 : start + 1;
-    return t.substr(s, std::min<std::size_t>(t.find('\n', at) - s, 200));
-  };
-  return "first difference at byte " + std::to_string(i) + ":\n  " + line_at(a, i) + "\n  " + line_at(b, i);
-}
 
 // The glTF metarig's joint matrices are single precision (scales 1 within
 // ~1e-7), and the two-bone kernel reaches its target within ~1e-7 on them:
