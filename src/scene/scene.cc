@@ -63,8 +63,14 @@ double Scene::frame() const {
   return std::abs(f - whole) <= 1e-9 * std::max(1.0, std::abs(f)) ? whole : f;
 }
 
-Mat4 Scene::local_matrix(NodeId id) { return std::get<Mat4>(graph_.evaluate(id, xform::kMatrix)); }
-Mat4 Scene::world_matrix(NodeId id) { return std::get<Mat4>(graph_.evaluate(id, xform::kWorldMatrix)); }
+Mat4 Scene::local_matrix(NodeId id) {
+  if (!is_transform(id)) return Mat4::Identity();
+  return std::get<Mat4>(graph_.evaluate(id, xform::kMatrix));
+}
+Mat4 Scene::world_matrix(NodeId id) {
+  if (!is_transform(id)) return Mat4::Identity();
+  return std::get<Mat4>(graph_.evaluate(id, xform::kWorldMatrix));
+}
 
 Status Scene::reparent(NodeId child, NodeId parent, bool keep_world) {
   if (!is_transform(child)) return error(ErrorCode::kInvalidArgument, "reparent: the child is not a transform");

@@ -109,6 +109,12 @@ TEST(Scene, roots_hierarchy_and_depth) {
 
 // ---- world matrices ------------------------------------------------------------
 
+TEST(Scene, matrices_of_a_node_that_is_not_a_transform_are_the_identity) {
+  Scene scene;
+  EXPECT_TRUE(scene.world_matrix(NodeId{}).isIdentity(0.0)) << "no such node: no exception, the identity";
+  EXPECT_TRUE(scene.local_matrix(NodeId{}).isIdentity(0.0));
+}
+
 TEST(Scene, world_matrix__three_joint_chain_matches_hand_computation) {
   Scene scene;
   NodeId j0 = make(scene, kJointType, "j0");

@@ -38,7 +38,8 @@ class Scene {
   // Depth below its root (roots are 0).
   int depth(NodeId node) const;
 
-  // Evaluated local (without offset parent) and world matrices.
+  // Evaluated local (without offset parent) and world matrices; the
+  // identity for a node that is not a transform (or does not exist).
   Mat4 local_matrix(NodeId node);
   Mat4 world_matrix(NodeId node);
 
