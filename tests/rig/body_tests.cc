@@ -26,6 +26,8 @@ namespace {
 
 using testing::first_difference;
 using testing::normalized;
+using testing::at_joint;
+using testing::metarig;
 
 namespace fs = std::filesystem;
 using graph::Plug;
@@ -34,22 +36,6 @@ using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
 
-std::unique_ptr<scene::Scene> metarig() {
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  if (!imported) return nullptr;
-  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", default_registry());
-  EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
-  if (!loaded) return nullptr;
-  (*loaded)->graph().clear_history();
-  return std::move(*loaded);
-}
-
-Guide at_joint(std::string joint) {
-  Guide g;
-  g.joint = std::move(joint);
-  return g;
-}
 
 std::vector<Guide> joints(std::initializer_list<const char*> names) {
   std::vector<Guide> out;

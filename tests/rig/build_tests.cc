@@ -23,27 +23,13 @@ namespace {
 namespace fs = std::filesystem;
 using testing::first_difference;
 using testing::normalized;
+using testing::at_joint;
+using testing::metarig;
 using graph::Plug;
 using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
 
-std::unique_ptr<scene::Scene> metarig() {
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  if (!imported) return nullptr;
-  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", default_registry());
-  EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
-  if (!loaded) return nullptr;
-  (*loaded)->graph().clear_history();
-  return std::move(*loaded);
-}
-
-Guide at_joint(std::string joint) {
-  Guide g;
-  g.joint = std::move(joint);
-  return g;
-}
 
 Component component(std::string type, std::string name, Side side, std::vector<Guide> guides) {
   Component c;

@@ -1,15 +1,43 @@
 #pragma once
 // Helpers shared by the rig layer's tests: comparing scenes built twice
 // (uuids differ, names do not) and short messages where texts differ.
+#include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 
+#include <gtest/gtest.h>
+
+#include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/rig/definition.h"
+#include "rigel/rig/meta.h"
 #include "rigel/scene/scene.h"
 
 namespace rigel::rig::testing {
 
 using graph::NodeId;
+
+// Rigify's human metarig (tests/data/gltf), over the rig registry, with an
+// empty undo history.
+inline std::unique_ptr<scene::Scene> metarig() {
+  auto imported =
+      io::import_gltf(std::filesystem::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
+  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
+  if (!imported) return nullptr;
+  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", default_registry());
+  EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
+  if (!loaded) return nullptr;
+  (*loaded)->graph().clear_history();
+  return std::move(*loaded);
+}
+
+// A guide placed at a joint of the character.
+inline Guide at_joint(std::string joint) {
+  Guide g;
+  g.joint = std::move(joint);
+  return g;
+}
 
 // The scene's text with every uuid replaced by the name of its node, so two
 // builds that made the same nodes compare equal.
