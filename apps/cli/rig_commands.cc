@@ -18,6 +18,7 @@
 #include "rigel/rig/component.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/meta.h"
+#include "rigel/scene/transform_types.h"
 
 namespace rigel::cli {
 namespace {
@@ -53,6 +54,7 @@ struct BuildArgs {
   std::string character;  // "" = the definition's first geometry file
   std::string output;
   int steps = -1;  // -1 = all
+  bool edit_mode = false;
   bool json = false;
 };
 
@@ -67,7 +69,9 @@ int run_build(const BuildArgs& args) {
   }
   auto scene = load_or_import(character);
   if (!scene) return fail(scene.status().with_context(character));
-  auto build = rig::Build::open(**scene, *def, factory());
+  rig::BuildOptions options;
+  options.edit_mode = args.edit_mode;
+  auto build = rig::Build::open(**scene, *def, factory(), options);
   if (!build) return fail(build.status().with_context(args.definition));
   const int total = static_cast<int>((*build)->plan().size());
   if (args.steps > total) return usage_error("--steps " + std::to_string(args.steps) + ": the build has " + std::to_string(total) + " steps");
@@ -151,7 +155,9 @@ int run_update(const UpdateArgs& args) {
     if (newer || args.force) {
       auto build = rig::Build::reopen(**scene, name, factory());
       if (!build) return fail(build.status().with_context(args.scene));
-      auto r = (*build)->rebuild_changed(*def, args.force ? rig::Build::Rebuild::kAll : rig::Build::Rebuild::kNewerVersion);
+      auto r = (*build)->rebuild_changed(*def, args.force ? rig::Build::Rebuild::kAll : rig::Build::Rebuild::kNewerVersion,
+                                         args.keep_keys == "world" ? rig::Build::KeepKeys::kWorld
+                                                                   : rig::Build::KeepKeys::kLocal);
       if (!r) return fail(r.status());
       rebuilt = *r;
     }
@@ -256,6 +262,80 @@ int run_remove(const RemoveArgs& args) {
   return 0;
 }
 
+// ---- edit ----------------------------------------------------------------
+
+struct EditArgs {
+  std::string scene;
+  std::string rig;                  // "" = the scene's only rig
+  std::vector<std::string> moves;   // ADDRESS=X,Y,Z (translate, metres)
+  std::vector<std::string> turns;   // ADDRESS=X,Y,Z (rotate, degrees)
+  std::string definition_out;       // "" = the rig's definition path
+  std::string output;
+  bool json = false;
+};
+
+// Sets `attr` of the control ADDRESS names from "ADDRESS=X,Y,Z".
+Status apply_channel(graph::Graph& g, const std::string& spec, graph::AttrIndex attr, const char* option) {
+  const std::size_t eq = spec.rfind('=');
+  if (eq == std::string::npos)
+    return error(ErrorCode::kInvalidArgument, std::string(option) + " '" + spec + "': expected ADDRESS=X,Y,Z");
+  const std::optional<math::Vec3> v = parse_vec3(spec.substr(eq + 1));
+  if (!v) return error(ErrorCode::kInvalidArgument, std::string(option) + " '" + spec + "': X,Y,Z must be three numbers");
+  Result<NodeId> id = rig::resolve_address(g, spec.substr(0, eq));
+  if (!id) return id.status().with_context(option);
+  if (g.node(*id)->type().name() != scene::kControlType)
+    return error(ErrorCode::kInvalidArgument, std::string(option) + " '" + spec + "': '" + g.node(*id)->name() + "' is not a control");
+  return g.set_value(graph::Plug{*id, attr, -1}, graph::Value(*v));
+}
+
+int run_edit(const EditArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  graph::Graph& g = (*scene)->graph();
+  std::string rig_name = args.rig;
+  if (rig_name.empty()) {
+    const std::vector<NodeId> rigs = rig::list_rigs(g);
+    if (rigs.size() != 1)
+      return usage_error(args.scene + ": has " + std::to_string(rigs.size()) + " rigs; name one with --rig");
+    rig_name = rig::meta_string(g, rigs.front(), "rigName");
+  }
+  auto build = rig::Build::reopen(**scene, rig_name, factory());
+  if (!build) return fail(build.status().with_context(args.scene));
+  for (const std::string& m : args.moves)
+    if (Status s = apply_channel(g, m, scene::xform::kTranslate, "--move"); !s) return fail(s);
+  for (const std::string& t : args.turns)
+    if (Status s = apply_channel(g, t, scene::xform::kRotate, "--turn"); !s) return fail(s);
+  Result<rig::Edits> edits = (*build)->commit_edits();
+  if (!edits) return fail(edits.status().with_context(args.scene));
+  std::string out_def = args.definition_out.empty() ? (*build)->definition().source : args.definition_out;
+  if (!edits->changed.empty()) {
+    if (out_def.empty()) return usage_error(rig_name + " has no definition path; give --definition-out");
+    if (Status s = rig::save_definition(edits->definition, out_def); !s) return fail(s);
+  }
+  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  if (args.json) {
+    Json changed = Json::array();
+    for (const std::string& id : edits->changed) {
+      const rig::Component* c = edits->definition.find_by_rig_id(id);
+      changed.push_back(Json{{"rigId", id}, {"name", c ? c->name : ""}, {"version", c ? c->version : ""}});
+    }
+    print_json(Json{{"rig", rig_name},
+                    {"version", edits->definition.version},
+                    {"changed", changed},
+                    {"ignored", edits->ignored},
+                    {"definition", edits->changed.empty() ? Json(nullptr) : Json(out_def)},
+                    {"output", args.output}});
+  } else if (edits->changed.empty()) {
+    std::cerr << "rigel: " << rig_name << ": no guide moved; the definition is unchanged\n";
+  } else {
+    std::cerr << "rigel: " << rig_name << " " << edits->definition.version << ": " << edits->changed.size()
+              << " component(s) with moved guides, written to " << out_def << "; rebuilt into " << args.output << "\n";
+  }
+  for (const std::string& n : edits->ignored)
+    std::cerr << "rigel: warning: '" << n << "' was moved but stands for no guide; not written back\n";
+  return 0;
+}
+
 // ---- address -------------------------------------------------------------
 
 struct AddressArgs {
@@ -296,6 +376,8 @@ struct RigCommands::State {
   RigsArgs rigs;
   RemoveArgs remove;
   AddressArgs address;
+  CLI::App* edit_cmd = nullptr;
+  EditArgs edit;
 };
 
 RigCommands::RigCommands() : state_(std::make_unique<State>()) {}
@@ -312,6 +394,8 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
                           "Character to build on (.glb, .gltf, .bvh, .rigel); default: the definition's geometry");
   s.build_cmd->add_option("-o,--output", s.build.output, "Scene file to write (.rigel)")->required();
   s.build_cmd->add_option("--steps", s.build.steps, "Stop after this many steps (seed 003's VCR)")->check(CLI::NonNegativeNumber);
+  s.build_cmd->add_flag("--edit-mode", s.build.edit_mode,
+                        "Build in rig edit mode (seed 002): moving controls edits the definition (rigel edit)");
   s.build_cmd->add_flag("--json", s.build.json, "Print a JSON summary on stdout");
 
   s.update_cmd = app.add_subcommand("update", "Rebuild the components of rigs whose definition changed, keeping animation");
@@ -323,8 +407,9 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
   s.update_cmd->add_option("--definition", s.update.definition, "Use this definition instead of the rig's definition path");
   s.update_cmd->add_flag("--force", s.update.force, "Rebuild every component, whatever its version");
   s.update_cmd->add_option("--keep-keys", s.update.keep_keys,
-                           "local: keys keep their values on the rebuilt controls (by rigId and control role)")
-      ->check(CLI::IsMember({"local"}));
+                           "local: keys keep their values on the rebuilt controls (by rigId and control role); "
+                           "world: keys are converted so keyed controls keep their world positions")
+      ->check(CLI::IsMember({"local", "world"}));
   s.update_cmd->add_option("-o,--output", s.update.output, "Scene file to write (.rigel)")->required();
   s.update_cmd->add_flag("--json", s.update.json, "Print a JSON report on stdout");
 
@@ -344,6 +429,21 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
   s.address_cmd->add_option("SCENE", s.address.scene, "Scene file (.rigel)")->required();
   s.address_cmd->add_option("ADDRESS", s.address.addresses, "Addresses")->required();
   s.address_cmd->add_flag("--json", s.address.json, "Print JSON on stdout");
+
+  s.edit_cmd = app.add_subcommand(
+      "edit", "Rig edit mode: move controls of a rig built with --edit-mode; their guides are written back into the "
+              "definition (versions bumped) and the moved components are rebuilt there");
+  s.edit_cmd->footer(
+      "Example:\n  rigel build hero.rig.xml --edit-mode -o edit.rigel\n"
+      "  rigel edit edit.rigel --move 'hero:arm_L/fk[0]=0,0.02,0' --turn 'hero:arm_L/fk[1]=0,0,15' -o edit.rigel");
+  s.edit_cmd->add_option("SCENE", s.edit.scene, "Scene file (.rigel) with a rig in edit mode")->required();
+  s.edit_cmd->add_option("--rig", s.edit.rig, "The rig (default: the scene's only rig)");
+  s.edit_cmd->add_option("--move", s.edit.moves, "ADDRESS=X,Y,Z: set a control's translate (metres) before writing back");
+  s.edit_cmd->add_option("--turn", s.edit.turns, "ADDRESS=X,Y,Z: set a control's rotate (degrees) before writing back");
+  s.edit_cmd->add_option("--definition-out", s.edit.definition_out,
+                         "Where to save the edited definition (default: the rig's definition path)");
+  s.edit_cmd->add_option("-o,--output", s.edit.output, "Scene file to write (.rigel)")->required();
+  s.edit_cmd->add_flag("--json", s.edit.json, "Print a JSON report on stdout");
 }
 
 std::optional<int> run_rig_commands(const RigCommands& commands) {
@@ -353,6 +453,7 @@ std::optional<int> run_rig_commands(const RigCommands& commands) {
   if (*s.rigs_cmd) return run_rigs(s.rigs);
   if (*s.remove_cmd) return run_remove(s.remove);
   if (*s.address_cmd) return run_address(s.address);
+  if (*s.edit_cmd) return run_edit(s.edit);
   return std::nullopt;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -13,6 +14,7 @@
 #include "rigel/io/scene_file.h"
 #include "rigel/math/rotation.h"
 #include "rigel/math/transform.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/ops/constraints/constraints.h"
 #include "rigel/ops/constraints/nodes.h"
 #include "rigel/ops/util/nodes.h"
@@ -31,6 +33,15 @@ using graph::Uuid;
 using graph::Value;
 using math::Mat4;
 namespace xform = scene::xform;
+
+// A guide's values as a matrix: its place, or its offset from its joint.
+Mat4 guide_values(const Guide& guide) {
+  math::TransformParts parts;
+  parts.translate = guide.translate;
+  parts.rotate = math::to_radians(guide.rotate);
+  parts.scale = guide.scale;
+  return math::compose(parts);
+}
 
 constexpr const char* kRigStep = "rig";
 constexpr const char* kMetaStep = "meta";
@@ -406,6 +417,8 @@ Status Build::sync() {
   const auto& pos = g.node(root)->value(g.node(root)->type().attr_find("buildPosition"));
   position_ = static_cast<int>(
       std::clamp<std::int64_t>(std::get<std::int64_t>(pos), 0, static_cast<std::int64_t>(plan_.size())));
+  const graph::AttrIndex edit = g.node(root)->type().attr_find("editMode");
+  if (edit != graph::kNoAttr) options_.edit_mode = std::get<bool>(g.node(root)->value(edit));
   return Status::ok();
 }
 
@@ -608,6 +621,7 @@ Status Build::construct(int index) {
       status = set(*r, "rigName", Value(definition_.name));
       if (status) status = set(*r, "version", Value(definition_.version));
       if (status) status = set(*r, "definitionPath", Value(definition_.source));
+      if (status && options_.edit_mode) status = set(*r, "editMode", Value(true));
       if (status) {
         NodeId mgr = meta_manager(g);
         status = g.connect(Plug{mgr, g.node(mgr)->type().attr_find("metaRoots"), -1},
@@ -759,7 +773,172 @@ Status Build::set_feature(std::string_view feature, bool enabled, std::string_vi
   return save_state("");
 }
 
-Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild when) {
+namespace {
+
+// An input of a rebuilt control from outside the rig (an animation curve,
+// say), remembered by (rigId, role, index, attribute) to re-attach it to the
+// new control, never by name.
+struct Kept {
+  std::string rig_id, role, index, attr;
+  std::int8_t component = -1;  // x, y, z of a double3 (a curve per component)
+  Plug src;
+};
+
+// A keyed control of a rebuilt component and where it was in the world at
+// each of its key times (--keep-keys world).
+struct KeyedControl {
+  std::string rig_id, role, index;
+  std::vector<double> times;
+  std::vector<Mat4> worlds;
+};
+
+// The control of component `rig_id` with `role` and `index`, or invalid.
+NodeId member_with(const graph::Graph& g, NodeId root, const std::string& rig_id, const std::string& role,
+                   const std::string& index) {
+  const NodeId meta = find_component(g, root, rig_id);
+  if (!meta.is_valid()) return {};
+  for (NodeId m : meta_members(g, meta)) {
+    const graph::Node& n = *g.node(m);
+    const std::string* r = n.tag_find(kTagRole);
+    const std::string* i = n.tag_find(kTagIndex);
+    if (r && *r == role && (i ? *i : std::string()) == index) return m;
+  }
+  return {};
+}
+
+std::string frame_label(const graph::Graph& g, double t) {
+  std::ostringstream out;
+  out << "frame " << t * g.fps();
+  return out.str();
+}
+
+// The controls that `kept` holds time curves for, with the world matrix of
+// each at each of its key times (the scene's time is restored).
+std::vector<KeyedControl> keyed_controls(scene::Scene& scene, NodeId root, const std::vector<Kept>& kept) {
+  graph::Graph& g = scene.graph();
+  std::vector<KeyedControl> out;
+  for (const Kept& k : kept) {
+    if (ops::anim::curve_kind(g, k.src.node) == ops::anim::CurveKind::kOther) continue;
+    auto it = std::find_if(out.begin(), out.end(), [&](const KeyedControl& c) {
+      return c.rig_id == k.rig_id && c.role == k.role && c.index == k.index;
+    });
+    if (it == out.end()) it = out.insert(out.end(), KeyedControl{k.rig_id, k.role, k.index, {}, {}});
+    for (double t : ops::anim::curve_key_times(g, k.src.node)) it->times.push_back(t);
+  }
+  std::vector<NodeId> nodes;
+  std::vector<double> all;
+  for (KeyedControl& c : out) {
+    std::sort(c.times.begin(), c.times.end());
+    std::vector<double> unique;
+    for (double t : c.times)
+      if (unique.empty() || t - unique.back() > ops::anim::kKeyTimeTolerance) unique.push_back(t);
+    c.times = std::move(unique);
+    c.worlds.resize(c.times.size());
+    nodes.push_back(member_with(g, root, c.rig_id, c.role, c.index));
+    all.insert(all.end(), c.times.begin(), c.times.end());
+  }
+  // One pass over time, every control at once.
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  const double now = g.time();
+  for (double t : all) {
+    g.set_time(t);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      auto at = std::find(out[i].times.begin(), out[i].times.end(), t);
+      if (at != out[i].times.end() && scene.is_transform(nodes[i]))
+        out[i].worlds[static_cast<std::size_t>(at - out[i].times.begin())] = scene.world_matrix(nodes[i]);
+    }
+  }
+  g.set_time(now);
+  return out;
+}
+
+bool same_value(const Value& a, const Value& b) {
+  if (const auto* q = std::get_if<math::Quat>(&a)) return std::abs(std::abs(q->dot(std::get<math::Quat>(b))) - 1.0) < 1e-14;
+  return (std::get<math::Vec3>(a) - std::get<math::Vec3>(b)).cwiseAbs().maxCoeff() < 1e-10;
+}
+
+// Writes keys on the new controls so each `keyed` control is where it was
+// at each of its key times (Build::KeepKeys::kWorld); parents first, so a
+// child reads its parent's converted pose.
+Status restore_world_keys(scene::Scene& scene, NodeId root, const std::vector<KeyedControl>& keyed) {
+  graph::Graph& g = scene.graph();
+  struct Item {
+    const KeyedControl* control;
+    NodeId node;
+    int depth;
+  };
+  std::vector<Item> items;
+  for (const KeyedControl& c : keyed) {
+    const NodeId node = member_with(g, root, c.rig_id, c.role, c.index);
+    if (scene.is_transform(node) && !c.times.empty()) items.push_back(Item{&c, node, scene.depth(node)});
+  }
+  std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.depth < b.depth; });
+  const double now = g.time();
+  Status s;
+  for (const Item& item : items) {
+    const KeyedControl& c = *item.control;
+    const std::string name = g.node(item.node)->name();
+    std::vector<scene::Scene::LocalChannels> need;
+    for (std::size_t i = 0; i < c.times.size() && s; ++i) {
+      g.set_time(c.times[i]);
+      Result<scene::Scene::LocalChannels> ch = scene.channels_for_world(item.node, c.worlds[i]);
+      if (!ch) s = ch.status().with_context("keep world positions of '" + name + "' at " + frame_label(g, c.times[i]));
+      else need.push_back(std::move(*ch));
+    }
+    if (!s) break;
+    // Euler keys continuous: each angle within 180 degrees of the one before.
+    if (need[0].rotation_attr == xform::kRotate) {
+      for (std::size_t i = 1; i < need.size(); ++i) {
+        auto& r = std::get<math::Vec3>(need[i].rotation);
+        const auto& p = std::get<math::Vec3>(need[i - 1].rotation);
+        for (int k = 0; k < 3; ++k) r[k] += 360.0 * std::round((p[k] - r[k]) / 360.0);
+      }
+    }
+    const graph::Node& n = *g.node(item.node);
+    for (graph::AttrIndex attr : {graph::AttrIndex{xform::kTranslate}, need[0].rotation_attr,
+                                  graph::AttrIndex{xform::kScale}, graph::AttrIndex{xform::kShear}}) {
+      std::vector<Value> values;
+      for (const auto& ch : need) {
+        if (attr == xform::kTranslate) values.push_back(ch.translate);
+        else if (attr == xform::kScale) values.push_back(ch.scale);
+        else if (attr == xform::kShear) values.push_back(ch.shear);
+        else values.push_back(ch.rotation);
+      }
+      bool keyed_attr = false;
+      for (const graph::Connection& conn : n.inputs()) keyed_attr = keyed_attr || conn.dst.attr == attr;
+      bool constant = true;
+      for (const Value& v : values) constant = constant && same_value(v, values[0]);
+      if (!keyed_attr && constant) {
+        // A free channel that keeps one value stays free.
+        if (!same_value(n.value(attr), values[0])) s = g.set_value(Plug{item.node, attr, -1}, values[0]);
+      } else {
+        for (std::size_t i = 0; i < values.size() && s; ++i)
+          s = ops::anim::write_channel_key(g, item.node, attr, values[i], c.times[i], true);
+      }
+      if (!s) break;
+    }
+    if (!s) break;
+    for (std::size_t i = 0; i < c.times.size() && s; ++i) {
+      g.set_time(c.times[i]);
+      const Mat4 world = scene.world_matrix(item.node);
+      const double miss = (world - c.worlds[i]).cwiseAbs().maxCoeff();
+      if (!(miss <= 1e-6)) {
+        std::ostringstream out;
+        out << "keep world positions: '" << name << "' misses its place at " << frame_label(g, c.times[i]) << " by "
+            << miss;
+        s = error(ErrorCode::kInvalidArgument, out.str());
+      }
+    }
+    if (!s) break;
+  }
+  g.set_time(now);
+  return s;
+}
+
+}  // namespace
+
+Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild when, KeepKeys keep) {
   if (Status s = sync(); !s) return s;
   if (position_ != static_cast<int>(plan_.size()))
     return error(ErrorCode::kInvalidArgument, "rebuild: the build is not complete (step " + std::to_string(position_) +
@@ -823,10 +1002,6 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
   // Animation on the controls of what is rebuilt: curves and other inputs
   // from outside the rig, remembered by (rigId, role, index, attribute) so
   // they re-attach to the new controls, never by name.
-  struct Kept {
-    std::string rig_id, role, index, attr;
-    Plug src;
-  };
   std::vector<Kept> kept;
   for (const std::string& id : old_ids) {
     if (!dirty.count(id) && !removed.count(id)) continue;
@@ -839,10 +1014,14 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
       for (const graph::Connection& c : n.inputs()) {
         if (n.type().attr(c.dst.attr).name == graph::kMetaParentAttr || c.dst.attr == xform::kParentMatrix) continue;
         if (rig_of(g, c.src.node) == root) continue;  // the rig's own wiring is rebuilt
-        kept.push_back(Kept{id, *role, index ? *index : "", n.type().attr(c.dst.attr).name, c.src});
+        kept.push_back(Kept{id, *role, index ? *index : "", n.type().attr(c.dst.attr).name, c.dst.component, c.src});
       }
     }
   }
+
+  // --keep-keys world: where each keyed control is at each of its key times.
+  std::vector<KeyedControl> keyed;
+  if (keep == KeepKeys::kWorld) keyed = keyed_controls(scene_, root, kept);
 
   g.begin_transaction("update " + definition_.name);
   Status s;
@@ -853,6 +1032,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     for (const graph::Connection& c : g.node(k.src.node)->outputs()) {
       const graph::Node& d = *g.node(c.dst.node);
       if (c.src.attr == k.src.attr && c.src.element == k.src.element && d.type().attr(c.dst.attr).name == k.attr &&
+          c.dst.component == k.component &&
           rig_of(g, c.dst.node) == root && component_of(g, c.dst.node) == find_component(g, root, k.rig_id)) {
         link = c;  // a copy: disconnecting changes the list
         break;
@@ -891,11 +1071,13 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
       const std::string* index = n.tag_find(kTagIndex);
       if (!role || *role != k.role || (index ? *index : std::string()) != k.index) continue;
       const graph::AttrIndex a = n.type().attr_find(k.attr);
-      if (a == graph::kNoAttr || g.source(Plug{m, a, -1})) break;
-      s = g.connect(k.src, Plug{m, a, -1});
+      const Plug dst{m, a, -1, k.component};
+      if (a == graph::kNoAttr || g.source(dst)) break;
+      s = g.connect(k.src, dst);
       break;
     }
   }
+  if (s && !keyed.empty()) s = restore_world_keys(scene_, root, keyed);
   if (s) s = g.set_value(Plug{root, g.node(root)->type().attr_find("version"), -1}, Value(definition_.version));
   for (const Component* c : components_) {
     if (!s || dirty.count(c->rig_id)) continue;
@@ -919,6 +1101,159 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     if (dirty.count(c->rig_id)) out.push_back(c->rig_id);
   for (const std::string& id : removed) out.push_back(id);
   return out;
+}
+
+// ---- rig edit mode --------------------------------------------------------
+
+std::string next_version(std::string_view version) {
+  std::size_t end = version.size();
+  std::size_t begin = end;
+  while (begin > 0 && version[begin - 1] >= '0' && version[begin - 1] <= '9') --begin;
+  if (begin == end) return std::string(version) + (version.empty() ? "1" : ".1");
+  std::string digits(version.substr(begin));
+  // Add one to the decimal digits (any length).
+  int carry = 1;
+  for (std::size_t i = digits.size(); i-- > 0 && carry;) {
+    const int d = digits[i] - '0' + carry;
+    digits[i] = static_cast<char>('0' + d % 10);
+    carry = d / 10;
+  }
+  if (carry) digits.insert(digits.begin(), '1');
+  return std::string(version.substr(0, begin)) + digits;
+}
+
+namespace {
+
+bool is_control(const graph::Graph& g, NodeId id) {
+  const graph::Node* n = g.node(id);
+  return n && n->type().name() == scene::kControlType;
+}
+
+// Puts a free channel of `control` at its rest value (inside a transaction).
+Status zero_channels(graph::Graph& g, NodeId control) {
+  auto free = [&](graph::AttrIndex a) { return !g.source(Plug{control, a, -1}).has_value(); };
+  Status s;
+  if (free(xform::kTranslate)) s = g.set_value(Plug{control, xform::kTranslate, -1}, Value(math::Vec3(math::Vec3::Zero())));
+  if (s && free(xform::kRotate)) s = g.set_value(Plug{control, xform::kRotate, -1}, Value(math::Vec3(math::Vec3::Zero())));
+  if (s && free(xform::kRotateQuaternion))
+    s = g.set_value(Plug{control, xform::kRotateQuaternion, -1}, Value(math::Quat(math::Quat::Identity())));
+  if (s && free(xform::kScale)) s = g.set_value(Plug{control, xform::kScale, -1}, Value(math::Vec3(math::Vec3::Ones())));
+  if (s && free(xform::kShear)) s = g.set_value(Plug{control, xform::kShear, -1}, Value(math::Vec3(math::Vec3::Zero())));
+  return s;
+}
+
+// A guide that stands at `world`: values, or the offset from its joint at
+// `joint_world` (rotation in XYZ degrees; shear is dropped).
+void place_guide(Guide& guide, const Mat4& world, const std::optional<Mat4>& joint_world) {
+  const Mat4 m = joint_world ? Mat4(math::affine_inverse(*joint_world) * world) : world;
+  const math::TransformParts parts = math::decompose_to_parts(m, math::RotateOrder::kXYZ);
+  // Rounded to 1e-10 (of a metre, a degree): a turn of 90 degrees is written
+  // 90, not 90.00000000000001, and clean files diff cleanly.
+  auto clean = [](math::Vec3 v) {
+    for (int k = 0; k < 3; ++k) v[k] = std::round(v[k] * 1e10) / 1e10 + 0.0;  // + 0.0: no -0
+    return v;
+  };
+  guide.translate = clean(parts.translate);
+  guide.rotate = clean(math::to_degrees(parts.rotate));
+  guide.scale = clean(parts.scale);
+}
+
+}  // namespace
+
+Result<Edits> Build::edits() {
+  if (Status s = sync(); !s) return s;
+  const NodeId root = this->root();
+  if (!root.is_valid() || position_ != static_cast<int>(plan_.size()))
+    return error(ErrorCode::kInvalidArgument, "edit " + definition_.name + ": the rig is not fully built");
+  if (!options_.edit_mode)
+    return error(ErrorCode::kInvalidArgument, "edit " + definition_.name +
+                                                  ": the rig is not in edit mode (build it in edit mode: rigel build --edit-mode)");
+  graph::Graph& g = scene_.graph();
+  struct Made {
+    std::size_t component;
+    int guide;
+    NodeId node;
+    Mat4 now, rest;
+  };
+  std::vector<Made> controls;
+  std::vector<NodeId> all;
+  for (std::size_t i = 0; i < components_.size(); ++i) {
+    const NodeId meta = find_component(g, root, components_[i]->rig_id);
+    for (NodeId m : meta_members(g, meta)) {
+      if (!is_control(g, m)) continue;
+      const std::string* tag = g.node(m)->tag_find(kTagGuide);
+      int guide = -1;
+      if (tag) std::from_chars(tag->data(), tag->data() + tag->size(), guide);
+      controls.push_back(Made{i, guide, m, scene_.world_matrix(m), Mat4::Identity()});
+      all.push_back(m);
+    }
+  }
+  // Rest poses: every control zeroed, then rolled back. The joints' rest too.
+  std::map<std::pair<std::size_t, int>, Mat4> joint_rest;
+  g.begin_transaction("edit: rest pose");
+  Status s;
+  for (NodeId m : all)
+    if (s) s = zero_channels(g, m);
+  if (s) {
+    for (Made& c : controls) c.rest = scene_.world_matrix(c.node);
+    for (std::size_t i = 0; i < components_.size(); ++i)
+      for (std::size_t k = 0; k < components_[i]->guides.size(); ++k) {
+        const std::string& joint = components_[i]->guides[k].joint;
+        const NodeId j = joint.empty() ? NodeId{} : g.find(joint);
+        if (scene_.is_transform(j)) joint_rest[{i, static_cast<int>(k)}] = scene_.world_matrix(j);
+      }
+  }
+  g.rollback_transaction();
+  if (!s) return s.with_context("edit " + definition_.name);
+
+  Edits out;
+  out.definition = definition_;
+  // Components by rigId in the copy (components_ points into definition_).
+  std::map<std::pair<std::size_t, int>, const Made*> mover;
+  for (const Made& c : controls) {
+    if (math::is_near(c.now, c.rest, 1e-9)) continue;
+    if (c.guide < 0 || c.guide >= static_cast<int>(components_[c.component]->guides.size())) {
+      out.ignored.push_back(g.node(c.node)->name());
+      continue;
+    }
+    auto [it, fresh] = mover.emplace(std::make_pair(c.component, c.guide), &c);
+    if (fresh) continue;
+    // Two moved controls of one guide must agree on the move.
+    const Mat4 a = c.now * math::affine_inverse(c.rest);
+    const Mat4 b = it->second->now * math::affine_inverse(it->second->rest);
+    if (!math::is_near(a, b, 1e-9))
+      return error(ErrorCode::kInvalidArgument, "edit " + definition_.name + ": '" + g.node(it->second->node)->name() +
+                                                    "' and '" + g.node(c.node)->name() + "' both stand for guide " +
+                                                    std::to_string(c.guide) + " of " + full_name_of(*components_[c.component]) +
+                                                    " and were moved differently; move one of them");
+  }
+  std::set<std::size_t> changed;
+  for (const auto& [key, c] : mover) {
+    const Component& before = *components_[key.first];
+    Component* after = out.definition.find_by_rig_id(before.rig_id);
+    if (!after) continue;
+    Guide& guide = after->guides[static_cast<std::size_t>(key.second)];
+    auto jr = joint_rest.find(key);
+    const std::optional<Mat4> joint = jr == joint_rest.end() ? std::nullopt : std::optional<Mat4>(jr->second);
+    const Mat4 was = joint ? Mat4(*joint * guide_values(guide)) : guide_values(guide);
+    place_guide(guide, c->now * math::affine_inverse(c->rest) * was, joint);
+    changed.insert(key.first);
+  }
+  for (std::size_t i : changed) {
+    Component* after = out.definition.find_by_rig_id(components_[i]->rig_id);
+    after->version = next_version(after->version);
+    out.changed.push_back(after->rig_id);
+  }
+  if (!changed.empty()) out.definition.version = next_version(out.definition.version);
+  return out;
+}
+
+Result<Edits> Build::commit_edits() {
+  Result<Edits> e = edits();
+  if (!e || e->changed.empty()) return e;
+  Result<std::vector<std::string>> rebuilt = rebuild_changed(e->definition, Rebuild::kChanged);
+  if (!rebuilt) return rebuilt.status();
+  return e;
 }
 
 // ---- BuildContext --------------------------------------------------------
@@ -1000,13 +1335,9 @@ Result<Mat4> BuildContext::guide_world(int i) {
     if (!scene_.is_transform(*j))
       return error(ErrorCode::kInvalidArgument, full_name() + ": guide " + std::to_string(i) + ": '" + guide.joint +
                                                     "' is not a transform");
-    return scene_.world_matrix(*j);
+    return Mat4(scene_.world_matrix(*j) * guide_values(guide));  // the values: an offset in the joint's space
   }
-  math::TransformParts parts;
-  parts.translate = guide.translate;
-  parts.rotate = math::to_radians(guide.rotate);
-  parts.scale = guide.scale;
-  return math::compose(parts);
+  return guide_values(guide);
 }
 
 Result<NodeId> BuildContext::create(std::string_view type, std::string_view role, int index, int guide, NodeId parent) {

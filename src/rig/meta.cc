@@ -18,6 +18,7 @@ using graph::ValueType;
 constexpr AttrType kString{ValueType::kString, false};
 constexpr AttrType kStrings{ValueType::kString, true};
 constexpr AttrType kInt{ValueType::kInt, false};
+constexpr AttrType kBool{ValueType::kBool, false};
 constexpr AttrType kMessage{ValueType::kMessage, false};
 
 AttrSpec string_attr(std::string name, std::string value = "") {
@@ -101,6 +102,7 @@ Status register_rig_types(graph::Registry& registry) {
                 string_attr("definitionPath"),
                 string_attr("definition"),
                 graph::input_attr("buildPosition", kInt, Value(std::int64_t{0})),
+                graph::input_attr("editMode", kBool, Value(false)),
                 string_attr("buildRecord"),
                 message_attr("metaChildren"),
                 message_attr("members")};

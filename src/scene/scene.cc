@@ -83,33 +83,42 @@ Status Scene::reparent(NodeId child, NodeId parent, bool keep_world) {
                                           : !graph_.source(graph::Plug{child, xform::kParentMatrix, -1}).has_value();
   if (in_place) return Status::ok();
 
-  const graph::Node& n = *graph_.node(child);
+  const Mat4 world = world_matrix(child);
+  graph::Transaction transaction(graph_, "reparent " + graph_.node(child)->name());
+  Status s = graph_.set_parent(child, parent);
+  Result<LocalChannels> channels = s ? channels_for_world(child, world) : Result<LocalChannels>(s);
+  if (!channels) {
+    transaction.rollback();
+    return channels.status().with_context("reparent '" + graph_.node(child)->name() + "' keeping its world position");
+  }
+  auto set = [&](AttrIndex a, graph::Value v) { return graph_.set_value(graph::Plug{child, a, -1}, std::move(v)); };
+  s = set(xform::kTranslate, channels->translate);
+  if (s) s = set(xform::kScale, channels->scale);
+  if (s) s = set(xform::kShear, channels->shear);
+  if (s) s = set(channels->rotation_attr, channels->rotation);
+  if (!s) transaction.rollback();
+  return s;
+}
+
+Result<Scene::LocalChannels> Scene::channels_for_world(NodeId node, const Mat4& world) {
+  if (!is_transform(node)) return error(ErrorCode::kInvalidArgument, "channels for a world matrix: not a transform");
+  const graph::Node& n = *graph_.node(node);
   for (AttrIndex a : {xform::kRotateAxis, xform::kRotatePivot, xform::kRotatePivotTranslate, xform::kScalePivot,
                       xform::kScalePivotTranslate}) {
     if (!std::get<math::Vec3>(n.value(a)).isZero())
-      return error(ErrorCode::kInvalidArgument, "reparent '" + n.name() + "' keeping its world position: " +
-                                                    n.type().attr(a).name + " must be zero");
+      return error(ErrorCode::kInvalidArgument, "'" + n.name() + "': " + n.type().attr(a).name + " must be zero");
   }
-  const AttrIndex jo = n.type().attr_find("jointOrient");
-  const bool has_orient = jo != graph::kNoAttr;
-  const Mat4 world = world_matrix(child);
-  graph::Transaction transaction(graph_, "reparent " + n.name());
-  if (Status s = graph_.set_parent(child, parent); !s) {
-    transaction.rollback();
-    return s;
-  }
-  const Mat4 parent_world = parent.is_valid() ? world_matrix(parent) : Mat4(Mat4::Identity());
-  const Mat4 offset = std::get<Mat4>(n.value(xform::kOffsetParentMatrix));
-  const Mat4 above = parent_world * offset;
-  if (!(std::abs(above.topLeftCorner<3, 3>().determinant()) > 1e-12)) {
-    transaction.rollback();
-    return error(ErrorCode::kInvalidArgument, "reparent '" + n.name() +
-                                                  "' keeping its world position: the new parent's world matrix is singular (zero scale?)");
-  }
+  Result<graph::Value> parent_world = graph_.evaluate(graph::Plug{node, xform::kParentMatrix, -1});
+  if (!parent_world) return parent_world.status();
+  const Mat4 above = std::get<Mat4>(*parent_world) * std::get<Mat4>(n.value(xform::kOffsetParentMatrix));
+  if (!(std::abs(above.topLeftCorner<3, 3>().determinant()) > 1e-12))
+    return error(ErrorCode::kInvalidArgument, "'" + n.name() + "': its parent space is singular (zero scale?)");
   Mat4 local = math::affine_inverse(above) * world;
   // The joint orient stays; the rotation absorbs the difference.
-  if (has_orient) {
-    Mat4 orient = math::rotation_matrix(math::euler_to_quat(math::to_radians(std::get<math::Vec3>(n.value(jo))), math::RotateOrder::kXYZ));
+  const AttrIndex jo = n.type().attr_find("jointOrient");
+  if (jo != graph::kNoAttr) {
+    Mat4 orient = math::rotation_matrix(
+        math::euler_to_quat(math::to_radians(std::get<math::Vec3>(n.value(jo))), math::RotateOrder::kXYZ));
     Mat4 t = local;
     t.block<3, 1>(0, 3).setZero();
     Mat4 rest = orient.transpose() * t;
@@ -117,19 +126,19 @@ Status Scene::reparent(NodeId child, NodeId parent, bool keep_world) {
     local = rest;
   }
   const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(n.value(xform::kRotateOrder)));
-  math::TransformParts parts = math::decompose_to_parts(local, order);
-  auto set = [&](AttrIndex a, graph::Value v) { return graph_.set_value(graph::Plug{child, a, -1}, std::move(v)); };
-  Status s = set(xform::kTranslate, parts.translate);
-  if (s) s = set(xform::kScale, parts.scale);
-  if (s) s = set(xform::kShear, parts.shear);
-  if (s) {
-    if (std::get<std::int64_t>(n.value(xform::kRotateMode)) == static_cast<std::int64_t>(math::RotateMode::kQuaternion))
-      s = set(xform::kRotateQuaternion, math::euler_to_quat(parts.rotate, order));
-    else
-      s = set(xform::kRotate, math::to_degrees(parts.rotate));
+  const math::TransformParts parts = math::decompose_to_parts(local, order);
+  LocalChannels out;
+  out.translate = parts.translate;
+  out.scale = parts.scale;
+  out.shear = parts.shear;
+  if (std::get<std::int64_t>(n.value(xform::kRotateMode)) == static_cast<std::int64_t>(math::RotateMode::kQuaternion)) {
+    out.rotation_attr = xform::kRotateQuaternion;
+    out.rotation = math::euler_to_quat(parts.rotate, order);
+  } else {
+    out.rotation_attr = xform::kRotate;
+    out.rotation = math::to_degrees(parts.rotate);
   }
-  if (!s) transaction.rollback();
-  return s;
+  return out;
 }
 
 }  // namespace rigel::scene

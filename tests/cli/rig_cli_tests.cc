@@ -70,6 +70,51 @@ TEST(CliRig, build_lists_updates_and_removes_the_biped) {
   EXPECT_TRUE(read_text(removed) == read_text(plain)) << "removing the rig gives back the file it was built on";
 }
 
+TEST(CliRig, edit_mode_writes_moved_guides_back_with_versions_bumped) {
+  TempDir dir;
+  const std::string plain = (dir.path() / "plain.rigel").string();
+  const std::string built = (dir.path() / "edit.rigel").string();
+  const std::string edited = (dir.path() / "edited.rigel").string();
+  const std::string def_out = (dir.path() / "edited.rig.xml").string();
+  ASSERT_EQ(rigel({"import", metarig(), "-o", plain}).exit_code, 0);
+  CliRun b = rigel({"build", example(), "--character", plain, "--edit-mode", "-o", built, "--json"});
+  ASSERT_EQ(b.exit_code, 0) << b;
+  const std::size_t components = Json::parse(b.out)["components"].size();
+
+  CliRun e = rigel({"edit", built, "--move", "hero:global/main=0,0,0.25", "--turn", "hero:global/main=0,90,0",
+                    "--definition-out", def_out, "-o", edited, "--json"});
+  ASSERT_EQ(e.exit_code, 0) << e;
+  Json report = Json::parse(e.out);
+  EXPECT_EQ(report["version"], "1.1");
+  // Everything hangs from the global control: every guide moved with it
+  // (what the rigger sees is what the definition gets), every version bumped.
+  ASSERT_EQ(report["changed"].size(), components);
+  EXPECT_EQ(report["changed"][0]["name"], "global");
+  for (const Json& c : report["changed"]) EXPECT_EQ(c["version"], "1.1") << c;
+  // The written definition is valid and holds the guide's new place.
+  CliRun v = rigel({"validate", def_out});
+  EXPECT_EQ(v.exit_code, 0) << v;
+  const std::string text = read_text(def_out);
+  EXPECT_NE(text.find("<rig name=\"hero\" version=\"1.1\">"), std::string::npos);
+  EXPECT_NE(text.find("translate=\"0 0 0.25\" rotate=\"0 90 0\""), std::string::npos) << text.substr(0, 600);
+  // The rebuilt global control stands there, zeroed: nothing is left to write back.
+  CliRun again = rigel({"edit", edited, "--definition-out", def_out, "-o", edited, "--json"});
+  ASSERT_EQ(again.exit_code, 0) << again;
+  EXPECT_TRUE(Json::parse(again.out)["changed"].empty());
+
+  // A rig built for animation is not in edit mode; bad moves name themselves.
+  const std::string anim = (dir.path() / "anim.rigel").string();
+  ASSERT_EQ(rigel({"build", example(), "--character", plain, "-o", anim}).exit_code, 0);
+  CliRun refused = rigel({"edit", anim, "-o", edited});
+  EXPECT_EQ(refused.exit_code, 1) << refused;
+  EXPECT_NE(refused.err.find("not in edit mode"), std::string::npos) << refused;
+  CliRun bad = rigel({"edit", built, "--move", "hero:global/main=1,2", "-o", edited});
+  EXPECT_EQ(bad.exit_code, 1) << bad;
+  EXPECT_NE(bad.err.find("--move 'hero:global/main=1,2'"), std::string::npos) << bad;
+  CliRun missing = rigel({"edit", built, "--move", "hero:wing_L/fk[0]=1,2,3", "-o", edited});
+  EXPECT_EQ(missing.exit_code, 1) << missing;
+}
+
 TEST(CliRig, bad_input_is_refused_with_the_place) {
   TempDir dir;
   const std::string out = (dir.path() / "x.rigel").string();

@@ -3,6 +3,7 @@
 // addresses, partial rebuilds that keep animation.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 
@@ -11,6 +12,8 @@
 #include "rig_test_util.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/math/transform.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/ops/anim/nodes.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/component.h"
@@ -260,6 +263,183 @@ TEST(RigBuild, rebuilding_one_changed_component_keeps_the_rest_and_its_keys) {
   // One undo step: undo gives back the old arm.
   ASSERT_TRUE(g.undo());
   EXPECT_EQ(meta_string(g, find_component(g, find_rig(g, "hero"), arm_l.rig_id), "version"), "1.0");
+}
+
+// Keys the arm_L FK controls (rotate at three times, translate of fk[1] at
+// two) and the torso's fk[1]; then moves and turns arm_L's upper-arm guide
+// (its controls get a new rest) and updates with `keep`. Returns the world
+// matrix of each keyed arm control at each key time, before and after.
+struct KeptWorlds {
+  std::vector<Mat4> before, after;
+  std::vector<double> torso_values_before, torso_values_after;
+};
+KeptWorlds update_with_moved_guide(Build::KeepKeys keep) {
+  KeptWorlds out;
+  auto scene = metarig();
+  EXPECT_TRUE(scene);
+  if (!scene) return out;
+  Definition def = biped();
+  auto b = Build::open(*scene, def, builtin_components());
+  EXPECT_TRUE(b.is_ok());
+  EXPECT_TRUE((*b)->build_all().is_ok());
+  graph::Graph& g = scene->graph();
+  const std::vector<double> times = {0.0, 0.5, 1.25};
+  std::vector<std::string> keyed = {"hero:arm_L/fk[0]", "hero:arm_L/fk[1]", "hero:arm_L/fk[2]", "hero:arm_L/fk[3]"};
+  for (std::size_t c = 0; c < keyed.size(); ++c) {
+    NodeId control = *resolve_address(g, keyed[c]);
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const Vec3 rotate(10.0 * (i + 1) + c, -7.0 * i + 3.0 * c, 25.0 * (i % 2) - c);
+      EXPECT_TRUE(ops::anim::write_channel_key(g, control, xform::kRotate, rotate, times[i], true).is_ok());
+    }
+  }
+  NodeId fk1 = *resolve_address(g, "hero:arm_L/fk[1]");
+  EXPECT_TRUE(ops::anim::write_channel_key(g, fk1, xform::kTranslate, Vec3(0.01, 0, 0), 0.0, true).is_ok());
+  EXPECT_TRUE(ops::anim::write_channel_key(g, fk1, xform::kTranslate, Vec3(0, 0.02, -0.01), 1.25, true).is_ok());
+  NodeId torso = *resolve_address(g, "hero:torso/fk[1]");
+  EXPECT_TRUE(ops::anim::write_channel_key(g, torso, xform::kRotate, Vec3(5, 6, 7), 0.5, true).is_ok());
+  auto torso_values = [&] {
+    std::vector<double> v;
+    for (const graph::Connection& c : g.node(*resolve_address(g, "hero:torso/fk[1]"))->inputs()) {
+      if (ops::anim::curve_kind(g, c.src.node) != ops::anim::CurveKind::kScalar) continue;
+      for (double x : std::get<std::vector<double>>(g.node(c.src.node)->value(ops::anim::curve_attr::kKeyValues)))
+        v.push_back(x);
+    }
+    return v;
+  };
+  auto worlds = [&] {
+    std::vector<Mat4> w;
+    for (double t : times) {
+      g.set_time(t);
+      for (const std::string& a : keyed) w.push_back(scene->world_matrix(*resolve_address(g, a)));
+    }
+    g.set_time(0);
+    return w;
+  };
+  out.before = worlds();
+  out.torso_values_before = torso_values();
+
+  Definition next = def;
+  Component& arm_l = next.components[0].children[0].children[0].children[0];
+  arm_l.version = "1.1";
+  Guide moved;  // the upper arm's place, moved 3 cm and turned
+  const Mat4 upper = scene->world_matrix(g.find("upper_arm.L"));
+  moved.translate = upper.topRightCorner<3, 1>() + Vec3(0.02, 0.03, -0.01);
+  moved.rotate = Vec3(10, 20, 30);
+  arm_l.guides[1] = moved;
+  auto rebuilt = (*b)->rebuild_changed(next, Build::Rebuild::kNewerVersion, keep);
+  EXPECT_TRUE(rebuilt.is_ok()) << rebuilt.status().message();
+  EXPECT_EQ(rebuilt.is_ok() ? *rebuilt : std::vector<std::string>{}, std::vector<std::string>{arm_l.rig_id});
+  out.after = worlds();
+  out.torso_values_after = torso_values();
+  return out;
+}
+
+double largest_miss(const std::vector<Mat4>& a, const std::vector<Mat4>& b) {
+  double miss = 0;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) miss = std::max(miss, (a[i] - b[i]).cwiseAbs().maxCoeff());
+  return miss;
+}
+
+TEST(RigBuild, keep_keys_world_keeps_keyed_controls_of_changed_components_in_place) {
+  KeptWorlds world = update_with_moved_guide(Build::KeepKeys::kWorld);
+  ASSERT_EQ(world.before.size(), 12u);
+  ASSERT_EQ(world.after.size(), 12u);
+  EXPECT_LE(largest_miss(world.before, world.after), 1e-6);
+  // Keys on the unchanged torso: identical bit for bit.
+  ASSERT_FALSE(world.torso_values_before.empty());
+  EXPECT_EQ(world.torso_values_before, world.torso_values_after);
+
+  // Keeping local values instead leaves the controls where the new rest puts
+  // them: the conversion is what keeps them (the test can fail).
+  KeptWorlds local = update_with_moved_guide(Build::KeepKeys::kLocal);
+  EXPECT_GT(largest_miss(local.before, local.after), 1e-3);
+  EXPECT_EQ(local.torso_values_before, local.torso_values_after);
+}
+
+TEST(RigEdit, next_version_adds_one_to_the_last_number) {
+  EXPECT_EQ(next_version("1.0"), "1.1");
+  EXPECT_EQ(next_version("2"), "3");
+  EXPECT_EQ(next_version("1.0.9"), "1.0.10");
+  EXPECT_EQ(next_version("1.99"), "1.100");
+  EXPECT_EQ(next_version("beta"), "beta.1");
+  EXPECT_EQ(next_version(""), "1");
+}
+
+TEST(RigEdit, moved_controls_write_their_guides_back_and_bump_versions) {
+  auto scene = metarig();
+  ASSERT_TRUE(scene);
+  Definition def = biped();
+  BuildOptions options;
+  options.edit_mode = true;
+  auto b = Build::open(*scene, def, builtin_components(), options);
+  ASSERT_TRUE(b.is_ok());
+  ASSERT_TRUE((*b)->build_all().is_ok());
+  graph::Graph& g = scene->graph();
+  NodeId fk1 = *resolve_address(g, "hero:arm_L/fk[1]");
+  const std::string torso_uuid = g.node(*resolve_address(g, "hero:torso/fk[1]"))->uuid().str();
+  const Mat4 upper = scene->world_matrix(g.find("upper_arm.L"));
+  const Mat4 fk1_rest = scene->world_matrix(fk1);
+  const Mat4 fk2_rest = scene->world_matrix(*resolve_address(g, "hero:arm_L/fk[2]"));
+  ASSERT_TRUE(g.set_value(Plug{fk1, xform::kTranslate, -1}, Vec3(0.0, 0.05, 0.0)).is_ok());
+  ASSERT_TRUE(g.set_value(Plug{fk1, xform::kRotate, -1}, Vec3(0.0, 0.0, 30.0)).is_ok());
+  const Mat4 fk1_moved = scene->world_matrix(fk1);
+  const Mat4 fk2_moved = scene->world_matrix(*resolve_address(g, "hero:arm_L/fk[2]"));
+  const std::string text_before = io::write_scene(*scene);
+  // The control's move in its own rest frame: T(0, 0.05, 0) * Rz(30).
+  const Mat4 local = scene->local_matrix(fk1);
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+  EXPECT_NEAR(local(0, 0), c, 1e-12);
+  EXPECT_NEAR(local(1, 0), s, 1e-12);
+  EXPECT_NEAR(local(1, 3), 0.05, 1e-12);
+
+  auto e = (*b)->edits();
+  ASSERT_TRUE(e.is_ok()) << e.status().message();
+  const std::string text_after = io::write_scene(*scene);
+  EXPECT_TRUE(text_after == text_before) << "edits() leaves the scene as it was: " << first_difference(text_before, text_after);
+  const Component* arm = e->definition.find_by_rig_id(def.components[0].children[0].children[0].children[0].rig_id);
+  ASSERT_TRUE(arm);
+  EXPECT_EQ(e->changed, std::vector<std::string>{arm->rig_id}) << "fk[2] moved with fk[1], both in arm_L";
+  EXPECT_EQ(arm->version, "1.1");
+  EXPECT_EQ(e->definition.version, "1.1");
+  // Guide 1 keeps its joint and takes the move as its offset from it.
+  EXPECT_EQ(arm->guides[1].joint, "upper_arm.L");
+  math::TransformParts parts;
+  parts.translate = arm->guides[1].translate;
+  parts.rotate = math::to_radians(arm->guides[1].rotate);
+  parts.scale = arm->guides[1].scale;
+  const Mat4 guide1 = upper * math::compose(parts);
+  // The control was at its guide (the joint): the guide now stands where the control does.
+  EXPECT_TRUE(math::is_near(fk1_rest, upper, 1e-9));
+  EXPECT_TRUE(math::is_near(guide1, fk1_moved, 1e-9));
+  EXPECT_TRUE(e->ignored.empty());
+
+  auto committed = (*b)->commit_edits();
+  ASSERT_TRUE(committed.is_ok()) << committed.status().message();
+  NodeId new_fk1 = *resolve_address(g, "hero:arm_L/fk[1]");
+  EXPECT_TRUE(math::is_near(scene->world_matrix(new_fk1), fk1_moved, 1e-9)) << "rebuilt where it was moved to";
+  EXPECT_TRUE(math::is_near(scene->local_matrix(new_fk1), Mat4::Identity(), 1e-12)) << "zeroed";
+  // fk[2]'s guide is an offset from forearm.L, whose float32 world matrix has
+  // a little shear that guides cannot hold: within 1e-6, not 1e-9.
+  EXPECT_TRUE(math::is_near(scene->world_matrix(*resolve_address(g, "hero:arm_L/fk[2]")), fk2_moved, 1e-6));
+  EXPECT_FALSE(math::is_near(fk2_moved, fk2_rest, 1e-3));
+  EXPECT_EQ(g.node(*resolve_address(g, "hero:torso/fk[1]"))->uuid().str(), torso_uuid) << "the rest is untouched";
+  EXPECT_EQ((*b)->definition().version, "1.1");
+  EXPECT_EQ(meta_string(g, find_rig(g, "hero"), "version"), "1.1");
+  // Nothing moved now: no further edits.
+  auto again = (*b)->edits();
+  ASSERT_TRUE(again.is_ok());
+  EXPECT_TRUE(again->changed.empty());
+}
+
+TEST(RigEdit, a_rig_not_in_edit_mode_refuses_edits) {
+  auto scene = metarig();
+  ASSERT_TRUE(scene);
+  auto b = Build::open(*scene, biped(), builtin_components());
+  ASSERT_TRUE(b.is_ok());
+  ASSERT_TRUE((*b)->build_all().is_ok());
+  auto e = (*b)->edits();
+  ASSERT_FALSE(e.is_ok());
+  EXPECT_NE(e.status().message().find("not in edit mode"), std::string::npos) << e.status().message();
 }
 
 TEST(RigBuild, refuses_unknown_types_cycles_and_missing_hooks_naming_them) {

@@ -54,9 +54,23 @@ struct PlannedStep {
 };
 
 struct BuildOptions {
-  // Rig edit mode (seed 002): build in the default pose, never keyed.
+  // Rig edit mode (seed 002): the rig is an instance in its default pose
+  // (controls zeroed, no animation) whose control moves are edits of the
+  // definition (Build::edits). Kept on the metaRoot (`editMode`), so a
+  // later Build of the same rig follows what the scene says.
   bool edit_mode = false;
 };
+
+// What moving controls in rig edit mode does to the definition.
+struct Edits {
+  Definition definition;             // guides moved, versions bumped
+  std::vector<std::string> changed;  // rigIds of components with moved guides
+  std::vector<std::string> ignored;  // controls moved that stand for no guide (names)
+};
+
+// The version after `version`: its last number plus one ("1.0" -> "1.1",
+// "2" -> "3", "1.0.9" -> "1.0.10"); ".1" appended when it ends in no number.
+std::string next_version(std::string_view version);
 
 class Build {
  public:
@@ -109,7 +123,37 @@ class Build {
   // outside the rig (animation curves) re-attach to the new controls with
   // the same role and index, values as they were. Returns the rigIds rebuilt
   // or removed. One undo step; on failure nothing changes.
-  Result<std::vector<std::string>> rebuild_changed(Definition definition, Rebuild when = Rebuild::kChanged);
+  //
+  // How keys on the rebuilt controls are kept (seed 002's update option):
+  // kLocal keeps the curves as they are (the values, in the new controls'
+  // rest space); kWorld converts them so each keyed control is, at each of
+  // its key times, where it was in the world before the update (within
+  // 1e-6): controls are converted parents first, a channel keyed at some of
+  // the times gets keys at all of them, a free channel that must vary gets
+  // curves. Fails, changing nothing, when a control cannot be put back (its
+  // new parent space singular, pivots set, a channel driven by a
+  // non-curve) or misses by more than 1e-6, naming the control and frame.
+  enum class KeepKeys { kLocal, kWorld };
+  Result<std::vector<std::string>> rebuild_changed(Definition definition, Rebuild when = Rebuild::kChanged,
+                                                   KeepKeys keep = KeepKeys::kLocal);
+
+  // ---- rig edit mode (seed 002) ----
+  bool edit_mode() const { return options_.edit_mode; }
+  // The definition with each guide moved as its controls were moved: a
+  // control made at guide i (tagged guide=i) that stands at W instead of its
+  // rest R moves guide i's location G to W * R^-1 * G, so the rebuilt rig
+  // stands where the edited one does. A guide with a joint keeps it and
+  // takes the move as its offset in the joint's space; other guides take it
+  // as their values. Changed components and the rig get next_version().
+  // Rest poses come from zeroing every control in a transaction that is
+  // rolled back: the scene is left as it was. Fails when the rig is not in
+  // edit mode or not fully built, or when two controls of one guide were
+  // moved differently (naming them).
+  Result<Edits> edits();
+  // edits(), then rebuild_changed() with it: the moved components are built
+  // again at their new guides, controls zeroed. One undo step. The caller
+  // saves the definition (Edits::definition) where it belongs.
+  Result<Edits> commit_edits();
 
  private:
   Build(scene::Scene& scene, Definition definition, const ComponentFactory& factory, BuildOptions options);

@@ -50,6 +50,20 @@ class Scene {
   // difference. Fails when the new parent's world matrix is singular.
   Status reparent(NodeId child, NodeId parent, bool keep_world);
 
+  // The local channels that put transform `node` at `world` under its
+  // current parent space (its parentMatrix input and offsetParentMatrix, as
+  // evaluated now). A joint keeps its joint orient; the rotation absorbs the
+  // difference. Fails, naming the node, when its rotate axis or pivots are
+  // not zero or its parent space is singular.
+  struct LocalChannels {
+    math::Vec3 translate = math::Vec3::Zero();
+    graph::AttrIndex rotation_attr = 0;  // xform::kRotate (degrees, Vec3) or kRotateQuaternion (Quat)
+    graph::Value rotation;
+    math::Vec3 scale = math::Vec3::Ones();
+    math::Vec3 shear = math::Vec3::Zero();
+  };
+  Result<LocalChannels> channels_for_world(NodeId node, const Mat4& world);
+
   // Frame-based time over the graph's seconds: frame = seconds * fps,
   // snapped to the nearest whole frame when within rounding error of it
   // (31 / 120 * 120 is 31.000000000000004 in doubles).

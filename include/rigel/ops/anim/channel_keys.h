@@ -1,0 +1,53 @@
+#pragma once
+// Keys on the channels of transforms: the curve editing that keying
+// (ephemeral::set_key), tools and rig updates (keep world positions of keys)
+// share.
+//
+// A channel is a transform's translate, rotate, scale, shear or
+// rotateQuaternion. A double3 channel is keyed by one `animCurve` per
+// component (node.translateX <- curve.output) or by one `animCurveVec3`; a
+// quaternion rotation by an `animCurveQuat`. Curves that hold several clips
+// (clipOffsets, nodes.h) are read and edited in their active clip.
+//
+// Keys closer than kKeyTimeTolerance are the same key: float32 glTF times of
+// frame f differ from f / fps by ~1e-9.
+
+#include <string>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/graph/graph.h"
+
+namespace rigel::ops::anim {
+
+inline constexpr double kKeyTimeTolerance = 1e-6;
+
+enum class CurveKind { kScalar, kVec3, kQuat, kOther };
+// What a node is as a time curve: animCurve, animCurveVec3, animCurveQuat,
+// or other (drivenKey and any non-curve node included).
+CurveKind curve_kind(const graph::Graph& graph, graph::NodeId node);
+
+// Key times (seconds, sorted) of a curve's active clip; empty for a node
+// that is not a time curve.
+std::vector<double> curve_key_times(const graph::Graph& graph, graph::NodeId curve);
+// True when the curve has a key at `t` in its active clip.
+bool curve_has_key_at(const graph::Graph& graph, graph::NodeId curve, double t);
+
+// Writes `value` (double3 as math::Vec3, or math::Quat for rotateQuaternion)
+// into channel `attr` of `node` at time `t`. A free channel is set when not
+// `insert`, or gets new curves keyed once at `t` when `insert`. A keyed
+// channel: the key at `t` takes the value; with no key there, one is
+// inserted when `insert` (auto tangents; quaternion keys are kept
+// sign-continuous with their neighbour), else kInvalidArgument naming the
+// channel and the frame. A channel (or a component) driven by anything but
+// a fitting curve: kInvalidArgument naming the driver. One undo step.
+Status write_channel_key(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, const graph::Value& value,
+                         double t, bool insert);
+
+// Removes the key at `t` from `curve`, which drives `channel`; a curve left
+// without keys is deleted and the channel is set to `keep`. Ok with
+// `removed` false when the curve has no key there.
+Status delete_curve_key(graph::Graph& graph, graph::NodeId curve, double t, const graph::Plug& channel,
+                        const graph::Value& keep, bool& removed);
+
+}  // namespace rigel::ops::anim
