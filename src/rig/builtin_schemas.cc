@@ -117,23 +117,35 @@ std::vector<ComponentSchema> make_schemas() {
   {
     ComponentSchema c;
     c.type = "foot";
-    c.help = "Reverse foot: heel, toe and ball roll, banking, toe tap, as attributes of a foot control.";
+    c.help = "Reverse foot: heel, ball and toe roll, bank, heel/toe/ball twist and toe tap (a reverseFoot node the "
+             "foot control stands for); takes over the IK end of a parent limb.";
     c.params = {p_double("rollBreak", 30.0, 0.0, 90.0, "Roll angle (degrees) where the ball stops and the toe lifts.")};
     c.guides = {6, 6, {"ankle", "ball", "toe", "heel", "inner", "outer"},
-                "Ankle, ball and toe joints; heel, inner and outer edge pivots."};
-    c.controls = {{"foot", "square", "red", 0.3, "Foot control with roll, bank, heel, toe, ball and toeTap."}};
+                "Ankle and ball joints (the ball a child of the ankle); toe tip, heel, inner and outer edge of the "
+                "sole: pivots, joints or values (positions only)."};
+    c.controls = {{"foot", "square", "red", 0.3,
+                   "On the ground below the ankle, under the parent limb's ik control; moves the foot and stands for "
+                   "the reverseFoot node's roll, bank, twists and toeTap."},
+                  {"toeFk", "circle", "yellow", 0.1, "FK control of the ball joint (with a parent limb)."}};
     c.hooks = {"ankle", "ball", "toe"};
     s.push_back(std::move(c));
   }
   {
     ComponentSchema c;
     c.type = "hand";
-    c.help = "A hand control with FK fingers; curl and spread attributes drive every finger.";
-    c.params = {p_bool("curlAttributes", true, "Add curl and spread attributes to the hand control.")};
+    c.help = "A hand control with FK fingers; keyable curl (all fingers and per finger) and spread turn every finger.";
+    c.params = {p_bool("curlAttributes", true,
+                       "Make the fingerCurl node: keyable curl, fingerCurl[k] and spread, layered under the "
+                       "finger controls."),
+                p_enum("bendAxis", "x", {"x", "y", "z", "-x", "-y", "-z"},
+                       "Each finger's first-joint axis it curls about (glTF from Blender: x); a bent finger curls "
+                       "about its own plane's normal, signed to agree with it.")};
     c.guides = {1, -1, {},
-                "The hand joint first, then finger joints named FINGER.N (thumb.0, thumb.1, index.0, ...)."};
-    c.controls = {{"hand", "square", "yellow", 0.15, "The hand control."},
-                  {"finger", "circle", "lightBlue", 0.04, "One control per finger joint."}};
+                "The hand joint first, then finger joints named FINGER.N (thumb.0, thumb.1, index.0, ...), "
+                "fingers listed across the hand."};
+    c.controls = {{"hand", "square", "yellow", 0.15,
+                   "The hand control; drives the hand joint unless the parent (a limb) already does."},
+                  {"finger", "circle", "lightBlue", 0.04, "One FK control per finger joint."}};
     c.hooks = {"hand"};
     s.push_back(std::move(c));
   }
@@ -188,8 +200,7 @@ std::vector<ComponentSchema> make_schemas() {
     ComponentSchema c;
     c.type = "ephemeral";
     c.help = "Ephemeral rigging (seeds 000, 001): one control per joint below the guide joint, with relations.";
-    c.params = {p_double("magnetFraction", 0.65, 0.0, 1.0, "Share of its driver's motion per hop in magnet mode."),
-                p_enum("keyScope", "character", {"character", "controls"},
+    c.params = {p_enum("keyScope", "character", {"character", "controls"},
                        "character: keying one control keys the whole pose."),
                 p_bool("keepAnimation", true, "Move the joints' animation onto the controls.")};
     c.guides = {0, 1, {}, "The root joint of the hierarchy to rig (none: the whole character)."};

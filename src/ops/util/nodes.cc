@@ -5,6 +5,8 @@
 #include "rigel/graph/graph.h"
 #include "rigel/math/types.h"
 #include "rigel/ops/util/blend.h"
+#include "rigel/ops/util/finger.h"
+#include "rigel/ops/util/foot.h"
 #include "rigel/ops/util/twist.h"
 
 namespace rigel::ops::util {
@@ -44,6 +46,8 @@ Status register_util_types(graph::Registry& registry) {
   spec.compute = compute_inverse;
   if (Status s = registry.add(std::move(spec)); !s) return s;
   if (Status s = register_blend_types(registry); !s) return s;
+  if (Status s = register_finger_types(registry); !s) return s;
+  if (Status s = register_foot_types(registry); !s) return s;
   return register_twist_types(registry);
 }
 

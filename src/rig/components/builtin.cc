@@ -5,6 +5,8 @@
 #include "rigel/rig/components/basic.h"
 #include "rigel/rig/components/limbs.h"
 #include "rigel/rig/components/body.h"
+#include "rigel/rig/components/foot.h"
+#include "rigel/rig/components/hand.h"
 
 namespace rigel::rig {
 
@@ -14,6 +16,8 @@ const ComponentFactory& builtin_components() {
     Status s = components::add_basic_components(f);
     if (s) s = components::add_limb_components(f);
     if (s) s = components::add_body_components(f);
+    if (s) s = components::add_foot_component(f);
+    if (s) s = components::add_hand_component(f);
     if (!s) {
       std::fprintf(stderr, "rigel: built-in component classes: %s\n", s.message().c_str());
       std::abort();

@@ -465,8 +465,10 @@ Status match_fk_to_ik(scene::Scene& scene, NodeId limb_meta) {
   if (!nodes) return nodes.status();
   std::vector<Mat4> ik_worlds = std::get<std::vector<Mat4>>(g.evaluate(nodes->solver, ik::ik_attr::kOutWorldMatrices));
   if (ik_worlds.size() != 3) return error(ErrorCode::kInvalidArgument, "match_fk_to_ik: the IK solver has no 3-joint pose");
+  // The end's orientation as the switch takes it: the ik control's, or what
+  // replaced it (a foot's reverse foot).
   if (std::get<bool>(g.evaluate(nodes->blend, sw::kUseIkEndMatrix)))
-    ik_worlds[2] = ops::util::ik_end_world(ik_worlds[2], scene.world_matrix(nodes->ik));
+    ik_worlds[2] = ops::util::ik_end_world(ik_worlds[2], std::get<Mat4>(g.evaluate(nodes->blend, sw::kIkEndMatrix)));
   graph::Transaction tx(g, "match FK to IK");
   for (int i = 0; i < 3; ++i) {
     if (Status s = set_world(scene, nodes->fk[i], ik_worlds[i]); !s) {
