@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "rigel/ephemeral/component.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/component.h"
@@ -27,7 +28,8 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using graph::NodeId;
 
-const rig::ComponentFactory& factory() { return rig::builtin_components(); }
+// Every component class rigel has: the rig layer's and `ephemeral`.
+const rig::ComponentFactory& factory() { return ephemeral::components(); }
 
 // Reads and checks a definition; prints every problem (file:line:column).
 std::optional<rig::Definition> read_definition(const std::string& path) {

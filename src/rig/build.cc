@@ -780,6 +780,7 @@ namespace {
 // new control, never by name.
 struct Kept {
   std::string rig_id, role, index, attr;
+  std::int32_t element = -1;   // an array element (fingerCurl[k])
   std::int8_t component = -1;  // x, y, z of a double3 (a curve per component)
   Plug src;
 };
@@ -1014,7 +1015,8 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
       for (const graph::Connection& c : n.inputs()) {
         if (n.type().attr(c.dst.attr).name == graph::kMetaParentAttr || c.dst.attr == xform::kParentMatrix) continue;
         if (rig_of(g, c.src.node) == root) continue;  // the rig's own wiring is rebuilt
-        kept.push_back(Kept{id, *role, index ? *index : "", n.type().attr(c.dst.attr).name, c.dst.component, c.src});
+        kept.push_back(Kept{id, *role, index ? *index : "", n.type().attr(c.dst.attr).name, c.dst.element, c.dst.component,
+                              c.src});
       }
     }
   }
@@ -1032,7 +1034,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     for (const graph::Connection& c : g.node(k.src.node)->outputs()) {
       const graph::Node& d = *g.node(c.dst.node);
       if (c.src.attr == k.src.attr && c.src.element == k.src.element && d.type().attr(c.dst.attr).name == k.attr &&
-          c.dst.component == k.component &&
+          c.dst.element == k.element && c.dst.component == k.component &&
           rig_of(g, c.dst.node) == root && component_of(g, c.dst.node) == find_component(g, root, k.rig_id)) {
         link = c;  // a copy: disconnecting changes the list
         break;
@@ -1071,7 +1073,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
       const std::string* index = n.tag_find(kTagIndex);
       if (!role || *role != k.role || (index ? *index : std::string()) != k.index) continue;
       const graph::AttrIndex a = n.type().attr_find(k.attr);
-      const Plug dst{m, a, -1, k.component};
+      const Plug dst{m, a, k.element, k.component};
       if (a == graph::kNoAttr || g.source(dst)) break;
       s = g.connect(k.src, dst);
       break;
@@ -1178,6 +1180,8 @@ Result<Edits> Build::edits() {
   std::vector<Made> controls;
   std::vector<NodeId> all;
   for (std::size_t i = 0; i < components_.size(); ++i) {
+    const ComponentClass* cls = factory_.find(components_[i]->type);
+    if (cls && !cls->editable()) continue;
     const NodeId meta = find_component(g, root, components_[i]->rig_id);
     for (NodeId m : meta_members(g, meta)) {
       if (!is_control(g, m)) continue;
@@ -1347,16 +1351,22 @@ Result<NodeId> BuildContext::create(std::string_view type, std::string_view role
   if (index >= 0) name += std::to_string(index);
   Result<NodeId> id = parent.is_valid() ? scene_.create(type, name, parent) : graph().create_node(type, name);
   if (!id) return id.status();
-  graph::Graph& g = graph();
-  Status s = g.set_tag(*id, kTagRole, std::string(role));
-  if (s && index >= 0) s = g.set_tag(*id, kTagIndex, std::to_string(index));
-  if (s) s = g.set_tag(*id, kTagStep, step_);
-  if (s && guide >= 0) s = g.set_tag(*id, kTagGuide, std::to_string(guide));
-  if (s && meta_.is_valid())
-    s = g.connect(Plug{meta_, g.node(meta_)->type().attr_find("members"), -1},
-                  Plug{*id, g.node(*id)->type().attr_find(graph::kMetaParentAttr), -1});
+  Status s = link(*id, role, index, guide);
   if (!s) return s;
   return id;
+}
+
+Status BuildContext::link(NodeId id, std::string_view role, int index, int guide) {
+  graph::Graph& g = graph();
+  if (!g.node(id)) return error(ErrorCode::kNotFound, full_name() + ": link " + std::string(role) + ": no such node");
+  Status s = g.set_tag(id, kTagRole, std::string(role));
+  if (s && index >= 0) s = g.set_tag(id, kTagIndex, std::to_string(index));
+  if (s) s = g.set_tag(id, kTagStep, step_);
+  if (s && guide >= 0) s = g.set_tag(id, kTagGuide, std::to_string(guide));
+  if (s && meta_.is_valid())
+    s = g.connect(Plug{meta_, g.node(meta_)->type().attr_find("members"), -1},
+                  Plug{id, g.node(id)->type().attr_find(graph::kMetaParentAttr), -1});
+  return s;
 }
 
 namespace {

@@ -145,6 +145,7 @@ class Build {
   // stands where the edited one does. A guide with a joint keeps it and
   // takes the move as its offset in the joint's space; other guides take it
   // as their values. Changed components and the rig get next_version().
+  // Controls of classes that are not editable() are left out.
   // Rest poses come from zeroing every control in a transaction that is
   // rolled back: the scene is left as it was. Fails when the rig is not in
   // edit mode or not fully built, or when two controls of one guide were
@@ -215,6 +216,10 @@ class BuildContext {
   // and linked to this component's meta node. `parent` may be invalid.
   Result<NodeId> create(std::string_view type, std::string_view role, int index = -1, int guide = -1,
                         NodeId parent = {});
+  // Links a node made through another API (setup_spline_ik,
+  // ephemeral::setup_ephemeral) to this component as create() does: tags
+  // (role, index, step, guide) and the meta node's `members`.
+  Status link(NodeId node, std::string_view role, int index = -1, int guide = -1);
   // A control at `world`, zeroed (its offsetParentMatrix holds the place, its
   // channels are 0/1), with the role's shape, colour and size.
   Result<NodeId> create_control(std::string_view role, int index, int guide, const math::Mat4& world, NodeId parent);

@@ -24,6 +24,11 @@ class ComponentClass {
   // The steps that build `component`, in order (the build adds its own
   // "meta" step first). Step names are unique within a component.
   virtual std::vector<Step> steps(const Component& component) const = 0;
+  // Whether rig edit mode (Build::edits) reads this component's controls as
+  // guides: true for classes whose controls are zeroed at their guides (all
+  // of the rig layer's). A class whose controls hold a pose of their own
+  // (ephemeral: the joints' channels) says false, and edit mode leaves them.
+  virtual bool editable() const { return true; }
 };
 
 // Component classes by type (a C++ factory registry). The rig layer's own

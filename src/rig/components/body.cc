@@ -74,19 +74,6 @@ Mat4 frame(const Mat3& rotation, const Vec3& position) {
   return m;
 }
 
-// Links a node that a step made through another API (setup_spline_ik makes
-// its own node) to the component as BuildContext::create does: tags and the
-// meta node's `members`.
-Status link_made(BuildContext& ctx, NodeId id, std::string_view role, int index) {
-  graph::Graph& g = ctx.graph();
-  Status s = g.set_tag(id, kTagRole, std::string(role));
-  if (s && index >= 0) s = g.set_tag(id, kTagIndex, std::to_string(index));
-  if (s) s = g.set_tag(id, kTagStep, ctx.step());
-  if (s && ctx.meta().is_valid())
-    s = g.connect(plug(g, ctx.meta(), "members"), plug(g, id, graph::kMetaParentAttr));
-  return s;
-}
-
 // Where a constraint's parentInverseMatrix comes from.
 enum class SpaceKind {
   kParent,    // inverse(driven's parent world * driven's offsetParentMatrix), live
@@ -300,7 +287,7 @@ Status build_spline(BuildContext& ctx, const std::vector<Mat4>& worlds, const st
   options.world_up_vector = up;
   Result<NodeId> ik = ops::ik::setup_spline_ik(scene, drivers, points, options);
   if (!ik) return ik.status().with_context(ctx.full_name() + ": spline IK");
-  if (Status s = link_made(ctx, *ik, "ikSpline", -1); !s) return s;
+  if (Status s = ctx.link(*ik, "ikSpline"); !s) return s;
 
   // The drivers in the world: groups under the attach node whose local
   // matrix is the driver's spline-space world matrix.
