@@ -341,6 +341,14 @@ struct AttachTarget {
 struct Build::Records {
   // (rigId or "" for the rig, step) -> what the step did
   std::map<std::pair<std::string, std::string>, StepRecord> done;
+  // owner -> the buildRecord text its entries in `done` were read from or
+  // written as: sync() re-parses an owner only when the scene's text differs
+  // (parsing every record on every step made builds quadratic).
+  std::map<std::string, std::string> text;
+  void forget(const std::string& owner) {
+    text.erase(owner);
+    for (auto it = done.begin(); it != done.end();) it = it->first.first == owner ? done.erase(it) : std::next(it);
+  }
   std::vector<int> parent;           // per component: index of its nesting parent, -1 for roots
   std::vector<AttachTarget> attach;  // per component
 };
@@ -382,12 +390,21 @@ Result<std::unique_ptr<Build>> Build::reopen(scene::Scene& scene, std::string_vi
 
 Status Build::sync() {
   graph::Graph& g = scene_.graph();
-  records_->done.clear();
   position_ = 0;
   NodeId root = this->root();
-  if (!root.is_valid()) return Status::ok();
+  if (!root.is_valid()) {
+    records_->done.clear();
+    records_->text.clear();
+    records_->text.clear();
+    return Status::ok();
+  }
+  std::set<std::string> seen;
   auto load = [&](NodeId meta, const std::string& key) -> Status {
-    const std::string text = meta_string(g, meta, "buildRecord");
+    const std::string& text = meta_string(g, meta, "buildRecord");
+    seen.insert(key);
+    auto known = records_->text.find(key);
+    if (known != records_->text.end() && known->second == text) return Status::ok();
+    records_->forget(key);
     if (text.empty()) return Status::ok();
     Json j = Json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_array())
@@ -402,6 +419,7 @@ Status Build::sync() {
       if (!r) return r.status().with_context(g.node(meta)->name());
       records_->done[{key, r->step}] = std::move(*r);
     }
+    records_->text[key] = text;
     return Status::ok();
   };
   if (Status s = load(root, ""); !s) return s;
@@ -414,6 +432,11 @@ Status Build::sync() {
                        ") that this definition does not: it was built from another definition (use update)");
     if (Status s = load(c, id); !s) return s;
   }
+  // Owners whose meta node is gone (undo, another Build) leave nothing.
+  for (auto it = records_->done.begin(); it != records_->done.end();)
+    it = seen.count(it->first.first) ? std::next(it) : records_->done.erase(it);
+  for (auto it = records_->text.begin(); it != records_->text.end();)
+    it = seen.count(it->first) ? std::next(it) : records_->text.erase(it);
   const auto& pos = g.node(root)->value(g.node(root)->type().attr_find("buildPosition"));
   position_ = static_cast<int>(
       std::clamp<std::int64_t>(std::get<std::int64_t>(pos), 0, static_cast<std::int64_t>(plan_.size())));
@@ -563,7 +586,9 @@ Status Build::save_state(const std::string& owner) {
   }
   if (meta.is_valid()) {
     const graph::AttrIndex a = g.node(meta)->type().attr_find("buildRecord");
-    if (Status s = g.set_value(Plug{meta, a, -1}, Value(list.empty() ? std::string() : list.dump())); !s) return s;
+    std::string text = list.empty() ? std::string() : list.dump();
+    if (Status s = g.set_value(Plug{meta, a, -1}, Value(text)); !s) return s;
+    records_->text[owner] = std::move(text);
   }
   const graph::AttrIndex pos = g.node(root)->type().attr_find("buildPosition");
   return g.set_value(Plug{root, pos, -1}, Value(static_cast<std::int64_t>(position_)));
@@ -663,6 +688,7 @@ Status Build::construct(int index) {
   }
   if (!status) return status.with_context("build " + (comp ? full_name_of(*comp) + "/" : std::string()) + p.step);
   records_->done[{key, p.step}] = std::move(record);
+  records_->text.erase(key);  // save_state() writes and remembers the new text
   return Status::ok();
 }
 
@@ -673,6 +699,7 @@ Status Build::destruct(int index) {
   if (it == records_->done.end()) return Status::ok();  // passed over
   if (Status s = undo_record(scene_.graph(), it->second); !s) return s;
   records_->done.erase(it);
+  records_->text.erase(key);
   return Status::ok();
 }
 
@@ -690,6 +717,7 @@ Status Build::forward() {
   if (!s) {
     g.rollback_transaction();
     records_->done.erase({key_of(*this, plan_[position_].component), plan_[position_].step});
+    records_->text.erase(key_of(*this, plan_[position_].component));
     return s;
   }
   g.commit_transaction();
@@ -1052,6 +1080,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     if (it == records_->done.end()) continue;
     s = undo_record(g, it->second);
     records_->done.erase(it);
+    records_->text.erase(id);
   }
   // Construct theirs in the new plan's order.
   for (std::size_t i = 0; i < plan_.size() && s; ++i) {

@@ -1,0 +1,154 @@
+// Rig definitions and builds (issue 5's targets): building the bundled biped
+// (examples/biped.rig.xml) on Rigify's human metarig from its definition
+// (target at most 30 ms; Blender's Rigify generates its human rig in
+// 3.2-3.7 s on this machine), an update after one component changed (target
+// at most 5 ms), and validating a 1,000-component definition (what
+// `rigel validate` does: parse with positions, then every check).
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <memory>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "rigel/ephemeral/component.h"
+#include "rigel/ephemeral/rig.h"
+#include "rigel/io/gltf_import.h"
+#include "rigel/io/scene_file.h"
+#include "rigel/rig/build.h"
+#include "rigel/rig/definition_io.h"
+
+namespace rigel::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The metarig as scene text (parsed afresh for each build, untimed).
+const std::string& metarig_text() {
+  static const std::string text = [] {
+    auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
+    if (!imported) throw std::runtime_error(imported.status().message());
+    return io::write_scene(**imported);
+  }();
+  return text;
+}
+
+std::unique_ptr<scene::Scene> fresh_scene() {
+  auto s = io::parse_scene(metarig_text(), "metarig", ephemeral::default_registry());
+  if (!s) throw std::runtime_error(s.status().message());
+  (*s)->graph().clear_history();
+  return std::move(*s);
+}
+
+const rig::Definition& biped() {
+  static const rig::Definition d = [] {
+    rig::ParseResult p = rig::load_definition(fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml");
+    if (!p.ok()) throw std::runtime_error(p.errors.front().str());
+    return p.definition;
+  }();
+  return d;
+}
+
+void BM_rig_build_biped(benchmark::State& state) {
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::unique_ptr<scene::Scene> scene = fresh_scene();
+    state.ResumeTiming();
+    auto b = rig::Build::open(*scene, biped(), ephemeral::components());
+    if (!b || !(*b)->build_all()) {
+      state.SkipWithError("build failed");
+      break;
+    }
+    benchmark::DoNotOptimize((*b)->position());
+    state.PauseTiming();
+    scene.reset();
+    state.ResumeTiming();
+  }
+  state.counters["components"] = static_cast<double>(biped().all_components().size());
+}
+BENCHMARK(BM_rig_build_biped)->Unit(benchmark::kMillisecond);
+
+// One component (the left arm's limb) changes version and a parameter on each
+// update, alternating between two definitions so every update rebuilds it.
+void BM_rig_update_one_component(benchmark::State& state) {
+  std::unique_ptr<scene::Scene> scene = fresh_scene();
+  auto b = rig::Build::open(*scene, biped(), ephemeral::components());
+  if (!b || !(*b)->build_all()) {
+    state.SkipWithError("build failed");
+    return;
+  }
+  rig::Definition next[2] = {biped(), biped()};
+  std::string changed;
+  for (int k = 0; k < 2; ++k) {
+    rig::Component* arm = nullptr;
+    auto find = [&](auto&& self, std::vector<rig::Component>& list) -> void {
+      for (rig::Component& c : list) {
+        if (c.type == "limb" && c.side == rig::Side::kLeft && c.name == "arm") arm = &c;
+        self(self, c.children);
+      }
+    };
+    find(find, next[k].components);
+    if (!arm) {
+      state.SkipWithError("the biped has no left arm limb");
+      return;
+    }
+    arm->version = k == 0 ? "1.1" : "1.2";
+    arm->params.push_back(rig::Param{"poleDistance", k == 0 ? 0.6 : 0.5, {}});
+    changed = arm->rig_id;
+  }
+  std::size_t rebuilt = 0;
+  int k = 0;
+  for (auto _ : state) {
+    auto r = (*b)->rebuild_changed(next[k], rig::Build::Rebuild::kNewerVersion);
+    if (!r) {
+      state.SkipWithError(r.status().message().c_str());
+      break;
+    }
+    rebuilt = r->size();
+    k = 1 - k;
+    state.PauseTiming();
+    scene->graph().clear_history();
+    state.ResumeTiming();
+  }
+  state.counters["rebuilt"] = static_cast<double>(rebuilt);
+}
+BENCHMARK(BM_rig_update_one_component)->Unit(benchmark::kMillisecond);
+
+// A definition of `n` components: a global root, then fkChain components of
+// three value guides each, ten levels deep in a 10-ary-ish tree.
+std::string large_definition(int n) {
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<rig name=\"crowd\" version=\"1.0\">\n";
+  out << "  <component type=\"global\" name=\"global\" side=\"C\" version=\"1.0\" "
+         "rigId=\"00000000-0000-4000-8000-000000000000\">\n    <guide name=\"main\"/>\n";
+  for (int i = 1; i < n; ++i) {
+    char id[40];
+    std::snprintf(id, sizeof id, "%08x-0000-4000-8000-%012x", i, i);
+    out << "    <component type=\"fkChain\" name=\"chain" << i << "\" side=\"C\" version=\"1.0\" rigId=\"" << id
+        << "\">\n";
+    for (int gidx = 0; gidx < 3; ++gidx)
+      out << "      <guide translate=\"" << i * 0.01 << " " << gidx * 0.1 << " 0\"/>\n";
+    out << "      <control role=\"fk\" shape=\"circle\" color=\"yellow\" size=\"0.1\"/>\n    </component>\n";
+  }
+  out << "  </component>\n</rig>\n";
+  return out.str();
+}
+
+void BM_rig_validate_1000_components(benchmark::State& state) {
+  const std::string text = large_definition(1000);
+  std::size_t problems = 0;
+  for (auto _ : state) {
+    rig::ParseResult parsed = rig::parse_definition(text, rig::Syntax::kXml, "crowd.rig.xml");
+    std::vector<rig::Diagnostic> found = parsed.ok() ? rig::validate(parsed.definition) : parsed.errors;
+    problems = found.size();
+    benchmark::DoNotOptimize(found.data());
+  }
+  state.counters["problems"] = static_cast<double>(problems);
+  state.counters["bytes"] = static_cast<double>(text.size());
+}
+BENCHMARK(BM_rig_validate_1000_components)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace rigel::bench
