@@ -264,6 +264,96 @@ int run_remove(const RemoveArgs& args) {
   return 0;
 }
 
+// ---- meta ----------------------------------------------------------------
+
+struct MetaArgs {
+  std::string scene;
+  std::vector<std::string> nodes;  // --of NODE: the component that built it
+  std::string rig;                 // with --child / --connection
+  std::string component;           // rigId or name (--connection); "" = the rig
+  std::string child;               // --child RIGID (getMetaChildById, under --component or the rig)
+  std::string connection;          // --connection ROLE (getMetaNodeConnection)
+  int index = 0;
+  bool json = false;
+};
+
+Json meta_json(const graph::Graph& g, NodeId meta) {
+  Json j{{"meta", g.node(meta)->name()},
+         {"metaType", rig::meta_string(g, meta, "metaType")},
+         {"rig", rig::meta_string(g, rig::rig_of(g, meta), "rigName")}};
+  if (g.node(meta)->type().name() == rig::kMetaComponentType) {
+    j["component"] = rig::meta_string(g, meta, "componentName");
+    j["side"] = rig::meta_string(g, meta, "side");
+    j["rigId"] = rig::meta_string(g, meta, "rigId");
+    j["version"] = rig::meta_string(g, meta, "version");
+  }
+  return j;
+}
+
+int run_meta(const MetaArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  const graph::Graph& g = (*scene)->graph();
+  if (args.nodes.empty() && args.child.empty() && args.connection.empty())
+    return usage_error("meta: give --of NODE, --child RIGID or --connection ROLE");
+  Json out = Json::array();
+  for (const std::string& name : args.nodes) {
+    const NodeId id = g.find(name);
+    if (!id.is_valid()) return fail(error(ErrorCode::kNotFound, args.scene + ": no node '" + name + "'"));
+    const NodeId meta = rig::component_of(g, id);
+    if (!meta.is_valid())
+      return fail(error(ErrorCode::kNotFound, args.scene + ": '" + name + "' is not part of a rig"));
+    Json j = meta_json(g, meta);
+    j["node"] = name;
+    const graph::Node& n = *g.node(id);
+    if (const std::string* role = n.tag_find(rig::kTagRole)) j["role"] = *role;
+    if (const std::string* index = n.tag_find(rig::kTagIndex)) j["index"] = std::stoi(*index);
+    if (Result<std::string> a = rig::address_of(g, id); a) j["address"] = *a;
+    out.push_back(j);
+  }
+  if (!args.child.empty() || !args.connection.empty()) {
+    if (args.rig.empty()) return usage_error("meta: --child and --connection need --rig");
+    const NodeId root = rig::find_rig(g, args.rig);
+    if (!root.is_valid()) return fail(error(ErrorCode::kNotFound, args.scene + ": no rig '" + args.rig + "'"));
+    NodeId meta = root;
+    if (!args.component.empty()) {
+      meta = rig::find_component(g, root, args.component);
+      if (!meta.is_valid())
+        return fail(error(ErrorCode::kNotFound, args.rig + ": no component '" + args.component + "'"));
+    }
+    if (!args.child.empty()) {
+      const NodeId c = rig::get_meta_child_by_id(g, meta, args.child);
+      if (!c.is_valid())
+        return fail(error(ErrorCode::kNotFound, g.node(meta)->name() + ": no child component with rigId " + args.child));
+      out.push_back(meta_json(g, c));
+    }
+    if (!args.connection.empty()) {
+      Result<NodeId> n = rig::get_meta_connection(g, meta, args.connection, args.index);
+      if (!n) return fail(n.status().with_context(args.scene));
+      Json j = meta_json(g, meta);
+      j["node"] = g.node(*n)->name();
+      j["type"] = g.node(*n)->type().name();
+      j["role"] = args.connection;
+      j["index"] = args.index;
+      out.push_back(j);
+    }
+  }
+  if (args.json) {
+    print_json(Json{{"results", out}});
+    return 0;
+  }
+  for (const Json& j : out) {
+    if (j.contains("node")) std::cout << j["node"].get<std::string>() << "  ";
+    std::cout << j["rig"].get<std::string>();
+    if (j.contains("component"))
+      std::cout << ":" << j["component"].get<std::string>() << " (" << j["metaType"].get<std::string>() << " "
+                << j["version"].get<std::string>() << ", rigId " << j["rigId"].get<std::string>() << ")";
+    if (j.contains("role")) std::cout << "  role " << j["role"].get<std::string>();
+    std::cout << "\n";
+  }
+  return 0;
+}
+
 // ---- edit ----------------------------------------------------------------
 
 struct EditArgs {
@@ -380,6 +470,8 @@ struct RigCommands::State {
   AddressArgs address;
   CLI::App* edit_cmd = nullptr;
   EditArgs edit;
+  CLI::App* meta_cmd = nullptr;
+  MetaArgs meta;
 };
 
 RigCommands::RigCommands() : state_(std::make_unique<State>()) {}
@@ -446,6 +538,21 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
                          "Where to save the edited definition (default: the rig's definition path)");
   s.edit_cmd->add_option("-o,--output", s.edit.output, "Scene file to write (.rigel)")->required();
   s.edit_cmd->add_flag("--json", s.edit.json, "Print a JSON report on stdout");
+
+  s.meta_cmd = app.add_subcommand(
+      "meta", "Query the metadata network: the component that built a node, a child by rigId, a member by role");
+  s.meta_cmd->footer(
+      "Example:\n  rigel meta hero.rigel --of hero_arm_L_fk1 --json\n"
+      "  rigel meta hero.rigel --rig hero --component arm_L --connection fk --index 2\n"
+      "  rigel meta hero.rigel --rig hero --component torso --child 92020764-9e98-4b38-bd6c-0e26a5ed53f5");
+  s.meta_cmd->add_option("SCENE", s.meta.scene, "Scene file (.rigel)")->required();
+  s.meta_cmd->add_option("--of", s.meta.nodes, "The component (meta node) that built this node (findComponent)");
+  s.meta_cmd->add_option("--rig", s.meta.rig, "The rig for --child and --connection");
+  s.meta_cmd->add_option("--component", s.meta.component, "A component (rigId or name) of --rig; default: the rig itself");
+  s.meta_cmd->add_option("--child", s.meta.child, "A direct child component by rigId (getMetaChildById)");
+  s.meta_cmd->add_option("--connection", s.meta.connection, "A member by role or step (getMetaNodeConnection)");
+  s.meta_cmd->add_option("--index", s.meta.index, "The member's index for --connection")->check(CLI::NonNegativeNumber);
+  s.meta_cmd->add_flag("--json", s.meta.json, "Print JSON on stdout");
 }
 
 std::optional<int> run_rig_commands(const RigCommands& commands) {
@@ -456,6 +563,7 @@ std::optional<int> run_rig_commands(const RigCommands& commands) {
   if (*s.remove_cmd) return run_remove(s.remove);
   if (*s.address_cmd) return run_address(s.address);
   if (*s.edit_cmd) return run_edit(s.edit);
+  if (*s.meta_cmd) return run_meta(s.meta);
   return std::nullopt;
 }
 

@@ -2,7 +2,7 @@
 // The rig commands of `rigel` (docs/RIG.md, "Building and updating"):
 // `build` (a definition onto a character), `update` (rebuild what changed,
 // keeping animation), `rigs` (the Rig Manager's list), `remove` and
-// `address` (nameless addresses). main.cc registers them with
+// `address` (nameless addresses), `edit` (rig edit mode), `meta` (metadata queries). main.cc registers them with
 // add_rig_commands() and runs the chosen one with run_rig_commands().
 
 #include <memory>

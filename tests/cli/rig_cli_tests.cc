@@ -41,6 +41,33 @@ TEST(CliRig, build_lists_updates_and_removes_the_biped) {
   EXPECT_EQ(a.out, "hero_arm_L_fk2\nhero_arm_L_fk0\n");
   EXPECT_EQ(rigel({"address", built, "hero:wing_L/fk[0]"}).exit_code, 1);
 
+  // The metadata network's queries: the component of a node, a member by
+  // role and index (getMetaNodeConnection), a child by rigId (getMetaChildById).
+  CliRun of = rigel({"meta", built, "--of", "hero_arm_L_fk1", "--json"});
+  ASSERT_EQ(of.exit_code, 0) << of;
+  Json found = Json::parse(of.out)["results"][0];
+  EXPECT_EQ(found["component"], "arm_L");
+  EXPECT_EQ(found["side"], "L");
+  EXPECT_EQ(found["metaType"], "limb");
+  EXPECT_EQ(found["role"], "fk");
+  EXPECT_EQ(found["index"], 1);
+  EXPECT_EQ(found["address"], "hero:arm_L/joint[1]/fk[0]");
+  CliRun conn = rigel({"meta", built, "--rig", "hero", "--component", "arm_L", "--connection", "fk", "--index", "2"});
+  ASSERT_EQ(conn.exit_code, 0) << conn;
+  EXPECT_EQ(conn.out.substr(0, conn.out.find(' ')), "hero_arm_L_fk2");
+  std::string clavicle_id;
+  for (const Json& c : summary["components"])
+    if (c["name"] == "clavicle" && c["side"] == "L") clavicle_id = c["rigId"];
+  ASSERT_FALSE(clavicle_id.empty());
+  CliRun child = rigel({"meta", built, "--rig", "hero", "--component", "spine", "--child", clavicle_id, "--json"});
+  ASSERT_EQ(child.exit_code, 0) << child;
+  EXPECT_EQ(Json::parse(child.out)["results"][0]["component"], "clavicle_L");
+  EXPECT_EQ(rigel({"meta", built, "--rig", "hero", "--component", "hip", "--child", clavicle_id}).exit_code, 1)
+      << "a grandchild is not a child";
+  EXPECT_EQ(rigel({"meta", built, "--of", "no_such_node"}).exit_code, 1);
+  EXPECT_EQ(rigel({"meta", built, "--of", "spine.001"}).exit_code, 1) << "a joint is not part of the rig";
+  EXPECT_EQ(rigel({"meta", built}).exit_code, 2);
+
   // A newer definition on disk: one component changed.
   std::string text = read_text(example());
   const std::string rig_line = "<rig name=\"hero\" version=\"1.0\">";
