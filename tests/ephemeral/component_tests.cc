@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "../rig/rig_test_util.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
@@ -25,16 +26,7 @@ using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
 
-std::unique_ptr<scene::Scene> metarig() {
-  auto imported = io::import_gltf(std::filesystem::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  if (!imported) return nullptr;
-  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", default_registry());
-  EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
-  if (!loaded) return nullptr;
-  (*loaded)->graph().clear_history();
-  return std::move(*loaded);
-}
+std::unique_ptr<scene::Scene> metarig() { return rig::testing::metarig(default_registry()); }
 
 rig::Component component(std::string type, std::string name, std::string joint) {
   rig::Component c;
@@ -149,20 +141,7 @@ TEST(EphemeralComponent, stepping_back_and_forward_from_every_index_gives_the_st
     Status built = (*b)->build_all();
     ASSERT_TRUE(built.is_ok()) << built.message();
   }
-  graph::Graph& g = scene->graph();
-  auto names = [&] {
-    std::vector<std::string> n;
-    for (NodeId id : g.nodes()) n.push_back(g.node(id)->name());
-    std::sort(n.begin(), n.end());
-    return n;
-  };
-  const std::vector<std::string> straight = names();
-  const int total = static_cast<int>((*b)->plan().size());
-  for (int i = 0; i < total; ++i) {
-    ASSERT_TRUE((*b)->go_to(i).is_ok()) << i;
-    ASSERT_TRUE((*b)->build_all().is_ok()) << i;
-    EXPECT_EQ(names(), straight) << "back to " << i << " and forward";
-  }
+  rig::testing::expect_stepping_gives_the_straight_build(**b, *scene);
 }
 
 TEST(EphemeralComponent, refuses_joints_another_component_drives_naming_them) {

@@ -263,14 +263,7 @@ TEST(RigHand, stepping_back_and_forward_from_every_index_gives_the_straight_buil
   Built b = build(rig(Parent::kLimb));
   ASSERT_TRUE(b.build);
   Build& build = *b.build;
-  const std::string straight = normalized(*b.scene);
-  const int n = static_cast<int>(build.plan().size());
-  for (int k = n - 1; k >= 0; --k) {
-    ASSERT_TRUE(build.go_to(k).is_ok()) << k;
-    ASSERT_TRUE(build.build_all().is_ok()) << k;
-    const std::string now = normalized(*b.scene);
-    ASSERT_TRUE(now == straight) << "back to step " << k << " and forward again: " << first_difference(now, straight);
-  }
+  testing::expect_stepping_gives_the_straight_build(build, *b.scene);
 }
 
 TEST(RigHand, controls_sit_at_their_joints_one_per_finger_joint) {

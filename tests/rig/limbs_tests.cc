@@ -392,14 +392,7 @@ TEST(RigLimbs, stepping_back_and_forward_from_every_index_gives_the_straight_bui
   ASSERT_TRUE(b.is_ok());
   Build& build = **b;
   ASSERT_TRUE(build.build_all().is_ok());
-  const std::string straight = normalized(*scene);
-  const int n = static_cast<int>(build.plan().size());
-  for (int k = n - 1; k >= 0; --k) {
-    ASSERT_TRUE(build.go_to(k).is_ok()) << k;
-    ASSERT_TRUE(build.build_all().is_ok()) << k;
-    const std::string now = normalized(*scene);
-    ASSERT_TRUE(now == straight) << "back to step " << k << " and forward again: " << first_difference(now, straight);
-  }
+  testing::expect_stepping_gives_the_straight_build(build, *scene);
 }
 
 TEST(RigLimbs, features_off_build_fk_only_limbs) {

@@ -10,6 +10,7 @@
 
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/rig/build.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/scene.h"
@@ -18,14 +19,14 @@ namespace rigel::rig::testing {
 
 using graph::NodeId;
 
-// Rigify's human metarig (tests/data/gltf), over the rig registry, with an
-// empty undo history.
-inline std::unique_ptr<scene::Scene> metarig() {
+// Rigify's human metarig (tests/data/gltf), over `registry` (the rig layer's
+// by default), with an empty undo history.
+inline std::unique_ptr<scene::Scene> metarig(std::shared_ptr<const graph::Registry> registry = default_registry()) {
   auto imported =
       io::import_gltf(std::filesystem::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
   EXPECT_TRUE(imported.is_ok()) << imported.status().message();
   if (!imported) return nullptr;
-  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", default_registry());
+  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", std::move(registry));
   EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
   if (!loaded) return nullptr;
   (*loaded)->graph().clear_history();
@@ -82,6 +83,19 @@ inline std::string first_difference(const std::string& a, const std::string& b) 
     return t.substr(s, std::min<std::size_t>(t.find('\n', at) - s, 200));
   };
   return "first difference at byte " + std::to_string(i) + ":\n  " + line_at(a, i) + "\n  " + line_at(b, i);
+}
+
+// From a complete build: back to every index (the last first) and forward
+// again; each time the scene (uuids written as names) must be the straight
+// build's.
+inline void expect_stepping_gives_the_straight_build(Build& build, scene::Scene& scene) {
+  const std::string straight = normalized(scene);
+  for (int k = static_cast<int>(build.plan().size()) - 1; k >= 0; --k) {
+    ASSERT_TRUE(build.go_to(k).is_ok()) << k;
+    ASSERT_TRUE(build.build_all().is_ok()) << k;
+    const std::string now = normalized(scene);
+    ASSERT_TRUE(now == straight) << "back to step " << k << " and forward again: " << first_difference(now, straight);
+  }
 }
 
 }  // namespace rigel::rig::testing
