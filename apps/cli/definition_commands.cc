@@ -12,6 +12,7 @@
 #include "cli_util.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/diff.h"
+#include "rigel/rig/manager.h"
 #include "rigel/rig/schema.h"
 
 namespace rigel::cli {
@@ -59,14 +60,6 @@ struct ComponentsArgs {
   bool json = false;
 };
 
-Json value_json(const rig::ParamValue& v) {
-  if (const auto* b = std::get_if<bool>(&v)) return *b;
-  if (const auto* i = std::get_if<std::int64_t>(&v)) return *i;
-  if (const auto* d = std::get_if<double>(&v)) return *d;
-  if (const auto* x = std::get_if<math::Vec3>(&v)) return Json::array({x->x(), x->y(), x->z()});
-  return std::get<std::string>(v);
-}
-
 std::string value_text(const rig::ParamValue& v) {
   if (const auto* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
   if (const auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
@@ -86,35 +79,6 @@ std::string guide_count(const rig::GuideSpec& g) {
   if (g.max == g.min) return "exactly " + std::to_string(g.min);
   if (g.max < 0) return "at least " + std::to_string(g.min);
   return std::to_string(g.min) + " to " + std::to_string(g.max);
-}
-
-Json schema_json(const rig::ComponentSchema& s) {
-  Json j = Json::object();
-  j["type"] = s.type;
-  j["help"] = s.help;
-  Json params = Json::array();
-  for (const rig::ParamSpec& p : s.params) {
-    Json e = Json::object();
-    e["name"] = p.name;
-    e["type"] = rig::param_type_name(p.type);
-    e["default"] = value_json(p.default_value);
-    if (p.min) e["min"] = *p.min;
-    if (p.max) e["max"] = *p.max;
-    if (!p.choices.empty()) e["choices"] = p.choices;
-    e["help"] = p.help;
-    params.push_back(std::move(e));
-  }
-  j["params"] = std::move(params);
-  j["guides"] = Json{{"min", s.guides.min}, {"max", s.guides.max}, {"names", s.guides.names}, {"help", s.guides.help}};
-  Json controls = Json::array();
-  for (const rig::ControlSpec& c : s.controls)
-    controls.push_back(Json{{"role", c.role}, {"shape", c.shape}, {"color", c.color}, {"size", c.size}, {"help", c.help}});
-  j["controls"] = std::move(controls);
-  j["hooks"] = s.hooks;
-  j["features"] = s.features;
-  j["rootOnly"] = s.root_only;
-  j["needsParent"] = s.needs_parent;
-  return j;
 }
 
 void print_schema(const rig::ComponentSchema& s) {
@@ -163,7 +127,7 @@ int run_components(const ComponentsArgs& args) {
   }
   if (args.json) {
     Json list = Json::array();
-    for (const std::string& t : types) list.push_back(schema_json(*schemas.find(t)));
+    for (const std::string& t : types) list.push_back(rig::component_schema_json(*schemas.find(t)));
     std::cout << Json{{"components", std::move(list)}}.dump(2) << "\n";
     return 0;
   }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -20,6 +21,7 @@
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
 #include "rig_commands.h"
+#include "serve_command.h"
 #include "rigel/io/bvh_import.h"
 #include "rigel/io/gltf_export.h"
 #include "rigel/io/gltf_import.h"
@@ -28,6 +30,7 @@
 #include "rigel/math/transform.h"
 #include "rigel/ops/anim/clips.h"
 #include "rigel/scene/transform_types.h"
+#include "rigel/tools/bake.h"
 
 namespace {
 
@@ -223,6 +226,20 @@ std::optional<std::pair<double, double>> parse_frames(const std::string& text) {
   return std::pair{*first, *last};
 }
 
+// A progress callback that prints "rigel: WHAT NN%" on stderr, only on a
+// terminal (empty otherwise); `shown` tells whether a line was started.
+std::function<void(double)> terminal_progress(const char* what, bool& shown) {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [what, &shown, last = -1](double fraction) mutable {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == last) return;
+    last = percent;
+    shown = true;
+    std::fprintf(stderr, "\rrigel: %s %3d%%", what, percent);
+    std::fflush(stderr);
+  };
+}
+
 int run_export(const ExportArgs& args) {
   rigel::io::GltfExportOptions options;
   options.bake = args.bake;
@@ -242,16 +259,7 @@ int run_export(const ExportArgs& args) {
   if (!scene) return fail(scene.status());
   // Baking long ranges takes a while: show how far it got, on a terminal only.
   bool progress_shown = false;
-  if (isatty(STDERR_FILENO)) {
-    options.progress = [&progress_shown, last = -1](double fraction) mutable {
-      const int percent = static_cast<int>(fraction * 100.0);
-      if (percent == last) return;
-      last = percent;
-      progress_shown = true;
-      std::fprintf(stderr, "\rrigel: baking %3d%%", percent);
-      std::fflush(stderr);
-    };
-  }
+  options.progress = terminal_progress("baking", progress_shown);
   rigel::io::GltfExportReport report;
   const Status status = rigel::io::export_gltf(**scene, args.output, options, &report);
   if (progress_shown) std::fputc('\n', stderr);
@@ -266,6 +274,53 @@ int run_export(const ExportArgs& args) {
             << " channels) to " << args.output << "\n";
   return 0;
 }
+// ---- bake --------------------------------------------------------------------
+
+struct BakeArgs {
+  std::string scene;
+  std::string frames;
+  std::vector<std::string> nodes;  // empty: every joint
+  std::string output;
+  bool json = false;
+};
+
+int run_bake(const BakeArgs& args) {
+  const auto frames = parse_frames(args.frames);
+  if (!frames) {
+    std::cerr << "rigel: --frames '" << args.frames << "': expected FIRST:LAST, two frame numbers such as 0:120\n";
+    return kExitUsage;
+  }
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::tools::BakeOptions options;
+  options.first = frames->first;
+  options.last = frames->second;
+  for (const std::string& name : args.nodes) {
+    const NodeId id = (*scene)->graph().find(name);
+    if (!id.is_valid()) return fail(rigel::error(rigel::ErrorCode::kNotFound, args.scene + ": --nodes: no node '" + name + "'"));
+    options.nodes.push_back(id);
+  }
+  bool shown = false;
+  options.progress = terminal_progress("baking", shown);
+  auto report = rigel::tools::bake(**scene, options);
+  if (shown) std::fputc('\n', stderr);
+  if (!report) return fail(report.status().with_context(args.scene));
+  if (Status s = rigel::io::save_scene(**scene, args.output); !s) return fail(s);
+  if (args.json) {
+    std::cout << nlohmann::ordered_json{{"nodes", report->nodes},
+                                        {"frames", report->frames},
+                                        {"keys", report->keys},
+                                        {"disconnected", report->disconnected},
+                                        {"output", args.output}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cerr << "rigel: baked " << report->nodes << " nodes over " << report->frames << " frames (" << report->keys
+              << " keys; " << report->disconnected << " drivers disconnected) into " << args.output << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -303,6 +358,16 @@ int main(int argc, char** argv) {
   export_cmd->add_flag("--bake", export_args.bake,
                        "Bake every frame even when the animation can be written as it is (default range: the keys')");
 
+  BakeArgs bake;
+  CLI::App* bake_cmd = app.add_subcommand("bake", "Bake what the rigs make nodes do into keys on the nodes (every joint by default)");
+  bake_cmd->footer("Examples:\n  rigel bake shot.rigel --frames 0:120 -o baked.rigel\n"
+                   "  rigel bake shot.rigel --frames 1:48 --nodes upper_arm.L,forearm.L,hand.L -o arm_baked.rigel");
+  bake_cmd->add_option("SCENE", bake.scene, "Scene file (.rigel)")->required();
+  bake_cmd->add_option("--frames", bake.frames, "FIRST:LAST, scene frames")->required();
+  bake_cmd->add_option("--nodes", bake.nodes, "Transforms to bake (default: every joint)")->delimiter(',');
+  bake_cmd->add_option("-o,--output", bake.output, "Scene file to write (.rigel)")->required();
+  bake_cmd->add_flag("--json", bake.json, "Print a JSON report on stdout");
+
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge` and `pose`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -312,6 +377,9 @@ int main(int argc, char** argv) {
   // `build`, `update`, `rigs`, `remove`, `address`: built rigs.
   rigel::cli::RigCommands rig;
   rigel::cli::add_rig_commands(app, rig);
+  // `serve`: the web app and the JSON API.
+  rigel::cli::ServeArgs serve;
+  CLI::App* serve_cmd = rigel::cli::add_serve_command(app, serve);
 
   try {
     app.parse(argc, argv);
@@ -324,9 +392,11 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return run_eval(eval);
     if (*import_cmd) return run_import(import);
     if (*export_cmd) return run_export(export_args);
+    if (*bake_cmd) return run_bake(bake);
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;
     if (const std::optional<int> code = rigel::cli::run_rig_commands(rig)) return *code;
+    if (*serve_cmd) return rigel::cli::run_serve(serve);
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something
     // does, report it as an error instead of crashing.

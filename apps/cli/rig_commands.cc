@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "rigel/rig/build.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/definition_io.h"
+#include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 
@@ -33,18 +35,14 @@ const rig::ComponentFactory& factory() { return ephemeral::components(); }
 
 // Reads and checks a definition; prints every problem (file:line:column).
 std::optional<rig::Definition> read_definition(const std::string& path) {
-  const std::vector<rig::Diagnostic> problems = rig::check_definition(path);
-  if (!problems.empty()) {
-    for (const rig::Diagnostic& d : problems) std::cerr << d.str() << "\n";
-    std::cerr << "rigel: " << path << ": " << problems.size() << (problems.size() == 1 ? " error\n" : " errors\n");
+  auto def = rig::read_definition(path);
+  if (!def) {
+    const std::string& problems = def.status().message();
+    const auto count = std::count(problems.begin(), problems.end(), '\n') + 1;
+    std::cerr << problems << "\n" << "rigel: " << path << ": " << count << (count == 1 ? " error\n" : " errors\n");
     return std::nullopt;
   }
-  rig::ParseResult parsed = rig::load_definition(path);
-  if (!parsed.ok()) {
-    for (const rig::Diagnostic& d : parsed.errors) std::cerr << d.str() << "\n";
-    return std::nullopt;
-  }
-  return std::move(parsed.definition);
+  return std::move(*def);
 }
 
 void print_json(const Json& j) { std::cout << j.dump(2, ' ', false, Json::error_handler_t::replace) << "\n"; }
@@ -142,46 +140,23 @@ int run_update(const UpdateArgs& args) {
   if (!args.definition.empty() && rigs.size() > 1)
     return usage_error("--definition applies to one rig: name it with --rig");
   Json report = Json::array();
-  for (NodeId root : rigs) {
-    const std::string name = rig::meta_string(g, root, "rigName");
-    const std::string path = args.definition.empty() ? rig::meta_string(g, root, "definitionPath") : args.definition;
-    if (path.empty()) return fail(error(ErrorCode::kNotFound, name + ": no definition path; give --definition"));
-    std::optional<rig::Definition> def = read_definition(path);
-    if (!def) return kExitInvalidInput;
-    def->source = path;
-    const std::string old_version = rig::meta_string(g, root, "version");
-    if (def->name != name)
-      return fail(error(ErrorCode::kInvalidArgument, path + ": defines rig '" + def->name + "', not '" + name + "'"));
-    const bool newer = rig::compare_versions(old_version, def->version) != 0;
-    std::vector<std::string> rebuilt;
-    if (newer || args.force) {
-      auto build = rig::Build::reopen(**scene, name, factory());
-      if (!build) return fail(build.status().with_context(args.scene));
-      auto r = (*build)->rebuild_changed(*def, args.force ? rig::Build::Rebuild::kAll : rig::Build::Rebuild::kNewerVersion,
-                                         args.keep_keys == "world" ? rig::Build::KeepKeys::kWorld
-                                                                   : rig::Build::KeepKeys::kLocal);
-      if (!r) return fail(r.status());
-      rebuilt = *r;
-    }
-    Json names = Json::array();
-    for (const std::string& id : rebuilt) {
-      const rig::Component* c = def->find_by_rig_id(id);
-      names.push_back(c ? c->name + (c->side == rig::Side::kCenter ? "" : std::string("_") + rig::side_name(c->side)) : id);
-    }
-    report.push_back(Json{{"rig", name},
-                          {"from", old_version},
-                          {"to", def->version},
-                          {"definition", path},
-                          {"rebuilt", names}});
-    if (!args.json) {
-      if (!newer && !args.force) {
-        std::cerr << "rigel: " << name << " " << old_version << " is up to date with " << path << "\n";
-      } else {
-        std::cerr << "rigel: " << name << " " << old_version << " -> " << def->version << ": rebuilt "
-                  << rebuilt.size() << " component(s)";
-        for (std::size_t i = 0; i < names.size(); ++i) std::cerr << (i ? ", " : ": ") << names[i].get<std::string>();
-        std::cerr << "\n";
-      }
+  const auto keep = args.keep_keys == "world" ? rig::Build::KeepKeys::kWorld : rig::Build::KeepKeys::kLocal;
+  const bool progress = !args.json && rigs.size() > 1 && isatty(2);
+  for (std::size_t i = 0; i < rigs.size(); ++i) {
+    const std::string name = rig::meta_string(g, rigs[i], "rigName");
+    if (progress) std::cerr << "rigel: updating " << name << " (" << (i + 1) << "/" << rigs.size() << ")\n";
+    auto r = rig::update_rig(**scene, name, factory(), args.definition, args.force, keep);
+    if (!r) return fail(r.status().with_context(args.scene));
+    report.push_back(Json{{"rig", r->rig}, {"from", r->from}, {"to", r->to}, {"definition", r->definition},
+                          {"rebuilt", r->rebuilt}});
+    if (args.json) continue;
+    if (!r->updated) {
+      std::cerr << "rigel: " << name << " " << r->from << " is up to date with " << r->definition << "\n";
+    } else {
+      std::cerr << "rigel: " << name << " " << r->from << " -> " << r->to << ": rebuilt " << r->rebuilt.size()
+                << " component(s)";
+      for (std::size_t k = 0; k < r->rebuilt.size(); ++k) std::cerr << (k ? ", " : ": ") << r->rebuilt[k];
+      std::cerr << "\n";
     }
   }
   if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
@@ -199,35 +174,7 @@ struct RigsArgs {
 int run_rigs(const RigsArgs& args) {
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  const graph::Graph& g = (*scene)->graph();
-  Json list = Json::array();
-  for (NodeId root : rig::list_rigs(g)) {
-    const std::string path = rig::meta_string(g, root, "definitionPath");
-    const std::string version = rig::meta_string(g, root, "version");
-    // The Rig Manager's red button: the definition on disk has another version.
-    Json on_disk = nullptr;
-    if (!path.empty() && fs::exists(path)) {
-      rig::ParseResult p = rig::load_definition(path);
-      if (p.ok()) on_disk = p.definition.version;
-    }
-    Json comps = Json::array();
-    for (NodeId c : rig::rig_components(g, root)) {
-      NodeId parent = rig::meta_parent(g, c);
-      comps.push_back(Json{{"name", rig::meta_string(g, c, "componentName")},
-                           {"type", rig::meta_string(g, c, "metaType")},
-                           {"version", rig::meta_string(g, c, "version")},
-                           {"rigId", rig::meta_string(g, c, "rigId")},
-                           {"parent", parent == root ? "" : rig::meta_string(g, parent, "componentName")},
-                           {"nodes", rig::meta_members(g, c).size()}});
-    }
-    list.push_back(Json{{"name", rig::meta_string(g, root, "rigName")},
-                        {"version", version},
-                        {"definition", path},
-                        {"definitionVersion", on_disk},
-                        {"outOfDate", on_disk.is_string() && on_disk.get<std::string>() != version},
-                        {"buildPosition", std::stoll("0" + rig::meta_string(g, root, "buildPosition"))},
-                        {"components", comps}});
-  }
+  const Json list = rig::rigs_report((*scene)->graph());
   if (args.json) {
     print_json(Json{{"rigs", list}});
     return 0;

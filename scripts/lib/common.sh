@@ -6,6 +6,8 @@ RIGEL_PACKAGES=(
   g++ make cmake
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libtinygltf-dev libpugixml-dev libgtest-dev libbenchmark-dev
+  pybind11-dev python3-dev python3-pytest
+  pkg-config libcpp-httplib-dev
 )
 
 rigel_log() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }
@@ -45,4 +47,27 @@ rigel_build() {
     cmake "$dir" "$@" >/dev/null
   fi
   cmake --build "$dir" -j "$(rigel_jobs)"
+}
+
+# Node.js and npm for the web app: the machine's own when it has them (a
+# NodeSource install ships npm inside its nodejs package), else Debian's.
+rigel_ensure_node() {
+  if command -v node >/dev/null && command -v npm >/dev/null; then return 0; fi
+  rigel_ensure_packages nodejs npm
+}
+
+# Builds the web app (TypeScript + three.js, bundled by esbuild) into
+# web/dist, which `rigel serve` serves. npm ci runs when node_modules is
+# missing or older than the lock file.
+rigel_build_web() {
+  rigel_ensure_node
+  (
+    cd web
+    if [ ! -f node_modules/.package-lock.json ] || [ package-lock.json -nt node_modules/.package-lock.json ]; then
+      rigel_log "npm ci (web app)"
+      npm ci --no-audit --no-fund --loglevel=error
+    fi
+    rigel_log "building the web app"
+    npm run --silent build
+  )
 }

@@ -1223,6 +1223,9 @@ class Exporter {
     for (const ExportNode& n : nodes_) {
       tinygltf::Node node;
       node.name = name(n.id);
+      // The node's rigel uuid, so a client (the web app) maps glTF nodes back
+      // to scene nodes whatever their names become.
+      node.extras = tinygltf::Value(tinygltf::Value::Object{{"uuid", tinygltf::Value(g_.node(n.id)->uuid().str())}});
       node.children = n.children;
       if (n.has_shear && !n.animated) {
         node.matrix.assign(n.rest_matrix.data(), n.rest_matrix.data() + 16);  // column-major, as glTF

@@ -6,7 +6,8 @@
 // The mapping (what a glTF viewer then shows is what rigel evaluates):
 //
 // - Every transform-type node (transform, joint, control, locator, mesh)
-//   becomes a glTF node with its name, children in creation order. Its
+//   becomes a glTF node with its name and `extras.uuid` (the rigel uuid),
+//   children in creation order. Its
 //   local transform (offsetParentMatrix * matrix, evaluated at the scene's
 //   current time) is written as translation / rotation / scale, or as
 //   `matrix` when it has shear (and is not animated: glTF animates TRS only;

@@ -1,0 +1,17 @@
+"""rigel: a character-rigging engine, from Python (docs/PYTHON.md).
+
+The classes and functions are the C++ libraries' (the extension
+``rigel._rigel``); ``PyBuild`` is the pure-Python base class for build
+scripts (seed 004's PyBuild).
+
+Conventions: angles in degrees, vectors (x, y, z), quaternions
+(x, y, z, w), matrices 16 floats column-major, times in seconds
+(``Scene.frame`` in frames). Every failing call raises a subclass of
+``rigel.Error`` whose message names the place.
+"""
+
+from ._rigel import *  # noqa: F401,F403
+from ._rigel import __doc__ as _extension_doc  # noqa: F401
+from .pybuild import PyBuild  # noqa: F401
+
+__all__ = [name for name in dir() if not name.startswith("_")]

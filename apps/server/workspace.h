@@ -1,0 +1,77 @@
+#pragma once
+// What `rigel serve` holds and answers: one scene, its ephemeral posing
+// session and its rigs, behind the JSON API of docs/SERVER.md. The HTTP
+// side (http_server.h) only moves bytes; every request is answered here, so
+// tests drive the API without sockets and the server adds nothing to it.
+//
+// Requests are served one at a time (a mutex), so every answer is a
+// consistent state, whatever the number of tabs and scripts. Every change
+// increments `revision`, which clients poll to notice the others' edits.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rigel/base/status.h"
+#include "rigel/ephemeral/session.h"
+#include "rigel/rig/component.h"
+#include "rigel/scene/scene.h"
+
+namespace rigel::server {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+struct Request {
+  std::string method;  // "GET", "POST", ...
+  std::string path;    // "/api/pose" (no query)
+  std::map<std::string, std::string> query;
+  std::string body;
+};
+
+struct Response {
+  int status = 200;
+  std::string body;
+  std::string content_type = "application/json";
+};
+
+// The largest request body the API takes (413 above it).
+inline constexpr std::size_t kMaxBody = 4u << 20;
+
+class Workspace {
+ public:
+  // `scene_path`: where "save" without a path writes (may be empty: then a
+  // save needs a path). `root`: the folder request paths are relative to and
+  // confined in. `factory`: the component classes builds use.
+  Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
+            const rig::ComponentFactory& factory);
+  ~Workspace();
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+
+  // Answers one API request (any path under /api). Never throws.
+  Response handle(const Request& request);
+
+  std::uint64_t revision() const;
+  // For tests and the CLI: the scene, under the caller's care (no request
+  // must be running).
+  scene::Scene& scene() { return *scene_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<scene::Scene> scene_;
+  std::unique_ptr<Impl> impl_;
+  mutable std::mutex mutex_;
+};
+
+// `path` (relative, from a request) resolved inside `root`: absolute paths,
+// paths that leave the root through ".." or a symbolic link, and empty
+// paths are refused (kInvalidArgument naming `field`).
+Result<fs::path> confined_path(const fs::path& root, const std::string& path, const std::string& field);
+
+}  // namespace rigel::server

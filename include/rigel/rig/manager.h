@@ -1,0 +1,66 @@
+// The Rig Manager's operations (seed 002 §4.3.1), shared by the `rigel`
+// commands, `rigel serve` and the Python module: reading a definition with
+// every problem reported, the list of rigs in a scene with their versions
+// (and whether the definition on disk is newer), adding a rig from a
+// definition file and updating a rig from its definition.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rigel/base/status.h"
+#include "rigel/rig/build.h"
+#include "rigel/rig/component.h"
+#include "rigel/rig/definition.h"
+#include "rigel/scene/scene.h"
+
+namespace rigel::rig {
+
+// Loads and validates a definition file: kInvalidArgument whose message
+// lists every problem as "file:line:column: message", one per line.
+Result<Definition> read_definition(const std::filesystem::path& path, const SchemaRegistry& schemas = builtin_schemas());
+
+// The rigs of a scene, what `rigel rigs --json` prints under "rigs": per rig
+// its name, version, definition path, the version of the definition on
+// disk (null when it cannot be read), outOfDate (the two differ: the Rig
+// Manager's red button), editMode, buildPosition and steps, and its
+// components (name, type, version, rigId, parent component, node count).
+nlohmann::ordered_json rigs_report(const graph::Graph& graph);
+
+// A component type's schema as `rigel components --json` prints it: type,
+// help, params (name, type, default, min, max, choices, help), guides (min,
+// max, names, help), controls (role, shape, color, size, help), hooks,
+// features, rootOnly, needsParent.
+nlohmann::ordered_json component_schema_json(const ComponentSchema& schema);
+
+// Builds the definition at `path` on `scene` (every step; progress, when
+// given, gets the steps done and the total after each) and records the path
+// on the metaRoot. Fails, changing nothing, on an invalid definition or a
+// step that fails.
+struct AddedRig {
+  std::string name, version;
+  int steps = 0;
+  std::vector<std::string> components;  // full names, build order
+};
+Result<AddedRig> add_rig(scene::Scene& scene, const std::filesystem::path& path, const ComponentFactory& factory,
+                         BuildOptions options = {}, const std::function<void(int, int)>& progress = {});
+
+// Updates rig `rig_name` from its definition (its own definitionPath, or
+// `definition_path` when not empty): components whose version differs are
+// rebuilt (all with `force`), keys kept as `keep` says. `updated` is false
+// when the versions already agreed and nothing was forced.
+struct UpdateReport {
+  std::string rig, from, to, definition;
+  bool updated = false;
+  std::vector<std::string> rebuilt;  // full names (or rigIds of removed components)
+};
+Result<UpdateReport> update_rig(scene::Scene& scene, std::string_view rig_name, const ComponentFactory& factory,
+                                const std::filesystem::path& definition_path = {}, bool force = false,
+                                Build::KeepKeys keep = Build::KeepKeys::kLocal);
+
+}  // namespace rigel::rig

@@ -1,0 +1,126 @@
+// Baking what a rig makes nodes do into keys (bake.h).
+
+#include "rigel/tools/bake.h"
+
+#include <cmath>
+#include <unordered_set>
+
+#include "rigel/math/rotation.h"
+#include "rigel/ops/anim/channel_keys.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::tools {
+namespace {
+
+using graph::NodeId;
+namespace xform = scene::xform;
+
+struct NodeIdHash {
+  std::size_t operator()(NodeId id) const { return (std::size_t{id.generation} << 32) ^ id.index; }
+};
+
+bool is_channel(graph::AttrIndex a) {
+  return a == xform::kTranslate || a == xform::kRotate || a == xform::kRotateQuaternion || a == xform::kScale;
+}
+
+}  // namespace
+
+Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
+  graph::Graph& g = scene.graph();
+  if (!std::isfinite(o.first) || !std::isfinite(o.last) || o.first > o.last)
+    return error(ErrorCode::kInvalidArgument, "bake: frames must be finite, first <= last");
+  if (o.last - o.first > 1e6) return error(ErrorCode::kInvalidArgument, "bake: more than a million frames");
+
+  // The nodes, parents first.
+  std::unordered_set<NodeId, NodeIdHash> wanted(o.nodes.begin(), o.nodes.end());
+  for (NodeId id : o.nodes)
+    if (!scene.is_transform(id))
+      return error(ErrorCode::kInvalidArgument,
+                   "bake: " + (g.node(id) ? g.node(id)->name() : std::string("a deleted node")) + " is not a transform");
+  std::vector<NodeId> nodes;
+  for (NodeId id : scene.hierarchy()) {
+    const bool take = o.nodes.empty() ? g.node(id)->type().name() == scene::kJointType : wanted.count(id) > 0;
+    if (take) nodes.push_back(id);
+  }
+
+  std::vector<double> frames;
+  for (double f = o.first; f <= o.last + 1e-9; f += 1.0) frames.push_back(std::min(f, o.last));
+  if (frames.back() < o.last - 1e-9) frames.push_back(o.last);
+
+  // Sample every node at every frame (the rig evaluated as it is).
+  const double time_before = g.time();
+  const std::size_t total_work = nodes.size() * frames.size() * 2 + 1;
+  std::size_t done = 0;
+  struct Sample {
+    math::Vec3 translate, scale, euler;  // euler: degrees
+    math::Quat rotation;
+  };
+  std::vector<std::vector<Sample>> samples(nodes.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    scene.set_frame(frames[f]);
+    for (std::size_t n = 0; n < nodes.size(); ++n) {
+      auto ch = scene.channels_for_world(nodes[n], scene.world_matrix(nodes[n]));
+      if (!ch) {
+        g.set_time(time_before);
+        return ch.status().with_context("bake: frame " + std::to_string(frames[f]));
+      }
+      const auto order =
+          static_cast<math::RotateOrder>(std::get<std::int64_t>(g.node(nodes[n])->value(xform::kRotateOrder)));
+      Sample x{ch->translate, ch->scale, {}, {}};
+      if (ch->rotation_attr == xform::kRotate) {
+        x.euler = std::get<math::Vec3>(ch->rotation);
+        x.rotation = math::euler_to_quat(math::to_radians(x.euler), order);
+      } else {
+        x.rotation = std::get<math::Quat>(ch->rotation);
+        x.euler = math::to_degrees(math::quat_to_euler(x.rotation, order));
+      }
+      // Continuity: Euler angles closest to the previous frame's, quaternions
+      // in the previous frame's hemisphere, so linear keys take the short way.
+      std::vector<Sample>& list = samples[n];
+      if (!list.empty()) {
+        x.euler = math::to_degrees(math::euler_closest(math::to_radians(x.euler), math::to_radians(list.back().euler), order));
+        if (x.rotation.coeffs().dot(list.back().rotation.coeffs()) < 0) x.rotation.coeffs() *= -1;
+      }
+      list.push_back(x);
+      if (o.progress) o.progress(static_cast<double>(++done) / static_cast<double>(total_work));
+    }
+  }
+
+  BakeReport report;
+  report.nodes = nodes.size();
+  report.frames = frames.size();
+  graph::Transaction tx(g, "bake");
+  // Whatever drove the baked channels lets go of them.
+  std::unordered_set<NodeId, NodeIdHash> baked(nodes.begin(), nodes.end());
+  for (const graph::Connection& c : g.connections()) {
+    if (!baked.count(c.dst.node) || !is_channel(c.dst.attr)) continue;
+    if (Status s = g.disconnect(c.src, c.dst); !s) {
+      tx.rollback();
+      g.set_time(time_before);
+      return s.with_context("bake");
+    }
+    ++report.disconnected;
+  }
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      const double t = frames[f] / g.fps();
+      const Sample& x = samples[n][f];
+      Status s = ops::anim::write_channel_key(g, nodes[n], xform::kTranslate, graph::Value(x.translate), t, true);
+      if (s) s = ops::anim::write_channel_key(g, nodes[n], xform::kRotate, graph::Value(x.euler), t, true);
+      if (s) s = ops::anim::write_channel_key(g, nodes[n], xform::kRotateQuaternion, graph::Value(x.rotation), t, true);
+      if (s) s = ops::anim::write_channel_key(g, nodes[n], xform::kScale, graph::Value(x.scale), t, true);
+      if (!s) {
+        tx.rollback();
+        g.set_time(time_before);
+        return s.with_context("bake: " + g.node(nodes[n])->name());
+      }
+      report.keys += 4;
+      if (o.progress) o.progress(static_cast<double>(++done) / static_cast<double>(total_work));
+    }
+  }
+  g.set_time(time_before);
+  if (o.progress) o.progress(1.0);
+  return report;
+}
+
+}  // namespace rigel::tools

@@ -1,0 +1,338 @@
+// The JSON API of `rigel serve`, driven in-process (no sockets): every route
+// on the bundled character, and every kind of bad request.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "rigel/ephemeral/component.h"
+#include "rigel/ephemeral/rig.h"
+#include "rigel/io/gltf_import.h"
+#include "rigel/rig/definition_io.h"
+#include "server_test_util.h"
+#include "workspace.h"
+
+namespace rigel::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(ServerApi, SceneRevisionAndSelection) {
+  Served s = served_puppet();
+  Json scene = s.get("/api/scene");
+  EXPECT_EQ(scene["mode"], "forward");
+  EXPECT_EQ(scene["modes"].size(), 8u);
+  EXPECT_EQ(scene["fps"], 24.0);
+  EXPECT_FALSE(scene["canUndo"].get<bool>());
+  const auto rev = s.get("/api/revision")["revision"].get<std::uint64_t>();
+  Json sel = s.post("/api/select", {{"controls", {"hand.L"}}});  // a joint stands for its control
+  ASSERT_EQ(sel["selection"].size(), 1u);
+  EXPECT_EQ(sel["selection"][0], s.control("hand.L"));
+  EXPECT_EQ(s.get("/api/revision")["revision"].get<std::uint64_t>(), rev + 1);
+  s.post("/api/select", {{"controls", {s.control("hand.R")}}, {"add", true}});
+  EXPECT_EQ(s.get("/api/scene")["selection"].size(), 2u);
+}
+
+TEST(ServerApi, NodesListControlsWithShapes) {
+  Served s = served_puppet();
+  Json nodes = s.get("/api/nodes");
+  std::size_t joints = 0, ephemeral_controls = 0;
+  for (const Json& n : nodes["nodes"]) joints += n["type"] == "joint";
+  for (const Json& c : nodes["controls"]) {
+    ephemeral_controls += c["ephemeral"].get<bool>();
+    EXPECT_FALSE(c["shape"]["points"].empty()) << c["name"];
+    EXPECT_EQ(c["shape"]["color"].size(), 3u);
+  }
+  EXPECT_EQ(joints, 159u);
+  EXPECT_EQ(ephemeral_controls, 159u);
+  EXPECT_EQ(nodes["controls"].size(), 160u);  // and the global control
+}
+
+TEST(ServerApi, InverseDragMovesTheArmOnlyAndUndoRestoresIt) {
+  Served s = served_puppet();
+  const Json before = s.get("/api/pose?space=world")["nodes"];
+  s.post("/api/mode", {{"mode", "inverse"}});
+  s.post("/api/options", {{"maxChain", 3}});
+  s.post("/api/select", {{"controls", {"hand.L"}}});
+  for (int i = 1; i <= 5; ++i) s.post("/api/drag", {{"translate", {0.0, 0.02, 0.01}}});
+  s.post("/api/release", Json::object());
+  const Json after = s.get("/api/pose?space=world")["nodes"];
+  for (const char* moved : {"forearm.L", "hand.L"}) EXPECT_GT(s.distance(before, after, moved), 1e-3) << moved;
+  // The chain's top keeps its place (it turns); the rest of the body does not move.
+  EXPECT_LT(s.position_distance(before, after, "upper_arm.L"), 1e-9);
+  for (const char* still : {"upper_arm.R", "hand.R", "spine.003", "thigh.L", "foot.R", "shoulder.L"})
+    EXPECT_LT(s.distance(before, after, still), 1e-9) << still;
+  // The gesture is one undo step.
+  Json undo = s.post("/api/undo", Json::object());
+  EXPECT_NE(undo["label"].get<std::string>().find("ephemeral drag"), std::string::npos) << undo;
+  const Json undone = s.get("/api/pose?space=world")["nodes"];
+  for (const auto& [uuid, v] : before.items()) EXPECT_EQ(undone[uuid], v) << uuid;
+  s.post("/api/redo", Json::object());
+  EXPECT_LT(s.distance(after, s.get("/api/pose?space=world")["nodes"], "hand.L"), 1e-12);
+}
+
+TEST(ServerApi, DragToAWorldTargetAndMultiSelection) {
+  Served s = served_puppet();
+  const Json before = s.get("/api/pose?space=world")["nodes"];
+  s.post("/api/select", {{"controls", {"hand.L", "hand.R"}}});
+  const Json& h = before[s.control("hand.L")];
+  // Forward: both grabbed controls get the same delta, nothing else moves.
+  s.post("/api/drag", {{"control", "hand.L"},
+                       {"to", {{"t", {h[0].get<double>(), h[1].get<double>() + 0.1, h[2].get<double>()}}}}});
+  const Json after = s.get("/api/pose?space=world")["nodes"];
+  EXPECT_NEAR(after[s.control("hand.L")][1].get<double>(), h[1].get<double>() + 0.1, 1e-9);
+  EXPECT_NEAR(s.position_distance(before, after, "hand.R"), 0.1, 1e-9);
+  EXPECT_LT(s.distance(before, after, "forearm.L"), 1e-9);
+}
+
+TEST(ServerApi, KeysOnTwoFramesAndTime) {
+  Served s = served_puppet();
+  s.post("/api/select", {{"controls", {"spine.003"}}});
+  s.post("/api/time", {{"frame", 0}});
+  s.post("/api/key", Json::object());
+  s.post("/api/time", {{"frame", 10}});
+  Json keys = s.post("/api/key", Json::object());
+  // On a key, a drag changes the key.
+  s.post("/api/drag", {{"rotate", {{"euler", {0, 30, 0}}}}});
+  EXPECT_EQ(keys["frames"], Json::array({0.0, 10.0}));
+  EXPECT_EQ(keys["scope"], "character");
+  // Between the keys the pose is between the poses.
+  const double y10 = s.get("/api/pose?space=world")["nodes"][s.uuid("spine.006")][0].get<double>();
+  s.post("/api/time", {{"frame", 0}});
+  const double y0 = s.get("/api/pose?space=world")["nodes"][s.uuid("spine.006")][0].get<double>();
+  Json t = s.post("/api/time", {{"frame", 5}});
+  EXPECT_EQ(t["frame"], 5.0);
+  const double y5 = s.get("/api/pose?space=world")["nodes"][s.uuid("spine.006")][0].get<double>();
+  EXPECT_GT(std::abs(y10 - y0), 1e-3);
+  EXPECT_GT(y5, std::min(y0, y10));
+  EXPECT_LT(y5, std::max(y0, y10));
+  EXPECT_EQ(s.get("/api/keys?controls=spine.003")["frames"].size(), 2u);
+  // A drag off a key with auto-key off is refused: 409 with the reason.
+  s.post("/api/time", {{"frame", 3}});
+  Response r = s.request("POST", "/api/drag", R"({"translate": [0, 0.1, 0]})");
+  EXPECT_EQ(r.status, 409) << r.body;
+  s.post("/api/options", {{"autoKey", true}});
+  s.post("/api/drag", {{"translate", {0, 0.01, 0}}});
+  EXPECT_EQ(s.get("/api/keys")["frames"].size(), 3u);
+}
+
+TEST(ServerApi, BadRequestsNameTheFieldAndTheServerGoesOn) {
+  Served s = served_puppet();
+  struct Case {
+    const char* method;
+    const char* path;
+    std::string body;
+    int status;
+    const char* field;  // expected "field" of the answer ("" = none)
+    const char* says;   // part of the message
+  };
+  const std::vector<Case> cases = {
+      {"POST", "/api/select", "{\"controls\": [", 400, "body", "line 1"},
+      {"POST", "/api/select", "[1, 2]", 400, "body", "JSON object"},
+      {"POST", "/api/select", "{}", 400, "controls", "missing field"},
+      {"POST", "/api/select", R"({"controls": "hand.L"})", 400, "controls", "array"},
+      {"POST", "/api/select", R"({"controls": [3]})", 400, "controls[0]", "string"},
+      {"POST", "/api/select", R"({"controls": ["hand.L", "nobody"]})", 404, "controls[1]", "no node 'nobody'"},
+      {"POST", "/api/select", R"({"controls": ["puppet_meta"]})", 400, "controls[0]", "not a control"},
+      {"POST", "/api/mode", R"({"mode": "sideways"})", 400, "mode", "unknown mode"},
+      {"POST", "/api/drag", R"({"control": "hand.L", "to": {"t": [0, "up", 0]}})", 400, "to.t[1]", "number"},
+      {"POST", "/api/drag", R"({"control": "hand.L", "to": {"q": [0, 0, 0, 0]}})", 400, "to.q", "zero length"},
+      {"POST", "/api/drag", R"({"translate": [1, 2]})", 400, "translate", "3 numbers"},
+      {"POST", "/api/time", R"({"frame": "ten"})", 400, "frame", "number"},
+      {"POST", "/api/time", "{}", 400, "frame", "missing"},
+      {"POST", "/api/options", R"({"maxChain": 2.5})", 400, "maxChain", "whole number"},
+      {"POST", "/api/undo", "{}", 409, "", "nothing to undo"},
+      {"POST", "/api/rigs/remove", R"({"rig": "nobody"})", 404, "rig", "no rig 'nobody'"},
+      {"POST", "/api/rigs/add", R"({"definition": "../../etc/passwd"})", 400, "definition", "outside"},
+      {"POST", "/api/rigs/add", R"({"definition": "/etc/passwd"})", 400, "definition", "absolute"},
+      {"POST", "/api/definition/save", R"({"definition": {}, "path": "../x.rig.xml"})", 400, "path", "outside"},
+      {"GET", "/api/pose?space=up", "", 400, "space", "local or world"},
+      {"GET", "/api/nothing", "", 404, "", "no such route"},
+      {"DELETE", "/api/scene", "", 405, "", "not allowed"},
+      {"POST", "/api/select", std::string(kMaxBody + 1, ' '), 413, "", "bytes"},
+  };
+  for (const Case& c : cases) {
+    std::string path = c.path, query;
+    if (auto q = path.find('?'); q != std::string::npos) {
+      query = path.substr(q + 1);
+      path = path.substr(0, q);
+    }
+    Request req{c.method, path, {}, c.body};
+    if (!query.empty()) req.query[query.substr(0, query.find('='))] = query.substr(query.find('=') + 1);
+    Response r = s.workspace->handle(req);
+    SCOPED_TRACE(std::string(c.method) + " " + c.path + " " + c.body.substr(0, 60));
+    EXPECT_EQ(r.status, c.status) << r.body;
+    const Json body = Json::parse(r.body);
+    ASSERT_TRUE(body.contains("error")) << r.body;
+    EXPECT_NE(body["error"].get<std::string>().find(c.says), std::string::npos) << r.body;
+    if (*c.field) {
+      EXPECT_EQ(body.value("field", ""), c.field) << r.body;
+    }
+  }
+  // Nothing above changed the scene, and it still answers.
+  EXPECT_FALSE(s.get("/api/scene")["canUndo"].get<bool>());
+  EXPECT_EQ(s.post("/api/select", {{"controls", {"hand.L"}}})["selection"].size(), 1u);
+}
+
+TEST(ServerApi, ConfinedPathsStayInTheRoot) {
+  TempDir dir;
+  fs::create_directories(dir.path / "root/defs");
+  fs::create_directories(dir.path / "outside");
+  fs::create_directory_symlink(dir.path / "outside", dir.path / "root/link");
+  const fs::path root = dir.path / "root";
+  EXPECT_TRUE(confined_path(root, "defs/a.rig.xml", "p").is_ok());
+  EXPECT_TRUE(confined_path(root, "defs/../b.rig.xml", "p").is_ok());
+  EXPECT_TRUE(confined_path(root, "new/c.rig.xml", "p").is_ok());
+  for (const char* bad : {"", "../x", "defs/../../x", "/etc/passwd", "link/x", "link/../../x"}) {
+    auto r = confined_path(root, bad, "path");
+    EXPECT_FALSE(r.is_ok()) << bad;
+    if (!r.is_ok()) {
+      EXPECT_EQ(r.status().message().rfind("path: ", 0), 0u) << r.status().message();
+    }
+  }
+}
+
+TEST(ServerApi, CharacterGlbCarriesUuids) {
+  Served s = served_puppet();
+  Response r = s.request("GET", "/api/character.glb", "");
+  ASSERT_EQ(r.status, 200);
+  EXPECT_EQ(r.content_type, "model/gltf-binary");
+  ASSERT_GT(r.body.size(), 20u);
+  EXPECT_EQ(r.body.substr(0, 4), "glTF");
+  EXPECT_NE(r.body.find(s.control("hand.L")), std::string::npos);
+}
+
+// The Rig Manager: add a rig from a definition, see it out of date when the
+// file on disk gets a newer version, update it, step its build, remove it.
+TEST(ServerApi, RigManagerAddUpdateStepRemove) {
+  Served s = served_character();
+  fs::create_directories(s.root / "defs");
+  std::string def = read_text(fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml");
+  const std::string geo = "../tests/data/gltf/rigify_human_metarig.glb";
+  def.replace(def.find(geo), geo.size(), (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb").string());
+  write_text(s.root / "defs/hero.rig.xml", def);
+  Json added = s.post("/api/rigs/add", {{"definition", "defs/hero.rig.xml"}});
+  EXPECT_EQ(added["rig"], "hero");
+  EXPECT_EQ(added["components"].size(), 21u);
+  Json rigs = s.get("/api/rigs")["rigs"];
+  ASSERT_EQ(rigs.size(), 1u);
+  EXPECT_FALSE(rigs[0]["outOfDate"].get<bool>());
+  EXPECT_EQ(rigs[0]["buildPosition"], rigs[0]["steps"]);
+  EXPECT_EQ(s.request("POST", "/api/rigs/add", R"({"definition": "defs/hero.rig.xml"})").status, 409);
+
+  // A newer hip on disk: the rig is out of date until updated.
+  const std::string hip = R"(name="hip" side="C" version="1.0")";
+  def.replace(def.find(hip), hip.size(), R"(name="hip" side="C" version="1.1")");
+  const std::string rig = R"(<rig name="hero" version="1.0">)";
+  def.replace(def.find(rig), rig.size(), R"(<rig name="hero" version="1.1">)");
+  write_text(s.root / "defs/hero.rig.xml", def);
+  rigs = s.get("/api/rigs")["rigs"];
+  EXPECT_TRUE(rigs[0]["outOfDate"].get<bool>());
+  EXPECT_EQ(rigs[0]["definitionVersion"], "1.1");
+  Json updated = s.post("/api/rigs/update", {{"rig", "hero"}, {"keepKeys", "world"}});
+  EXPECT_TRUE(updated["updated"].get<bool>());
+  EXPECT_EQ(updated["to"], "1.1");
+  EXPECT_FALSE(updated["rebuilt"].empty());
+  EXPECT_FALSE(s.get("/api/rigs")["rigs"][0]["outOfDate"].get<bool>());
+
+  // Stepping back and forth through the build.
+  const int steps = s.get("/api/rigs")["rigs"][0]["steps"].get<int>();
+  Json step = s.post("/api/rigs/step", {{"rig", "hero"}, {"by", -1}});
+  EXPECT_EQ(step["position"], steps - 1);
+  step = s.post("/api/rigs/step", {{"rig", "hero"}, {"to", 3}});
+  EXPECT_EQ(step["position"], 3);
+  EXPECT_EQ(s.request("POST", "/api/rigs/step", R"({"rig": "hero", "to": 100000})").status, 400);
+  s.post("/api/rigs/step", {{"rig", "hero"}, {"to", steps}});
+
+  s.post("/api/rigs/remove", {{"rig", "hero"}});
+  EXPECT_TRUE(s.get("/api/rigs")["rigs"].empty());
+  // Everything is undoable.
+  s.post("/api/undo", Json::object());
+  EXPECT_EQ(s.get("/api/rigs")["rigs"].size(), 1u);
+}
+
+// The definition editor: a two-component rig validated, built live,
+// changed and rebuilt, saved (version bumped on a changed file).
+TEST(ServerApi, DefinitionEditorBuildsAndSaves) {
+  Served s = served_character();
+  Json def = two_component_definition();
+  Json v = s.post("/api/definition/validate", {{"definition", def}});
+  EXPECT_TRUE(v["ok"].get<bool>()) << v;
+  Json bad = def;
+  bad["rig"]["components"][0]["type"] = "tentacle";
+  v = s.post("/api/definition/validate", {{"definition", bad}});
+  EXPECT_FALSE(v["ok"].get<bool>());
+  EXPECT_NE(v["problems"].dump().find("tentacle"), std::string::npos) << v;
+  EXPECT_EQ(s.request("POST", "/api/definition/build", Json{{"definition", bad}}.dump()).status, 400);
+
+  Json built = s.post("/api/definition/build", {{"definition", def}});
+  EXPECT_EQ(built["rebuilt"].size(), 2u);
+  EXPECT_EQ(s.get("/api/rigs")["rigs"][0]["components"].size(), 2u);
+  // Live: a change rebuilds only the changed component.
+  def["rig"]["components"][0]["children"][0]["controls"][0]["size"] = 0.2;
+  built = s.post("/api/definition/build", {{"definition", def}});
+  EXPECT_EQ(built["rebuilt"].size(), 1u) << built;
+
+  Json saved = s.post("/api/definition/save", {{"definition", def}, {"path", "defs/arm.rig.xml"}});
+  EXPECT_EQ(saved["version"], "1.0");
+  EXPECT_TRUE(rig::check_definition(s.root / "defs/arm.rig.xml").empty());
+  // The same content again keeps the version; another content bumps it.
+  saved = s.post("/api/definition/save", {{"definition", def}, {"path", "defs/arm.rig.xml"}});
+  EXPECT_EQ(saved["version"], "1.0");
+  def["rig"]["components"][0]["children"][0]["controls"][0]["size"] = 0.3;
+  saved = s.post("/api/definition/save", {{"definition", def}, {"path", "defs/arm.rig.xml"}});
+  EXPECT_EQ(saved["version"], "1.1");
+  EXPECT_EQ(rig::load_definition(s.root / "defs/arm.rig.xml").definition.version, "1.1");
+  EXPECT_EQ(s.request("POST", "/api/definition/save", Json{{"definition", def}, {"path", "defs/arm.txt"}}.dump()).status,
+            400);
+}
+
+// A built rig's controls (not ephemeral) are dragged directly: their
+// channels take the world target, what they drive follows, one undo step.
+TEST(ServerApi, DraggingABuiltRigControlWritesItsChannels) {
+  Served s = served_character();
+  s.post("/api/definition/build", {{"definition", two_component_definition()}});
+  std::string fk;
+  const Json nodes = s.get("/api/nodes");
+  for (const Json& c : nodes["controls"]) {
+    if (c["name"] == "arm_arm_L_fk0") {
+      EXPECT_EQ(c["rig"], "arm");
+      EXPECT_FALSE(c["ephemeral"].get<bool>());
+      fk = c["uuid"];
+    }
+  }
+  ASSERT_FALSE(fk.empty());
+  const Json before = s.get("/api/pose?space=world")["nodes"];
+  const Json& w = before[fk];
+  const double half = std::sqrt(0.5);
+  // A quarter turn about Y of the first FK control, in place.
+  Eigen::Quaterniond q0(w[6].get<double>(), w[3].get<double>(), w[4].get<double>(), w[5].get<double>());
+  Eigen::Quaterniond q = Eigen::Quaterniond(half, 0, half, 0) * q0;
+  for (int i = 0; i < 3; ++i)  // several drags of one gesture
+    s.post("/api/drag", {{"control", fk}, {"to", {{"q", {q.x(), q.y(), q.z(), q.w()}}}}});
+  s.post("/api/release", Json::object());
+  const Json after = s.get("/api/pose?space=world")["nodes"];
+  EXPECT_NEAR(std::abs(after[fk][3].get<double>() * q.x() + after[fk][4].get<double>() * q.y() +
+                       after[fk][5].get<double>() * q.z() + after[fk][6].get<double>() * q.w()),
+              1.0, 1e-9);
+  EXPECT_GT(s.position_distance(before, after, "hand.L"), 0.05);
+  EXPECT_LT(s.distance(before, after, "hand.R"), 1e-12);
+  s.post("/api/undo", Json::object());
+  EXPECT_LT(s.position_distance(before, s.get("/api/pose?space=world")["nodes"], "hand.L"), 1e-12);
+}
+
+TEST(ServerApi, SaveIsAtomicAndConfined) {
+  Served s = served_puppet();
+  s.post("/api/select", {{"controls", {"hand.L"}}});
+  s.post("/api/drag", {{"translate", {0, 0.1, 0}}});
+  Json saved = s.post("/api/save", {{"path", "shots/a.rigel"}});
+  EXPECT_TRUE(fs::exists(s.root / "shots/a.rigel") || fs::exists(fs::path(saved["path"].get<std::string>())));
+  EXPECT_EQ(s.request("POST", "/api/save", R"({"path": "../a.rigel"})").status, 400);
+  for (const auto& e : fs::directory_iterator(s.root / "shots"))
+    EXPECT_EQ(e.path().extension(), ".rigel") << "left a temporary file: " << e.path();
+}
+
+}  // namespace
+}  // namespace rigel::server

@@ -1,0 +1,63 @@
+// The frame rate while dragging: a long gizmo drag in inverse mode on the
+// demo character, sampling the app's own counters (frames rendered, poses
+// applied from /api/drag answers). Written to test-results/frame-rate.json.
+
+import { mkdirSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { clickControl, expect, expectSelection, setMode, test, webDir } from './fixtures';
+
+test('frame rate while dragging', async ({ app: page, server, shots }, testInfo) => {
+  await setMode(page, server, 'inverse');
+  await clickControl(page, 'hand.L_ctrl');
+  await expectSelection(page, server, ['hand.L_ctrl']);
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.gizmoHandle('y') !== null)).toBe(true);
+
+  const hnd = await page.evaluate(() => (window as any).rigel.gizmoHandle('y'));
+  const start = await page.evaluate(() => (window as any).rigel.stats());
+  await page.mouse.move(hnd.x, hnd.y);
+  await page.mouse.down();
+  const t0 = Date.now();
+  const samples: number[] = [];
+  const durationMs = 3000;
+  let i = 0;
+  while (Date.now() - t0 < durationMs) {
+    // Up and down the arrow, 60 px each way.
+    const phase = (i++ % 60) / 60;
+    const off = 60 * Math.sin(phase * 2 * Math.PI);
+    await page.mouse.move(hnd.x + hnd.dx * off, hnd.y + hnd.dy * off);
+    if (i % 10 === 0) samples.push((await page.evaluate(() => (window as any).rigel.stats())).fps);
+  }
+  const elapsed = (Date.now() - t0) / 1000;
+  const end = await page.evaluate(() => (window as any).rigel.stats());
+  await shots.take('while-dragging');
+  await page.mouse.up();
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.app.drag.active)).toBe(false);
+
+  const result = {
+    device: 'headless chromium, SwiftShader (software WebGL)',
+    mode: 'inverse',
+    control: 'hand.L_ctrl',
+    seconds: Number(elapsed.toFixed(2)),
+    mouseMoves: i,
+    framesRendered: end.frames - start.frames,
+    renderedFps: Number(((end.frames - start.frames) / elapsed).toFixed(1)),
+    posesApplied: end.poses - start.poses,
+    posesPerSecond: Number(((end.poses - start.poses) / elapsed).toFixed(1)),
+    dragRequests: end.drag.requests - start.drag.requests,
+    dragAnswers: end.drag.answers - start.drag.answers,
+    dragFailures: end.drag.failures - start.drag.failures,
+    meanDragRoundTripMs: Number(end.drag.meanRoundTripMs.toFixed(2)),
+    fpsSamples: samples,
+  };
+  console.log(`frame rate while dragging: ${JSON.stringify(result)}`);
+  await testInfo.attach('frame-rate.json', { body: JSON.stringify(result, null, 2), contentType: 'application/json' });
+  mkdirSync(join(webDir, 'test-results'), { recursive: true });
+  writeFileSync(join(webDir, 'test-results', 'frame-rate.json'), JSON.stringify(result, null, 2) + '\n');
+
+  expect(result.dragFailures).toBe(0);
+  // The drag path keeps answering and the viewport keeps drawing for the
+  // whole gesture (thresholds low: software WebGL on a shared CPU).
+  expect(result.dragAnswers).toBeGreaterThanOrEqual(5);
+  expect(result.posesApplied).toBeGreaterThanOrEqual(5);
+  expect(result.renderedFps).toBeGreaterThan(2);
+});

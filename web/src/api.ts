@@ -1,0 +1,235 @@
+// The JSON API of `rigel serve` (docs/SERVER.md): typed answers and one
+// client that every panel goes through, so that every error reaches the
+// status bar and every change the tab makes is recorded as its own revision.
+
+export type Vec3 = [number, number, number];
+export type Quat = [number, number, number, number];
+/** Local (or world) TRS of a node: [tx, ty, tz, qx, qy, qz, qw, sx, sy, sz]. */
+export type Trs = [number, number, number, number, number, number, number, number, number, number];
+
+export interface SceneInfo {
+  revision: number;
+  path: string | null;
+  fps: number;
+  frame: number;
+  time: number;
+  range: [number, number];
+  mode: string;
+  modes: string[];
+  autoKey: boolean;
+  canUndo: boolean;
+  canRedo: boolean;
+  undo: string | null;
+  redo: string | null;
+  selection: string[];
+  /** Keying scope per ephemeral rig (not in docs/SERVER.md; the server sends it). */
+  keyScopes?: Record<string, string>;
+}
+
+export interface NodeInfo {
+  uuid: string;
+  name: string;
+  type: string;
+  parent: string | null;
+}
+
+export interface ControlShape {
+  points: Vec3[];
+  closed: boolean;
+  color: Vec3;
+}
+
+export interface ControlInfo {
+  uuid: string;
+  name: string;
+  joint: string | null;
+  rig: string;
+  ephemeral: boolean;
+  shape: ControlShape;
+}
+
+export interface NodesAnswer {
+  revision: number;
+  nodes: NodeInfo[];
+  controls: ControlInfo[];
+}
+
+export interface PoseAnswer {
+  revision: number;
+  frame?: number;
+  time?: number;
+  space?: string;
+  nodes: Record<string, Trs>;
+}
+
+export interface KeysAnswer {
+  scope: string;
+  frames: number[];
+  times: number[];
+}
+
+export interface RigComponentInfo {
+  name: string;
+  type: string;
+  version: string;
+  rigId: string;
+  parent?: string;
+  nodes?: number;
+}
+
+export interface RigInfo {
+  name: string;
+  version: string;
+  definition: string;
+  definitionVersion: string | null;
+  outOfDate: boolean;
+  editMode: boolean;
+  buildPosition: number;
+  steps: number;
+  components: RigComponentInfo[];
+}
+
+export interface ParamSchema {
+  name: string;
+  type: 'bool' | 'int' | 'double' | 'string' | 'enum' | 'vec3';
+  default: unknown;
+  min?: number;
+  max?: number;
+  choices?: string[];
+  help?: string;
+}
+
+export interface ComponentSchema {
+  type: string;
+  help: string;
+  params: ParamSchema[];
+  guides: { min: number; max: number; names: string[]; help: string };
+  controls: { role: string; shape: string; color: string; size: number; help: string }[];
+  hooks: string[];
+  features: string[];
+  rootOnly: boolean;
+  needsParent: boolean;
+}
+
+export interface StepAnswer {
+  revision: number;
+  position: number;
+  steps: number;
+  step: string;
+}
+
+/** An answer of the API with a 4xx/5xx status, or a request that never got one. */
+export class ApiError extends Error {
+  constructor(
+    readonly route: string,
+    readonly status: number,
+    message: string,
+    readonly field: string | null,
+  ) {
+    super(message);
+    this.name = 'ApiError';
+  }
+
+  /** The text the status bar shows: route, status, message and field. */
+  describe(): string {
+    const field = this.field ? ` (field ${this.field})` : '';
+    const status = this.status > 0 ? ` ${this.status}` : '';
+    return `${this.route}${status}: ${this.message}${field}`;
+  }
+}
+
+export interface ApiEvents {
+  /** Every failed request, reported once here (callers may ignore the rejection). */
+  error(err: ApiError): void;
+  /** A revision this tab caused (the answer of a POST). */
+  ownRevision(revision: number): void;
+}
+
+/**
+ * The client. GETs and POSTs are plain fetches; POSTs carry the token of the
+ * page's `?token=` as a bearer token. `pendingWrites` counts POSTs in flight
+ * so that the revision poller never mistakes this tab's own change (whose
+ * answer has not arrived yet) for another tab's.
+ */
+export class Api {
+  pendingWrites = 0;
+
+  constructor(
+    private readonly base: string,
+    private readonly token: string | null,
+    private readonly events: ApiEvents,
+  ) {}
+
+  async get<T>(path: string): Promise<T> {
+    return this.request<T>('GET', path, undefined);
+  }
+
+  async post<T>(path: string, body: unknown = {}): Promise<T> {
+    this.pendingWrites++;
+    try {
+      const answer = await this.request<T>('POST', path, body);
+      const revision = (answer as { revision?: unknown } | null)?.revision;
+      if (typeof revision === 'number') this.events.ownRevision(revision);
+      return answer;
+    } finally {
+      this.pendingWrites--;
+    }
+  }
+
+  /** The scene as binary glTF. */
+  async glb(): Promise<ArrayBuffer> {
+    const route = 'GET /api/character.glb';
+    let res: Response;
+    try {
+      res = await fetch(this.base + '/api/character.glb', { cache: 'no-store' });
+    } catch (e) {
+      throw this.fail(new ApiError(route, 0, `network error: ${String(e)}`, null));
+    }
+    if (!res.ok) throw this.fail(await this.errorOf(route, res));
+    return res.arrayBuffer();
+  }
+
+  private async request<T>(method: 'GET' | 'POST', path: string, body: unknown): Promise<T> {
+    const route = `${method} ${path.split('?')[0]}`;
+    const headers: Record<string, string> = {};
+    if (method === 'POST') {
+      headers['Content-Type'] = 'application/json';
+      if (this.token) headers['Authorization'] = `Bearer ${this.token}`;
+    }
+    let res: Response;
+    try {
+      res = await fetch(this.base + path, {
+        method,
+        headers,
+        body: method === 'POST' ? JSON.stringify(body ?? {}) : undefined,
+        cache: 'no-store',
+      });
+    } catch (e) {
+      throw this.fail(new ApiError(route, 0, `network error: ${String(e)}`, null));
+    }
+    if (!res.ok) throw this.fail(await this.errorOf(route, res));
+    const text = await res.text();
+    try {
+      return (text.length ? JSON.parse(text) : {}) as T;
+    } catch {
+      throw this.fail(new ApiError(route, res.status, `answer is not JSON: ${text.slice(0, 120)}`, null));
+    }
+  }
+
+  private async errorOf(route: string, res: Response): Promise<ApiError> {
+    const text = await res.text().catch(() => '');
+    try {
+      const body = JSON.parse(text) as { error?: unknown; field?: unknown };
+      const message = typeof body.error === 'string' ? body.error : text || res.statusText;
+      const field = typeof body.field === 'string' && body.field.length ? body.field : null;
+      return new ApiError(route, res.status, message, field);
+    } catch {
+      return new ApiError(route, res.status, text.slice(0, 200) || res.statusText, null);
+    }
+  }
+
+  private fail(err: ApiError): ApiError {
+    this.events.error(err);
+    return err;
+  }
+}

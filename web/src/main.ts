@@ -1,0 +1,236 @@
+// Entry point: lays out the page, wires the panels to the App and the
+// keyboard, and exposes `window.rigel`, the hook the end-to-end tests use to
+// find where controls are on screen and to read the frame rate.
+
+import { Api } from './api';
+import type { Vec3 } from './api';
+import { App, kModeKeys } from './app';
+import { DefinitionEditor } from './defeditor';
+import { h, fill, typingTarget } from './dom';
+import { RigManager } from './rigs';
+import { StatusBar, run, setStatusBar } from './status';
+import { Timeline } from './timeline';
+import { Viewport } from './viewport';
+
+function byId(id: string): HTMLElement {
+  const el = document.getElementById(id);
+  if (!el) throw new Error(`index.html lacks #${id}`);
+  return el;
+}
+
+const statusBar = new StatusBar(byId('statusbar'));
+setStatusBar(statusBar);
+window.addEventListener('error', (e) => statusBar.error(`script error: ${e.message}`));
+window.addEventListener('unhandledrejection', (e) => statusBar.caught(e.reason));
+
+const token = new URLSearchParams(location.search).get('token');
+let app: App | null = null;
+const api = new Api('', token, {
+  error: (err) => statusBar.error(err.describe()),
+  ownRevision: (r) => app?.noteRevision(r),
+});
+
+const viewport = new Viewport(byId('viewport'), {
+  pick: (uuid, additive) => app && run(app.pick(uuid, additive)),
+  gestureStart: () => app?.drag.start(),
+  gestureMove: (control, t, q) => app?.drag.move(control, t, q),
+  gestureEnd: () => app && run(app.drag.end()),
+});
+app = new App(api, viewport, statusBar);
+const theApp = app;
+
+// ------------------------------------------------------------------ toolbar
+
+const modeButtons = new Map<string, HTMLButtonElement>();
+const modeBar = byId('modes');
+for (const [mode, key, label] of kModeKeys) {
+  const b = h(
+    'button.mode',
+    { title: `${label} mode (${key})`, testid: `mode-${mode}`, dataset: { mode }, onclick: () => run(theApp.setMode(mode)) },
+    label,
+    h('kbd', {}, key),
+  );
+  modeButtons.set(mode, b);
+  modeBar.append(b);
+}
+const moveBtn = h('button', { title: 'Move gizmo (W)', testid: 'gizmo-translate', onclick: () => setGizmo('translate') }, 'Move', h('kbd', {}, 'W'));
+const rotBtn = h('button', { title: 'Rotate gizmo (E)', testid: 'gizmo-rotate', onclick: () => setGizmo('rotate') }, 'Rotate', h('kbd', {}, 'E'));
+fill(byId('gizmo'), moveBtn, rotBtn);
+function setGizmo(mode: 'translate' | 'rotate'): void {
+  viewport.setGizmoMode(mode);
+  moveBtn.classList.toggle('active', mode === 'translate');
+  rotBtn.classList.toggle('active', mode === 'rotate');
+}
+setGizmo('translate');
+
+const undoBtn = h('button', { testid: 'undo', onclick: () => run(theApp.undo(false)) }, '↶ Undo');
+const redoBtn = h('button', { testid: 'redo', onclick: () => run(theApp.undo(true)) }, '↷ Redo');
+fill(byId('history'), undoBtn, redoBtn);
+
+const info = byId('info');
+function renderToolbar(): void {
+  const s = theApp.scene;
+  for (const [mode, b] of modeButtons) {
+    b.classList.toggle('active', s?.mode === mode);
+    b.hidden = !!s?.modes?.length && !s.modes.includes(mode);
+  }
+  undoBtn.disabled = !s?.canUndo;
+  redoBtn.disabled = !s?.canRedo;
+  undoBtn.title = s?.canUndo ? `Undo ${s.undo ?? ''} (Ctrl+Z)` : 'Nothing to undo';
+  redoBtn.title = s?.canRedo ? `Redo ${s.redo ?? ''} (Ctrl+Shift+Z)` : 'Nothing to redo';
+  const label = kModeKeys.find((m) => m[0] === s?.mode)?.[2] ?? s?.mode ?? '—';
+  const sel = s?.selection ?? [];
+  const names = sel.map((u) => theApp.names.get(u) ?? u);
+  const scope = theApp.keys?.scope ?? theApp.scope;
+  fill(
+    info,
+    h('span.pill', { testid: 'current-mode' }, 'Mode: ', h('b', {}, label)),
+    h('span.pill', { testid: 'current-scope' }, 'Keying: ', h('b', {}, scope || '—')),
+    h('span.pill', { testid: 'selection', title: names.join(', ') }, `Selected: ${names.length > 2 ? `${names.slice(0, 2).join(', ')} +${names.length - 2}` : names.join(', ') || 'none'}`),
+    h('span.pill.dim', { testid: 'revision' }, `rev ${theApp.knownRevision}`),
+  );
+}
+theApp.on('scene', renderToolbar);
+theApp.on('keys', renderToolbar);
+
+// -------------------------------------------------------------------- panels
+
+const timeline = new Timeline(byId('timeline'), theApp);
+const rigPanel = byId('rigs-panel');
+const defPanel = byId('def-panel');
+const rigManager = new RigManager(rigPanel, theApp);
+const editor = new DefinitionEditor(defPanel, theApp);
+
+const tabs = byId('tabs');
+function showTab(which: 'rigs' | 'def'): void {
+  rigPanel.hidden = which !== 'rigs';
+  defPanel.hidden = which !== 'def';
+  rigManager.visible = which === 'rigs';
+  byId('side').classList.toggle('wide', which === 'def');
+  for (const b of tabs.querySelectorAll<HTMLButtonElement>('button')) b.classList.toggle('active', b.dataset.tab === which);
+}
+fill(
+  tabs,
+  h('button', { dataset: { tab: 'rigs' }, testid: 'tab-rigs', onclick: () => showTab('rigs') }, 'Rig Manager'),
+  h('button', { dataset: { tab: 'def' }, testid: 'tab-def', onclick: () => showTab('def') }, 'Definition Editor'),
+);
+showTab('rigs');
+
+// ------------------------------------------------------------------ keyboard
+
+// A button clicked with the mouse gives the focus back, so that Space and the
+// other shortcuts reach the app instead of pressing that button again.
+document.addEventListener('pointerup', (e) => {
+  const b = (e.target as HTMLElement | null)?.closest?.('button');
+  if (b) window.setTimeout(() => b.blur(), 0);
+});
+
+window.addEventListener('keydown', (e) => {
+  if (typingTarget(e.target)) return;
+  const ctrl = e.ctrlKey || e.metaKey;
+  const k = e.key.toLowerCase();
+  if (ctrl && k === 'z') {
+    e.preventDefault();
+    run(theApp.undo(e.shiftKey));
+    return;
+  }
+  if (ctrl && k === 'y') {
+    e.preventDefault();
+    run(theApp.undo(true));
+    return;
+  }
+  if (ctrl || e.altKey) return;
+  const mode = kModeKeys.find((m) => m[1] === e.key);
+  if (mode) {
+    e.preventDefault();
+    run(theApp.setMode(mode[0]));
+    return;
+  }
+  switch (k) {
+    case 'w':
+      setGizmo('translate');
+      break;
+    case 'e':
+      setGizmo('rotate');
+      break;
+    case 's':
+      run(theApp.key(e.shiftKey));
+      break;
+    case 'k':
+      run(theApp.setAutoKey(!theApp.scene?.autoKey));
+      break;
+    case ' ':
+      if ((e.target as HTMLElement | null)?.closest?.('#def-panel')) return;
+      timeline.toggle();
+      break;
+    case 'arrowleft':
+      timeline.stepFrame(-1);
+      break;
+    case 'arrowright':
+      timeline.stepFrame(1);
+      break;
+    case 'f':
+      viewport.frameAll();
+      break;
+    case 'escape':
+      run(theApp.select([], false));
+      break;
+    default:
+      return;
+  }
+  e.preventDefault();
+});
+
+// ------------------------------------------------------------------ test hook
+
+interface RigelHook {
+  ready: Promise<void>;
+  isReady: () => boolean;
+  app: App;
+  viewport: Viewport;
+  timeline: Timeline;
+  editor: DefinitionEditor;
+  /** Client pixels where clicking picks the control (by uuid or name), or null. */
+  project: (control: string) => { x: number; y: number } | null;
+  /** Client pixels of a world point. */
+  toScreen: (p: Vec3) => { x: number; y: number; visible: boolean };
+  gizmoHandle: (axis: 'x' | 'y' | 'z') => { x: number; y: number; dx: number; dy: number } | null;
+  uuidOf: (name: string) => string | null;
+  stats: () => { fps: number; posesPerSecond: number; frames: number; poses: number; drag: App['drag']['stats'] };
+  errors: string[];
+}
+
+declare global {
+  interface Window {
+    rigel: RigelHook;
+  }
+}
+
+const uuidOf = (name: string): string | null => theApp.byName.get(name) ?? (theApp.names.has(name) ? name : null);
+window.rigel = {
+  ready: theApp.ready,
+  isReady: () => theApp.isReady,
+  app: theApp,
+  viewport,
+  timeline,
+  editor,
+  project: (control) => {
+    const u = uuidOf(control);
+    return u ? viewport.project(u) : null;
+  },
+  toScreen: (p) => viewport.toScreen(p),
+  gizmoHandle: (axis) => viewport.gizmoHandle(axis),
+  uuidOf,
+  stats: () => ({ ...viewport.stats(), drag: { ...theApp.drag.stats } }),
+  errors: statusBar.errors,
+};
+
+async function boot(): Promise<void> {
+  statusBar.info('Loading the scene…');
+  await theApp.start();
+  await editor.loadSchemas();
+}
+boot().catch((e: unknown) => {
+  statusBar.caught(e);
+  statusBar.error(`The app could not start: ${e instanceof Error ? e.message : String(e)}`);
+});

@@ -1,0 +1,224 @@
+// The Rig Manager (seed 002 §4.3.1): the scene's rigs with their definition
+// file and versions, Add from a definition, Remove, Update (keeping keys in
+// local or world space), rig edit mode, and build stepping.
+//
+// A definition edited on disk changes no revision, so while the panel is
+// shown it refetches GET /api/rigs every two seconds to notice a rig that
+// went out of date.
+
+import type { App } from './app';
+import type { RigInfo, StepAnswer } from './api';
+import { h, fill } from './dom';
+import { run } from './status';
+
+export class RigManager {
+  private selected: string | null = null;
+  // Form state survives the re-renders of the periodic refetch.
+  private keepWorld = false;
+  private force = false;
+  private definitionOut = '';
+  private shown = '';
+  private readonly list: HTMLElement;
+  private readonly details: HTMLElement;
+  private readonly addPath: HTMLInputElement;
+  private readonly addEdit: HTMLInputElement;
+  visible = true;
+
+  constructor(
+    el: HTMLElement,
+    private readonly app: App,
+  ) {
+    this.addPath = h('input', { type: 'text', placeholder: 'rigs/hero.rig.xml (relative to the server root)', testid: 'rig-add-path' });
+    this.addPath.addEventListener('keydown', (e) => {
+      if (e.key === 'Enter') run(this.add());
+    });
+    this.addEdit = h('input', { type: 'checkbox', testid: 'rig-add-edit' });
+    this.list = h('div.rig-list', { testid: 'rig-list' });
+    this.details = h('div.rig-details', { testid: 'rig-details' });
+    fill(
+      el,
+      h(
+        'div.panel-head',
+        {},
+        h('h2', {}, 'Rig Manager'),
+        h('button.small', { title: 'Refetch the rigs', testid: 'rig-refresh', onclick: () => run(this.app.refreshRigs()) }, 'Refresh'),
+      ),
+      h(
+        'div.form-row',
+        {},
+        this.addPath,
+        h('button.primary', { testid: 'rig-add', onclick: () => run(this.add()) }, 'Add rig'),
+      ),
+      h('label.toggle', { title: 'Build the rig in rig edit mode (moved controls become guides)' }, this.addEdit, 'Add in rig edit mode'),
+      this.list,
+      this.details,
+    );
+    app.on('rigs', () => this.render());
+    window.setInterval(() => {
+      if (this.visible && this.app.isReady && !this.app.drag.active && document.visibilityState === 'visible') {
+        run(this.app.refreshRigs());
+      }
+    }, 2000);
+    this.render();
+  }
+
+  private rig(): RigInfo | undefined {
+    return this.app.rigs.find((r) => r.name === this.selected);
+  }
+
+  render(): void {
+    const rigs = this.app.rigs;
+    // The periodic refetch re-renders only when something changed.
+    const key = JSON.stringify([rigs, this.selected]);
+    if (key === this.shown) return;
+    this.shown = key;
+    if (this.selected && !rigs.some((r) => r.name === this.selected)) this.selected = null;
+    if (!this.selected && rigs.length) this.selected = rigs[0]!.name;
+    if (!rigs.length) {
+      fill(this.list, h('div.empty', {}, 'No rig in the scene. Add one from a definition file.'));
+    } else {
+      fill(
+        this.list,
+        rigs.map((r) => {
+          const row = h(
+            'div.rig-row',
+            {
+              testid: `rig-${r.name}`,
+              dataset: { rig: r.name, outOfDate: String(r.outOfDate) },
+              onclick: () => {
+                this.selected = r.name;
+                this.render();
+              },
+            },
+            h('div.rig-name', {}, r.outOfDate ? h('span.warn-icon', { title: 'out of date' }, '⚠') : null, r.name, r.editMode ? h('span.badge', {}, 'EDIT') : null),
+            h('div.rig-version', {}, `v${r.version}`),
+            h('div.rig-def', { title: r.definition }, r.definition || '(no definition)'),
+          );
+          row.classList.toggle('selected', r.name === this.selected);
+          row.classList.toggle('out-of-date', r.outOfDate);
+          return row;
+        }),
+      );
+    }
+    this.renderDetails();
+  }
+
+  private renderDetails(): void {
+    const r = this.rig();
+    if (!r) {
+      fill(this.details);
+      return;
+    }
+    const keepWorld = h('input', { type: 'checkbox', checked: this.keepWorld, testid: 'rig-keep-world' });
+    keepWorld.addEventListener('change', () => (this.keepWorld = keepWorld.checked));
+    const force = h('input', { type: 'checkbox', checked: this.force, testid: 'rig-force' });
+    force.addEventListener('change', () => (this.force = force.checked));
+    const defOut = h('input', { type: 'text', value: this.definitionOut, placeholder: 'write the definition to (optional)', testid: 'rig-edit-out' });
+    defOut.addEventListener('input', () => (this.definitionOut = defOut.value));
+    const warning = r.outOfDate
+      ? h(
+          'div.warning',
+          { testid: 'rig-warning' },
+          `⚠ ${r.name} is out of date: the rig is v${r.version}, its definition ${r.definition} is v${r.definitionVersion ?? '?'}. Update to rebuild the changed components.`,
+        )
+      : null;
+    const update = h(
+      'button',
+      {
+        testid: 'rig-update',
+        title: 'Rebuild the components whose definition changed',
+        onclick: () => run(this.update(r.name, keepWorld.checked ? 'world' : 'local', force.checked)),
+      },
+      'Update',
+    );
+    update.classList.toggle('danger', r.outOfDate);
+    const step = (body: { to?: number; by?: number }): void => run(this.step(r.name, body));
+    fill(
+      this.details,
+      warning,
+      h(
+        'table.kv',
+        {},
+        h('tr', {}, h('th', {}, 'Rig'), h('td', {}, r.name)),
+        h('tr', {}, h('th', {}, 'Version'), h('td', { testid: 'rig-version' }, r.version)),
+        h('tr', {}, h('th', {}, 'Definition'), h('td', {}, r.definition || '—')),
+        h('tr', {}, h('th', {}, 'Definition version'), h('td', { testid: 'rig-def-version' }, r.definitionVersion ?? '—')),
+        h('tr', {}, h('th', {}, 'Edit mode'), h('td', {}, r.editMode ? 'yes' : 'no')),
+      ),
+      h(
+        'div.button-row',
+        {},
+        update,
+        h('label.toggle', { title: 'Keys keep their world positions through the update (else their local values)' }, keepWorld, 'Keep world positions of keys'),
+        h('label.toggle', { title: 'Rebuild every component, changed or not' }, force, 'Force'),
+      ),
+      h(
+        'div.button-row',
+        {},
+        h('button.danger-outline', { testid: 'rig-remove', onclick: () => run(this.remove(r.name)) }, 'Remove'),
+        r.editMode
+          ? [defOut, h('button', { testid: 'rig-commit-edit', onclick: () => run(this.commitEdit(r.name, defOut.value.trim())) }, 'Commit edit mode')]
+          : h('span.hint', {}, 'Add with “rig edit mode” to edit guides in the viewport.'),
+      ),
+      h('h3', {}, 'Build steps'),
+      h(
+        'div.stepper',
+        {},
+        h('button.icon', { title: 'Back to the start', testid: 'step-first', onclick: () => step({ to: 0 }) }, '|◀'),
+        h('button.icon', { title: 'One step back', testid: 'step-back', onclick: () => step({ by: -1 }) }, '◀'),
+        h('span.step-pos', { testid: 'step-position' }, `${r.buildPosition} / ${r.steps}`),
+        h('button.icon', { title: 'One step forward', testid: 'step-forward', onclick: () => step({ by: 1 }) }, '▶'),
+        h('button.icon', { title: 'To the end', testid: 'step-last', onclick: () => step({ to: r.steps }) }, '▶|'),
+      ),
+      h('h3', {}, `Components (${r.components.length})`),
+      h(
+        'ul.components',
+        {},
+        r.components.map((c) => h('li', {}, h('b', {}, c.name), ` ${c.type} v${c.version}`, c.parent ? h('span.dim', {}, ` ← ${c.parent}`) : null)),
+      ),
+    );
+  }
+
+  async add(): Promise<void> {
+    const path = this.addPath.value.trim();
+    if (!path) {
+      this.app.status.error('Add rig: enter the path of a definition (relative to the server root)');
+      return;
+    }
+    const a = await this.app.api.post<{ revision: number; rig: string; version: string; components: unknown[] }>('/api/rigs/add', {
+      definition: path,
+      editMode: this.addEdit.checked,
+    });
+    this.selected = a.rig;
+    this.app.status.info(`Added rig ${a.rig} v${a.version} (${a.components?.length ?? 0} components)`);
+    await this.app.refreshAll();
+  }
+
+  async update(rig: string, keepKeys: 'local' | 'world', force: boolean): Promise<void> {
+    const body: Record<string, unknown> = { rig, keepKeys };
+    if (force) body.force = true;
+    const a = await this.app.api.post<{ revision: number; from: string; to: string; rebuilt: string[] }>('/api/rigs/update', body);
+    this.app.status.info(`Updated ${rig} ${a.from} → ${a.to}; rebuilt: ${(a.rebuilt ?? []).join(', ') || 'nothing'}`);
+    await this.app.refreshAll();
+  }
+
+  async remove(rig: string): Promise<void> {
+    await this.app.api.post('/api/rigs/remove', { rig });
+    this.app.status.info(`Removed rig ${rig}`);
+    await this.app.refreshAll();
+  }
+
+  async commitEdit(rig: string, out: string): Promise<void> {
+    const body: Record<string, unknown> = { rig };
+    if (out) body.definitionOut = out;
+    await this.app.api.post('/api/rigs/edit', body);
+    this.app.status.info(`Committed rig edit mode of ${rig}`);
+    await this.app.refreshAll();
+  }
+
+  async step(rig: string, body: { to?: number; by?: number }): Promise<void> {
+    const a = await this.app.api.post<StepAnswer>('/api/rigs/step', { rig, ...body });
+    this.app.status.info(`${rig}: step ${a.position}/${a.steps}${a.step ? ` (${a.step})` : ''}`);
+    await this.app.refreshAll();
+  }
+}

@@ -1,0 +1,180 @@
+// The timeline: current frame (slider and field), key ticks of the
+// selection's keying set, set/delete key, auto-key, play/stop.
+//
+// Playing steps the scene's time one frame at a time through POST /api/time
+// and refetches the pose after each step, at most at the scene's frame rate
+// and never with two steps in flight.
+
+import type { App } from './app';
+import { h, fill } from './dom';
+import { run } from './status';
+
+export class Timeline {
+  playing = false;
+  private readonly slider: HTMLInputElement;
+  private readonly field: HTMLInputElement;
+  private readonly ticks: HTMLElement;
+  private readonly playBtn: HTMLButtonElement;
+  private readonly autoKey: HTMLInputElement;
+  private readonly scopeEl: HTMLElement;
+  private readonly keysEl: HTMLElement;
+  private readonly rangeEl: HTMLElement;
+  private scrubTarget: number | null = null;
+  private scrubbing: Promise<void> | null = null;
+  /** Frames shown while playing, for tests: every frame the pose was fetched at. */
+  readonly playedFrames: number[] = [];
+
+  constructor(
+    el: HTMLElement,
+    private readonly app: App,
+  ) {
+    this.playBtn = h('button.icon', { title: 'Play / stop (Space)', testid: 'play', onclick: () => this.toggle() }, '▶');
+    const prevKey = h('button.icon', { title: 'Previous key', testid: 'prev-key', onclick: () => this.jumpKey(-1) }, '|◀');
+    const nextKey = h('button.icon', { title: 'Next key', testid: 'next-key', onclick: () => this.jumpKey(1) }, '▶|');
+    this.field = h('input.frame', { type: 'number', step: '1', title: 'Current frame', testid: 'frame' });
+    this.field.addEventListener('change', () => this.scrub(Number(this.field.value)));
+    this.slider = h('input.slider', { type: 'range', step: '1', min: '0', max: '100', testid: 'frame-slider' });
+    this.slider.addEventListener('input', () => this.scrub(Number(this.slider.value)));
+    this.ticks = h('div.ticks', { testid: 'key-ticks' });
+    this.rangeEl = h('span.range');
+    const track = h('div.track', {}, this.slider, this.ticks);
+    const setKey = h('button', { title: 'Key the selection at this frame (S)', testid: 'set-key', onclick: () => run(this.app.key(false)) }, 'Set key', h('kbd', {}, 'S'));
+    const delKey = h(
+      'button',
+      { title: 'Delete the selection’s key at this frame (Shift+S)', testid: 'delete-key', onclick: () => run(this.app.key(true)) },
+      'Delete key',
+      h('kbd', {}, '⇧S'),
+    );
+    this.autoKey = h('input', { type: 'checkbox', testid: 'auto-key' });
+    this.autoKey.addEventListener('change', () => run(this.app.setAutoKey(this.autoKey.checked)));
+    const autoLabel = h('label.toggle', { title: 'Auto-key: drags between keys key the character first (K)' }, this.autoKey, 'Auto-key');
+    this.scopeEl = h('span.scope', { testid: 'key-scope', title: 'Keying scope of the selection’s character' });
+    this.keysEl = h('span.keys', { testid: 'key-frames' });
+    fill(
+      el,
+      h('div.transport', {}, prevKey, this.playBtn, nextKey, this.field),
+      h('div.track-wrap', {}, track, this.rangeEl),
+      h('div.key-tools', {}, setKey, delKey, autoLabel, this.scopeEl, this.keysEl),
+    );
+    app.on('scene', () => this.render());
+    app.on('keys', () => this.render());
+  }
+
+  private range(): [number, number] {
+    const r = this.app.scene?.range;
+    if (r && r.length === 2 && r[1] > r[0]) return [Math.round(r[0]), Math.round(r[1])];
+    return [0, 100];
+  }
+
+  render(): void {
+    const s = this.app.scene;
+    const [first, last] = this.range();
+    this.slider.min = String(first);
+    this.slider.max = String(last);
+    this.rangeEl.textContent = `${first}–${last}${s ? ` @ ${s.fps} fps` : ''}`;
+    if (s && this.scrubTarget === null) {
+      this.slider.value = String(Math.round(s.frame));
+      if (document.activeElement !== this.field) this.field.value = String(Math.round(s.frame * 100) / 100);
+    }
+    this.autoKey.checked = !!s?.autoKey;
+    const scope = this.app.keys?.scope ?? this.app.scope;
+    this.scopeEl.textContent = `Keying: ${scope || '—'}`;
+    const frames = this.app.keys?.frames ?? [];
+    this.keysEl.textContent = this.app.keys ? `Keys: ${frames.length ? frames.join(', ') : 'none'}` : 'Keys: (no selection)';
+    this.ticks.replaceChildren(
+      ...frames
+        .filter((f) => f >= first && f <= last)
+        .map((f) => {
+          const t = h('div.tick', { title: `key at ${f}`, dataset: { frame: String(f) } });
+          // The slider thumb's centre runs from half a thumb in to half a thumb from the end.
+          t.style.left = `calc(7px + (100% - 14px) * ${(f - first) / Math.max(last - first, 1)})`;
+          if (s && Math.abs(f - s.frame) < 1e-6) t.classList.add('current');
+          return t;
+        }),
+    );
+    this.playBtn.textContent = this.playing ? '■' : '▶';
+    this.playBtn.classList.toggle('active', this.playing);
+  }
+
+  /** Moves to a frame; while a move is in flight only the latest target is kept. */
+  scrub(frame: number): void {
+    if (!Number.isFinite(frame)) return;
+    this.scrubTarget = Math.round(frame);
+    if (!this.scrubbing) {
+      this.scrubbing = (async () => {
+        try {
+          while (this.scrubTarget !== null) {
+            const f = this.scrubTarget;
+            try {
+              await this.app.setFrame(f);
+            } finally {
+              if (this.scrubTarget === f) this.scrubTarget = null;
+            }
+          }
+          await this.app.refreshKeys();
+        } catch (e) {
+          this.scrubTarget = null;
+          this.app.status.caught(e);
+        } finally {
+          this.scrubbing = null;
+          this.render();
+        }
+      })();
+    }
+  }
+
+  private jumpKey(dir: 1 | -1): void {
+    const frames = this.app.keys?.frames ?? [];
+    const cur = this.app.scene?.frame ?? 0;
+    const target = dir > 0 ? frames.find((f) => f > cur + 1e-6) : [...frames].reverse().find((f) => f < cur - 1e-6);
+    if (target === undefined) {
+      this.app.status.info(dir > 0 ? 'No key after this frame' : 'No key before this frame');
+      return;
+    }
+    this.scrub(target);
+  }
+
+  stepFrame(dir: 1 | -1): void {
+    this.scrub((this.app.scene?.frame ?? 0) + dir);
+  }
+
+  toggle(): void {
+    if (this.playing) this.stop();
+    else this.play();
+  }
+
+  stop(): void {
+    this.playing = false;
+    this.render();
+  }
+
+  play(): void {
+    if (this.playing) return;
+    this.playing = true;
+    this.render();
+    const fps = this.app.scene?.fps && this.app.scene.fps > 0 ? this.app.scene.fps : 24;
+    const period = 1000 / fps;
+    const loop = async (): Promise<void> => {
+      while (this.playing) {
+        const t0 = performance.now();
+        const [first, last] = this.range();
+        const cur = Math.round(this.app.scene?.frame ?? first);
+        const next = cur + 1 > last || cur < first ? first : cur + 1;
+        try {
+          await this.app.setFrame(next);
+          this.playedFrames.push(next);
+          if (this.playedFrames.length > 1000) this.playedFrames.shift();
+        } catch (e) {
+          this.app.status.caught(e);
+          this.playing = false;
+          break;
+        }
+        const wait = period - (performance.now() - t0);
+        if (wait > 0) await new Promise((r) => setTimeout(r, wait));
+      }
+      this.render();
+      run(this.app.refreshKeys());
+    };
+    run(loop());
+  }
+}
