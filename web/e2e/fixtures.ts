@@ -17,7 +17,7 @@ import { fileURLToPath } from 'node:url';
 const here = dirname(fileURLToPath(import.meta.url));
 export const webDir = resolve(here, '..');
 export const repoDir = resolve(webDir, '..');
-export const rigelBin = resolve(webDir, process.env.RIGEL_BIN ?? '../build/srv/apps/cli/rigel');
+export const rigelBin = resolve(webDir, process.env.RIGEL_BIN ?? '../build/release/apps/cli/rigel');
 export const character = join(repoDir, 'tests/data/gltf/rigify_human_metarig.glb');
 
 export type Vec3 = [number, number, number];
