@@ -35,7 +35,7 @@ def finger_guides(side):
     return guides
 
 
-class BipedBuild(rigel.PyBuild):
+class BipedBuild(rigel.Build):
     character_file = METARIG
     rig_name = "hero"
 

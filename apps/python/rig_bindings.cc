@@ -752,7 +752,7 @@ fresh rigId unless given.)")
   m.def("new_rig_id", &rig::new_rig_id, "A fresh rigId (UUID v4).");
 
   // ---- Build --------------------------------------------------------------------------------
-  py::class_<BuildRef>(m, "Build", R"(A procedural build of a definition on a scene (rig::Build, seed 003):
+  py::class_<BuildRef>(m, "RigBuild", R"(A procedural build of a definition on a scene (rig::Build, seed 003):
 an ordered plan of steps, stepped forward and back like a VCR. Each call is
 one undo step; a failing step is rolled back and raises.)")
       .def_static(

@@ -591,7 +591,11 @@ struct Workspace::Impl {
   Json post_rigs_remove(const Request&, const Json& body) {
     const std::string name = rig_name(body);
     auto build = take(rig::Build::reopen(scene, name, factory));
-    check(build->remove());
+    graph::Transaction tx(g(), "remove rig " + name);
+    if (Status s = build->remove(); !s) {
+      tx.rollback();
+      check(s);
+    }
     return Json{{"rig", name}};
   }
 
@@ -629,7 +633,13 @@ struct Workspace::Impl {
       if (by != std::floor(by)) refuse(400, "by: expected a whole number", "by");
       to = std::clamp(to + static_cast<int>(by), 0, steps);
     }
-    check(build->go_to(to));
+    {
+      graph::Transaction tx(g(), "step " + name + " to " + std::to_string(to));
+      if (Status s = build->go_to(to); !s) {
+        tx.rollback();
+        check(s);
+      }
+    }
     const int position = build->position();
     return Json{{"rig", name},
                 {"position", position},
@@ -637,7 +647,27 @@ struct Workspace::Impl {
                 {"step", position > 0 ? build->plan()[static_cast<std::size_t>(position - 1)].label() : ""}};
   }
 
+  Json post_rigs_edit_mode(const Request&, const Json& body) {
+    const std::string name = rig_name(body);
+    const bool on = as_bool(need(body, "on"), "on");
+    auto build = take(rig::Build::reopen(scene, name, factory));
+    check(build->set_edit_mode(on));
+    return Json{{"rig", name}, {"editMode", build->edit_mode()}};
+  }
+
   // ---- routes: definitions -------------------------------------------------------
+
+  // A rig's definition as it was built (the .rig.json form), for the editor.
+  Json get_definition(const Request& req, const Json&) {
+    auto it = req.query.find("rig");
+    if (it == req.query.end()) refuse(400, "missing query 'rig'", "rig");
+    if (!rig::find_rig(g(), it->second).is_valid()) refuse(404, "rig: the scene has no rig '" + it->second + "'", "rig");
+    auto build = take(rig::Build::reopen(scene, it->second, factory));
+    return Json{{"rig", it->second},
+                {"path", build->definition().source},
+                {"definition", Json::parse(rig::write_definition(build->definition(), rig::Syntax::kJson))}};
+  }
+
 
   Json get_components(const Request&, const Json&) {
     Json list = Json::array();
@@ -676,8 +706,17 @@ struct Workspace::Impl {
     if (rig::find_rig(g(), name).is_valid()) {
       auto build = take(rig::Build::reopen(scene, name, factory));
       def.source = build->definition().source;
-      if (build->position() < static_cast<int>(build->plan().size())) check(build->build_all());
-      rebuilt = take(build->rebuild_changed(std::move(def), rig::Build::Rebuild::kChanged));
+      graph::Transaction tx(g(), "rebuild " + name);
+      Status s = build->position() < static_cast<int>(build->plan().size()) ? build->build_all() : Status::ok();
+      if (s) {
+        auto r = build->rebuild_changed(std::move(def), rig::Build::Rebuild::kChanged);
+        if (r) rebuilt = std::move(*r);
+        else s = r.status();
+      }
+      if (!s) {
+        tx.rollback();
+        check(s, "definition");
+      }
     } else {
       def.source.clear();  // built from the editor: no file behind it yet
       graph::Transaction tx(g(), "build " + name);
@@ -782,6 +821,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/rigs/remove", &Impl::post_rigs_remove, true},
       {"POST", "/api/rigs/edit", &Impl::post_rigs_edit, true},
       {"POST", "/api/rigs/step", &Impl::post_rigs_step, true},
+      {"POST", "/api/rigs/edit-mode", &Impl::post_rigs_edit_mode, true},
+      {"GET", "/api/definition", &Impl::get_definition, false},
       {"POST", "/api/definition/validate", &Impl::post_definition_validate, false},
       {"POST", "/api/definition/build", &Impl::post_definition_build, true},
       {"POST", "/api/definition/save", &Impl::post_definition_save, false},

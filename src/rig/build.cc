@@ -758,6 +758,25 @@ Status Build::go_to(int position) {
 
 Status Build::remove() { return go_to(0); }
 
+Status Build::set_edit_mode(bool on) {
+  if (on == options_.edit_mode) return Status::ok();
+  graph::Transaction tx(scene_.graph(), on ? "enter rig edit mode" : "leave rig edit mode");
+  const int target = position_;
+  Status s = go_to(0);
+  if (s) {
+    // With the metaRoot gone, the mode is ours to choose; the rig's own step
+    // writes it on the new metaRoot.
+    options_.edit_mode = on;
+    s = go_to(target);
+  }
+  if (!s) {
+    tx.rollback();
+    options_.edit_mode = !on;
+    (void)sync();
+  }
+  return s;
+}
+
 Status Build::set_feature(std::string_view feature, bool enabled, std::string_view switch_name) {
   Definition next = definition_;
   Feature* f = nullptr;

@@ -9,7 +9,7 @@ from conftest import BIPED, METARIG, arm_definition, close, distance, translatio
 
 def test_step_forward_and_back_exactly(metarig):
     original = metarig.to_text()
-    b = rigel.Build.open(metarig, arm_definition())
+    b = rigel.RigBuild.open(metarig, arm_definition())
     assert b.position == 0 and b.root is None and len(b) == b.step_count == 9
     labels = [p.label for p in b.plan]
     assert labels[0] == "rig" and "arm_L/fk" in labels and "global/meta" in labels
@@ -31,18 +31,18 @@ def test_step_forward_and_back_exactly(metarig):
 
 
 def test_each_step_is_one_undo_step(metarig):
-    b = rigel.Build.open(metarig, arm_definition())
+    b = rigel.RigBuild.open(metarig, arm_definition())
     b.go_to(3)
     three = metarig.to_text()
     b.forward()
     assert metarig.undo()
     assert metarig.to_text() == three
-    reopened = rigel.Build.reopen(metarig, "arm_rig")
+    reopened = rigel.RigBuild.reopen(metarig, "arm_rig")
     assert reopened.position == 3  # the scene's metaRoot is the truth
 
 
 def test_built_rig_moves_the_character(metarig):
-    b = rigel.Build.open(metarig, arm_definition())
+    b = rigel.RigBuild.open(metarig, arm_definition())
     b.build_all()
     hand = metarig.node("hand.L")
     rest = translation(hand.world_matrix)
@@ -60,7 +60,7 @@ def test_rigs_meta_and_addresses(tmp_path, metarig):
     definition = arm_definition()
     path = tmp_path / "arm.rig.xml"
     definition.save(str(path))
-    b = rigel.Build.open(metarig, str(path))  # a file path works too
+    b = rigel.RigBuild.open(metarig, str(path))  # a file path works too
     b.build_all()
     [r] = metarig.rigs()
     assert (r.name, r.version, r.definition, r.build_position) == ("arm_rig", "1.0", str(path), len(b))
@@ -95,7 +95,7 @@ def test_rigs_meta_and_addresses(tmp_path, metarig):
 
 def test_remove_restores_the_character_byte_for_byte(tmp_path, metarig):
     original = metarig.to_text()
-    rigel.Build.open(metarig, arm_definition()).build_all()
+    rigel.RigBuild.open(metarig, arm_definition()).build_all()
     out = tmp_path / "built.rigel"
     metarig.save(str(out))
     loaded = rigel.Scene.load(str(out))
@@ -107,7 +107,7 @@ def test_remove_restores_the_character_byte_for_byte(tmp_path, metarig):
 
 def test_update_rebuilds_only_what_changed(metarig):
     definition = arm_definition()
-    b = rigel.Build.open(metarig, definition)
+    b = rigel.RigBuild.open(metarig, definition)
     b.build_all()
     fk = metarig.resolve("arm_rig:arm_L/fk[1]")
     fk["rotate"] = (0, 30, 0)
@@ -133,7 +133,7 @@ def test_a_failing_step_raises_and_changes_nothing(metarig):
     arm.guides = [rigel.Guide("upper", joint="upper_arm.X"), rigel.Guide("lower", joint="forearm.L"),
                   rigel.Guide("end", joint="hand.L")]
     assert d.validate() == []  # joints are only known at build time
-    b = rigel.Build.open(metarig, d)
+    b = rigel.RigBuild.open(metarig, d)
     before_pos = None
     with pytest.raises(rigel.Error, match="upper_arm.X"):
         for _ in range(len(b)):
@@ -147,16 +147,16 @@ def test_invalid_definitions_are_refused_with_places(metarig):
     d = arm_definition()
     d.find("arm_L").guides = []
     with pytest.raises(rigel.DefinitionError, match=r"component 'arm' \(limb, L\): has 0 guides") as info:
-        rigel.Build.open(metarig, d)
+        rigel.RigBuild.open(metarig, d)
     assert info.value.diagnostics
     with pytest.raises(rigel.DefinitionError, match=r"invalid_semantic\.rig\.xml:\d+:\d+"):
-        rigel.Build.open(metarig, str(METARIG.parents[1] / "rig" / "invalid_semantic.rig.xml"))
+        rigel.RigBuild.open(metarig, str(METARIG.parents[1] / "rig" / "invalid_semantic.rig.xml"))
     with pytest.raises(rigel.NotFoundError, match="no rig 'ghost'"):
-        rigel.Build.reopen(metarig, "ghost")
+        rigel.RigBuild.reopen(metarig, "ghost")
 
 
 def test_features_switch_steps(metarig):
-    b = rigel.Build.open(metarig, str(BIPED))
+    b = rigel.RigBuild.open(metarig, str(BIPED))
     assert len(b) == 86
     b.build_all()
     stretch = [p.label for p in b.plan if p.feature == "stretch"]
@@ -170,7 +170,7 @@ def test_features_switch_steps(metarig):
 
 
 def test_edit_mode_writes_moves_back_into_guides(metarig):
-    b = rigel.Build.open(metarig, arm_definition(), edit_mode=True)
+    b = rigel.RigBuild.open(metarig, arm_definition(), edit_mode=True)
     b.build_all()
     assert b.edit_mode
     metarig.resolve("arm_rig:arm_L/fk[1]")["translate"] = (0, 0.02, 0)

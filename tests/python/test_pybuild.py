@@ -42,7 +42,7 @@ def test_example_script_end_to_end(tmp_path):
     scene = rigel.Scene.load(str(out))
     [r] = scene.rigs()
     assert (r.name, r.definition, len(r.components)) == ("hero", str(definition), 15)
-    assert r.build_position == len(rigel.Build.reopen(scene, "hero"))
+    assert r.build_position == len(rigel.RigBuild.reopen(scene, "hero"))
     # post() ran: the pose is in the file
     assert scene.resolve("hero:hand_L/fingerCurl")["curl"] == 20.0
     assert scene.resolve("hero:foot_L/reverseFoot")["roll"] == 10.0
@@ -54,7 +54,7 @@ def test_example_script_end_to_end(tmp_path):
     # update from the saved definition rebuilds what changed
     d.find("arm_L").set_param("maxStretch", 1.4)
     d.find("arm_L").version = "1.1"
-    rebuilt = rigel.Build.reopen(scene, "hero").rebuild_changed(d, when="newer-version")
+    rebuilt = rigel.RigBuild.reopen(scene, "hero").rebuild_changed(d, when="newer-version")
     assert d.find("arm_L").rig_id in rebuilt and d.find("leg_L").rig_id not in rebuilt
 
     # and removing the rig gives the character back
@@ -81,7 +81,7 @@ def test_example_class_in_process(tmp_path):
     assert partial.scene.find("hero_hand_L_meta") is None
 
 
-class TwoArms(rigel.PyBuild):
+class TwoArms(rigel.Build):
     character_file = str(METARIG)
     rig_name = "arms"
 
@@ -147,3 +147,8 @@ def test_errors():
 
     with pytest.raises(rigel.NotFoundError, match="no component 'tail'"):
         TwoArms(execute=False).component("tail")
+
+
+def test_build_is_the_pybuild_base_class():
+    assert rigel.Build is rigel.PyBuild
+    assert rigel.RigBuild is not rigel.Build

@@ -246,11 +246,26 @@ TEST(ServerApi, RigManagerAddUpdateStepRemove) {
   EXPECT_EQ(s.request("POST", "/api/rigs/step", R"({"rig": "hero", "to": 100000})").status, 400);
   s.post("/api/rigs/step", {{"rig", "hero"}, {"to", steps}});
 
+  // Rig edit mode on the built rig, and back; the editor can read the
+  // definition it was built from.
+  Json edit = s.post("/api/rigs/edit-mode", {{"rig", "hero"}, {"on", true}});
+  EXPECT_TRUE(edit["editMode"].get<bool>());
+  EXPECT_TRUE(s.get("/api/rigs")["rigs"][0]["editMode"].get<bool>());
+  EXPECT_EQ(s.get("/api/rigs")["rigs"][0]["buildPosition"], steps);
+  s.post("/api/rigs/edit-mode", {{"rig", "hero"}, {"on", false}});
+  EXPECT_FALSE(s.get("/api/rigs")["rigs"][0]["editMode"].get<bool>());
+  Json def_back = s.get("/api/definition?rig=hero");
+  EXPECT_EQ(def_back["definition"]["rig"]["name"], "hero");
+  EXPECT_EQ(def_back["definition"]["rig"]["version"], "1.1");
+  EXPECT_EQ(s.request("GET", "/api/definition?rig=villain", "").status, 404);
+
   s.post("/api/rigs/remove", {{"rig", "hero"}});
   EXPECT_TRUE(s.get("/api/rigs")["rigs"].empty());
-  // Everything is undoable.
+  // A removal is one undo step: one undo gives the whole rig back.
   s.post("/api/undo", Json::object());
-  EXPECT_EQ(s.get("/api/rigs")["rigs"].size(), 1u);
+  const Json back = s.get("/api/rigs")["rigs"];
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0]["buildPosition"], steps);
 }
 
 // The definition editor: a two-component rig validated, built live,

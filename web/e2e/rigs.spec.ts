@@ -71,6 +71,14 @@ test('Rig Manager: add, step, out of date, update, remove', async ({ app: page, 
   expect(updated.outOfDate).toBe(false);
   await shots.take('updated');
 
+  // Rig edit mode on the built rig, and back out of it.
+  await page.getByTestId('rig-enter-edit').click();
+  await expect.poll(async () => (await server.get('/api/rigs')).rigs[0].editMode).toBe(true);
+  await expect(row).toContainText('EDIT');
+  await shots.take('edit-mode');
+  await page.getByTestId('rig-leave-edit').click();
+  await expect.poll(async () => (await server.get('/api/rigs')).rigs[0].editMode).toBe(false);
+
   // Remove.
   await page.getByTestId('rig-remove').click();
   await expect(page.getByTestId('rig-list')).toContainText('No rig');

@@ -157,8 +157,16 @@ export class RigManager {
         {},
         h('button.danger-outline', { testid: 'rig-remove', onclick: () => run(this.remove(r.name)) }, 'Remove'),
         r.editMode
-          ? [defOut, h('button', { testid: 'rig-commit-edit', onclick: () => run(this.commitEdit(r.name, defOut.value.trim())) }, 'Commit edit mode')]
-          : h('span.hint', {}, 'Add with “rig edit mode” to edit guides in the viewport.'),
+          ? [
+              defOut,
+              h('button', { testid: 'rig-commit-edit', onclick: () => run(this.commitEdit(r.name, defOut.value.trim())) }, 'Commit edit mode'),
+              h('button', { testid: 'rig-leave-edit', title: 'Build the rig again out of edit mode', onclick: () => run(this.setEditMode(r.name, false)) }, 'Leave edit mode'),
+            ]
+          : h(
+              'button',
+              { testid: 'rig-enter-edit', title: 'Build the rig again in rig edit mode: moved controls become guides', onclick: () => run(this.setEditMode(r.name, true)) },
+              'Enter rig edit mode',
+            ),
       ),
       h('h3', {}, 'Build steps'),
       h(
@@ -213,6 +221,12 @@ export class RigManager {
     if (out) body.definitionOut = out;
     await this.app.api.post('/api/rigs/edit', body);
     this.app.status.info(`Committed rig edit mode of ${rig}`);
+    await this.app.refreshAll();
+  }
+
+  async setEditMode(rig: string, on: boolean): Promise<void> {
+    await this.app.api.post('/api/rigs/edit-mode', { rig, on });
+    this.app.status.info(on ? `${rig} is in rig edit mode: move its controls, then commit` : `${rig} left rig edit mode`);
     await this.app.refreshAll();
   }
 

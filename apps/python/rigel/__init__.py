@@ -1,8 +1,10 @@
 """rigel: a character-rigging engine, from Python (docs/PYTHON.md).
 
 The classes and functions are the C++ libraries' (the extension
-``rigel._rigel``); ``PyBuild`` is the pure-Python base class for build
-scripts (seed 004's PyBuild).
+``rigel._rigel``; ``RigBuild`` is the procedural build that steps a
+definition on a scene); ``Build`` (also named ``PyBuild``, seed 004's
+name) is the pure-Python base class for build scripts: override ``run()``
+and ``post()``.
 
 Conventions: angles in degrees, vectors (x, y, z), quaternions
 (x, y, z, w), matrices 16 floats column-major, times in seconds
@@ -13,5 +15,8 @@ Conventions: angles in degrees, vectors (x, y, z), quaternions
 from ._rigel import *  # noqa: F401,F403
 from ._rigel import __doc__ as _extension_doc  # noqa: F401
 from .pybuild import PyBuild  # noqa: F401
+
+#: The base class of build scripts (seed 004's PyBuild).
+Build = PyBuild
 
 __all__ = [name for name in dir() if not name.startswith("_")]

@@ -29,7 +29,7 @@ What happens, in order (``execute()``):
    problem) and, when ``definition_output`` is given, saved there with the
    character as its geometry, so ``rigel update`` and ``rigel rigs`` find it
    later;
-4. ``rigel.Build.open`` plans it on the scene and builds every step (or the
+4. ``rigel.RigBuild.open`` plans it on the scene and builds every step (or the
    first ``steps``): the same recorded, undoable, removable procedural build
    as ``rigel build``, with the same component classes;
 5. ``post()`` runs with the built rig (``self.build``, ``self.scene``),
@@ -117,7 +117,7 @@ class PyBuild:
         if self.definition_output:
             self.save_definition(self.definition_output)
         self.definition.check()
-        self.build = _rigel.Build.open(self.scene, self.definition, edit_mode=self.edit_mode)
+        self.build = _rigel.RigBuild.open(self.scene, self.definition, edit_mode=self.edit_mode)
         if self.steps is None:
             self.build.build_all()
         else:

@@ -139,6 +139,10 @@ class Build {
 
   // ---- rig edit mode (seed 002) ----
   bool edit_mode() const { return options_.edit_mode; }
+  // Enters or leaves rig edit mode on a built rig: it is built again from
+  // its first step in that mode (controls zeroed in edit mode). One undo
+  // step; on failure nothing changes.
+  Status set_edit_mode(bool on);
   // The definition with each guide moved as its controls were moved: a
   // control made at guide i (tagged guide=i) that stands at W instead of its
   // rest R moves guide i's location G to W * R^-1 * G, so the rebuilt rig
