@@ -159,7 +159,10 @@ struct ImportArgs {
   std::string output;
   double scale = 1.0;
   bool skip_end_sites = false;
+  bool json = false;
 };
+
+void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << "\n"; }
 
 // A .glb / .gltf character: joints, meshes, skins and every animation as a clip.
 int run_import_gltf(const ImportArgs& args) {
@@ -178,8 +181,12 @@ int run_import_gltf(const ImportArgs& args) {
   if (const NodeId clips_node = rigel::ops::anim::find_clips_node(g); clips_node.is_valid()) {
     if (auto list = rigel::ops::anim::clips_of(g, clips_node)) clips = list->size();
   }
-  std::cerr << "rigel: imported " << g.node_count() << " nodes (" << joints << " joints, " << meshes << " meshes), " << clips
-            << (clips == 1 ? " clip" : " clips") << " into " << args.output << "\n";
+  if (args.json) {
+    print_json({{"nodes", g.node_count()}, {"joints", joints}, {"meshes", meshes}, {"clips", clips}, {"output", args.output}});
+  } else {
+    std::cerr << "rigel: imported " << g.node_count() << " nodes (" << joints << " joints, " << meshes << " meshes), "
+              << clips << (clips == 1 ? " clip" : " clips") << " into " << args.output << "\n";
+  }
   return 0;
 }
 
@@ -202,8 +209,13 @@ int run_import(const ImportArgs& args) {
   auto scene = rigel::io::import_bvh(*file, options);
   if (!scene) return fail(scene.status());
   if (Status s = rigel::io::save_scene(**scene, args.output); !s) return fail(s);
-  std::cerr << "rigel: imported " << file->joints.size() << " joints, " << file->frame_count << " frames at "
-            << (*scene)->graph().fps() << " fps into " << args.output << "\n";
+  if (args.json) {
+    print_json({{"joints", file->joints.size()}, {"frames", file->frame_count}, {"fps", (*scene)->graph().fps()},
+                {"output", args.output}});
+  } else {
+    std::cerr << "rigel: imported " << file->joints.size() << " joints, " << file->frame_count << " frames at "
+              << (*scene)->graph().fps() << " fps into " << args.output << "\n";
+  }
   return 0;
 }
 
@@ -214,6 +226,7 @@ struct ExportArgs {
   std::string output;
   std::string frames;  // "FIRST:LAST"; empty when not given
   bool bake = false;
+  bool json = false;
 };
 
 // "A:B" as two finite numbers; nullopt for anything else.
@@ -269,9 +282,22 @@ int run_export(const ExportArgs& args) {
               << (*scene)->graph().fps() << " fps: " << report.bake_reason << "\n";
   }
   for (const std::string& note : report.notes) std::cerr << "rigel: note: " << note << "\n";
-  std::cerr << "rigel: exported " << report.node_count << " nodes, " << report.mesh_count << " meshes, "
-            << report.skin_count << " skins, " << report.animation_count << " animations (" << report.channel_count
-            << " channels) to " << args.output << "\n";
+  if (args.json) {
+    nlohmann::ordered_json j{{"nodes", report.node_count},       {"meshes", report.mesh_count},
+                             {"skins", report.skin_count},       {"animations", report.animation_count},
+                             {"channels", report.channel_count}, {"baked", report.baked}};
+    if (report.baked) {
+      j["bakedFrames"] = {report.first_frame, report.last_frame};
+      j["bakeReason"] = report.bake_reason;
+    }
+    j["notes"] = report.notes;
+    j["output"] = args.output;
+    print_json(j);
+  } else {
+    std::cerr << "rigel: exported " << report.node_count << " nodes, " << report.mesh_count << " meshes, "
+              << report.skin_count << " skins, " << report.animation_count << " animations (" << report.channel_count
+              << " channels) to " << args.output << "\n";
+  }
   return 0;
 }
 // ---- bake --------------------------------------------------------------------
@@ -349,6 +375,7 @@ int main(int argc, char** argv) {
   import_cmd->add_option("-o,--output", import.output, "Scene file to write (.rigel)")->required();
   import_cmd->add_option("--scale", import.scale, "Multiply lengths by this (e.g. 0.0254: inches to metres); default 1, units kept");
   import_cmd->add_flag("--skip-end-sites", import.skip_end_sites, "Do not create joints for BVH End Sites (.bvh only)");
+  import_cmd->add_flag("--json", import.json, "Print a JSON summary on stdout");
 
   ExportArgs export_args;
   CLI::App* export_cmd = app.add_subcommand("export", "Export a scene's skeleton, meshes, skins and animation to glTF 2.0");
@@ -357,6 +384,7 @@ int main(int argc, char** argv) {
   export_cmd->add_option("--frames", export_args.frames, "Bake frames FIRST:LAST (scene frames) instead of writing curves");
   export_cmd->add_flag("--bake", export_args.bake,
                        "Bake every frame even when the animation can be written as it is (default range: the keys')");
+  export_cmd->add_flag("--json", export_args.json, "Print a JSON report on stdout");
 
   BakeArgs bake;
   CLI::App* bake_cmd = app.add_subcommand("bake", "Bake what the rigs make nodes do into keys on the nodes (every joint by default)");
@@ -380,6 +408,34 @@ int main(int argc, char** argv) {
   // `serve`: the web app and the JSON API.
   rigel::cli::ServeArgs serve;
   CLI::App* serve_cmd = rigel::cli::add_serve_command(app, serve);
+
+  // Examples for the commands whose files do not set their own.
+  const std::pair<std::vector<const char*>, const char*> examples[] = {
+      {{"inspect"}, "Examples:\n  rigel inspect hero.rigel\n  rigel inspect hero.rigel --json | jq '.nodes | length'"},
+      {{"eval"}, "Examples:\n  rigel eval walk.rigel --frame 12\n  rigel eval hero.glb.rigel --time 0.5 --clip Run --json"},
+      {{"import"}, "Examples:\n  rigel import tests/data/gltf/rigify_human_metarig.glb -o human.rigel\n"
+                   "  rigel import walk.bvh --scale 0.0254 -o walk.rigel --json"},
+      {{"export"}, "Examples:\n  rigel export hero.rigel -o hero.glb\n  rigel export shot.rigel -o shot.gltf --frames 0:120 --json"},
+      {{"schema"}, "Examples:\n  rigel schema --json > rig.schema.json\n  rigel schema --xsd > rig.xsd"},
+      {{"pose"}, "Examples:\n  rigel pose human.rigel --control hand.L --mode inverse --max-chain 3 --translate 0,0.15,0.1 -o posed.rigel\n"
+                 "  rigel pose human.rigel --control spine.003 --select spine.004,spine.005 --mode forward --rotate 0,15,0 -o posed.rigel"},
+      {{"ephemeral", "setup"}, "Examples:\n  rigel ephemeral setup tests/data/gltf/rigify_human_metarig.glb -o human.rigel\n"
+                               "  rigel ephemeral setup walk.rigel --joints hips,spine,chest --shape-radius 0.05 -o walk_rig.rigel"},
+      {{"ephemeral", "relations"}, "Examples:\n  rigel ephemeral relations human.rigel --json\n"
+                                   "  rigel ephemeral relations human.rigel --add pair:hand.L_ctrl:hand.R_ctrl -o human2.rigel"},
+      {{"ephemeral", "key"}, "Examples:\n  rigel ephemeral key human.rigel --control hand.L --frame 10 -o keyed.rigel\n"
+                             "  rigel ephemeral key keyed.rigel --control hand.L --frame 10 --delete -o keyed.rigel"},
+      {{"ephemeral", "keys"}, "Example:\n  rigel ephemeral keys keyed.rigel --control hand.L --json"},
+      {{"ephemeral", "scope"}, "Examples:\n  rigel ephemeral scope human.rigel --rig ephemeralRig\n"
+                               "  rigel ephemeral scope human.rigel --rig ephemeralRig --set controls -o human2.rigel"},
+      {{"ephemeral", "merge"}, "Example:\n  rigel ephemeral merge scene.rigel --rigs hero_rig,sword_rig --carrier hand.R_ctrl --carried sword_rig -o merged.rigel"},
+      {{"ephemeral", "unmerge"}, "Example:\n  rigel ephemeral unmerge merged.rigel --rig sword_rig -o apart.rigel"},
+  };
+  for (const auto& [path, text] : examples) {
+    CLI::App* cmd = &app;
+    for (const char* name : path) cmd = cmd->get_subcommand(name);
+    cmd->footer(text);
+  }
 
   try {
     app.parse(argc, argv);

@@ -198,6 +198,7 @@ struct RemoveArgs {
   std::string scene;
   std::string rig;
   std::string output;
+  bool json = false;
 };
 
 int run_remove(const RemoveArgs& args) {
@@ -207,7 +208,8 @@ int run_remove(const RemoveArgs& args) {
   if (!build) return fail(build.status().with_context(args.scene));
   if (Status s = (*build)->remove(); !s) return fail(s.with_context(args.scene));
   if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
-  std::cerr << "rigel: removed " << args.rig << " into " << args.output << "\n";
+  if (args.json) print_json(Json{{"removed", args.rig}, {"output", args.output}});
+  else std::cerr << "rigel: removed " << args.rig << " into " << args.output << "\n";
   return 0;
 }
 
@@ -464,6 +466,7 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
   s.remove_cmd->add_option("SCENE", s.remove.scene, "Scene file (.rigel)")->required();
   s.remove_cmd->add_option("--rig", s.remove.rig, "The rig to remove")->required();
   s.remove_cmd->add_option("-o,--output", s.remove.output, "Scene file to write (.rigel)")->required();
+  s.remove_cmd->add_flag("--json", s.remove.json, "Print a JSON summary on stdout");
 
   s.address_cmd = app.add_subcommand("address", "Resolve nameless addresses (RIG:COMPONENT[/joint[J]]/NAME[I]) to nodes");
   s.address_cmd->footer("Example:\n  rigel address hero.rigel 'hero:arm_L/fk[END]' 'hero:arm_L/joint[1]/fk'");
