@@ -66,6 +66,7 @@ void BM_ServerDragRoundTrip(benchmark::State& state) {
   std::thread serving([&http] { (void)http.run(); });
   httplib::Client client("127.0.0.1", *port);
   client.set_keep_alive(true);
+  client.set_tcp_nodelay(true);
   while (!client.Get("/api/revision")) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   client.Post("/api/select", R"({"controls": ["hand.L"]})", "application/json");
   const std::string mode = std::string("{\"mode\": \"") + kModes[state.range(0)] + "\"}";

@@ -217,7 +217,13 @@ struct Workspace::Impl {
 
   Json pose_json(bool world) {
     Json nodes = Json::object();
-    for (NodeId id : scene.hierarchy()) {
+    // Keys are unique (one per node): append to the ordered map's vector
+    // directly instead of its insert, which searches every key (quadratic
+    // over a character's hundreds of nodes).
+    auto& entries = static_cast<std::vector<std::pair<const std::string, Json>>&>(nodes.get_ref<Json::object_t&>());
+    const std::vector<NodeId> order = scene.hierarchy();
+    entries.reserve(order.size());
+    for (NodeId id : order) {
       Mat4 m;
       if (world) {
         m = scene.world_matrix(id);
@@ -228,8 +234,8 @@ struct Workspace::Impl {
       }
       const math::Decomposed d = math::decompose(m);
       const Quat& q = d.rotation;
-      nodes[uuid(id)] = Json::array({d.translate.x(), d.translate.y(), d.translate.z(), q.x(), q.y(), q.z(), q.w(),
-                                     d.scale.x(), d.scale.y(), d.scale.z()});
+      entries.emplace_back(uuid(id), Json::array({d.translate.x(), d.translate.y(), d.translate.z(), q.x(), q.y(), q.z(),
+                                                  q.w(), d.scale.x(), d.scale.y(), d.scale.z()}));
     }
     Json out{{"revision", revision}};
     out.update(frame_json(scene));

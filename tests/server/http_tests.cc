@@ -43,6 +43,7 @@ struct Running {
   httplib::Client client() {
     httplib::Client c("127.0.0.1", port);
     c.set_keep_alive(true);
+    c.set_tcp_nodelay(true);
     return c;
   }
 };
