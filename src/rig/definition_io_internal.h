@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "rigel/rig/definition_io.h"
 
 namespace rigel::rig::detail {
@@ -58,5 +60,9 @@ ParseResult parse_xml(std::string_view text, const std::string& source, const Sc
 ParseResult parse_json(std::string_view text, const std::string& source, const SchemaRegistry& schemas, bool* fatal);
 std::string write_xml(const Definition& definition);
 std::string write_json(const Definition& definition);
+
+// A parameter value as JSON: bool, integer, number, [x, y, z] or string
+// (the schemas' defaults and `rigel components --json`).
+nlohmann::ordered_json param_value_json(const ParamValue& v);
 
 }  // namespace rigel::rig::detail

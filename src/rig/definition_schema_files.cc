@@ -18,6 +18,15 @@
 #include "rigel/scene/shapes.h"
 
 namespace rigel::rig {
+
+nlohmann::ordered_json detail::param_value_json(const ParamValue& v) {
+  if (const auto* b = std::get_if<bool>(&v)) return *b;
+  if (const auto* i = std::get_if<std::int64_t>(&v)) return *i;
+  if (const auto* d = std::get_if<double>(&v)) return *d;
+  if (const auto* x = std::get_if<math::Vec3>(&v)) return nlohmann::ordered_json::array({x->x(), x->y(), x->z()});
+  return std::get<std::string>(v);
+}
+
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -27,14 +36,6 @@ constexpr const char* kNumberPattern = R"(-?(\d+\.?\d*|\.\d+)([eE][+\-]?\d+)?)";
 constexpr const char* kNamePattern = "^[A-Za-z0-9_-]+$";
 constexpr const char* kRigIdPattern =
     "^[0-9a-fA-F]{8}-?[0-9a-fA-F]{4}-?4[0-9a-fA-F]{3}-?[89abAB][0-9a-fA-F]{3}-?[0-9a-fA-F]{12}$";
-
-Json value_json(const ParamValue& v) {
-  if (const auto* b = std::get_if<bool>(&v)) return *b;
-  if (const auto* i = std::get_if<std::int64_t>(&v)) return *i;
-  if (const auto* d = std::get_if<double>(&v)) return *d;
-  if (const auto* x = std::get_if<math::Vec3>(&v)) return Json::array({x->x(), x->y(), x->z()});
-  return std::get<std::string>(v);
-}
 
 Json strings(const std::vector<std::string>& items) {
   Json a = Json::array();
@@ -63,7 +64,7 @@ Json param_schema(const ParamSpec& p) {
   }
   if (p.min) j["minimum"] = *p.min;
   if (p.max) j["maximum"] = *p.max;
-  j["default"] = value_json(p.default_value);
+  j["default"] = detail::param_value_json(p.default_value);
   j["description"] = p.help;
   return j;
 }

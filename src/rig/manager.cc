@@ -4,6 +4,7 @@
 
 #include <sstream>
 
+#include "definition_io_internal.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/meta.h"
 
@@ -28,14 +29,6 @@ std::int64_t meta_int(const graph::Graph& g, NodeId meta, std::string_view attr)
   return 0;
 }
 
-Json value_json(const ParamValue& v) {
-  if (const auto* b = std::get_if<bool>(&v)) return *b;
-  if (const auto* i = std::get_if<std::int64_t>(&v)) return *i;
-  if (const auto* d = std::get_if<double>(&v)) return *d;
-  if (const auto* x = std::get_if<math::Vec3>(&v)) return Json::array({x->x(), x->y(), x->z()});
-  return std::get<std::string>(v);
-}
-
 }  // namespace
 
 Json component_schema_json(const ComponentSchema& s) {
@@ -47,7 +40,7 @@ Json component_schema_json(const ComponentSchema& s) {
     Json e = Json::object();
     e["name"] = p.name;
     e["type"] = param_type_name(p.type);
-    e["default"] = value_json(p.default_value);
+    e["default"] = detail::param_value_json(p.default_value);
     if (p.min) e["min"] = *p.min;
     if (p.max) e["max"] = *p.max;
     if (!p.choices.empty()) e["choices"] = p.choices;
