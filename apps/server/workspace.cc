@@ -559,6 +559,7 @@ struct Workspace::Impl {
     for (Json& r : rigs) {
       auto build = rig::Build::reopen(scene, r["name"].get<std::string>(), factory);
       r["steps"] = build ? static_cast<int>((*build)->plan().size()) : 0;
+      r["features"] = build ? features_json(**build) : Json::array();
     }
     return Json{{"rigs", std::move(rigs)}};
   }
@@ -651,6 +652,48 @@ struct Workspace::Impl {
                 {"position", position},
                 {"steps", steps},
                 {"step", position > 0 ? build->plan()[static_cast<std::size_t>(position - 1)].label() : ""}};
+  }
+
+  // The features the rig's steps name (seed 003), each with its rig-level
+  // state and switches.
+  static Json features_json(const rig::Build& build) {
+    Json list = Json::array();
+    std::vector<std::pair<std::string, std::string>> seen;
+    for (const rig::PlannedStep& p : build.plan()) {
+      if (p.feature.empty()) continue;
+      std::pair<std::string, std::string> key{p.feature, p.switch_name};
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(key);
+      bool enabled = true;
+      for (const rig::Feature& f : build.definition().features) {
+        if (f.name != p.feature) continue;
+        enabled = f.enabled;
+        if (!p.switch_name.empty())
+          for (const rig::FeatureSwitch& sw : f.switches)
+            if (sw.name == p.switch_name) enabled = enabled && sw.enabled;
+      }
+      list.push_back(Json{{"feature", p.feature}, {"switch", p.switch_name}, {"enabled", enabled}});
+    }
+    return list;
+  }
+
+  Json post_rigs_feature(const Request&, const Json& body) {
+    const std::string name = rig_name(body);
+    const std::string feature = as_string(need(body, "feature"), "feature");
+    const bool enabled = as_bool(need(body, "enabled"), "enabled");
+    std::string switch_name;
+    if (const Json* sw = opt(body, "switch")) switch_name = as_string(*sw, "switch");
+    auto build = take(rig::Build::reopen(scene, name, factory));
+    bool known = false;
+    for (const rig::PlannedStep& p : build->plan()) known = known || p.feature == feature;
+    if (!known) refuse(404, "feature: no step of rig '" + name + "' names feature '" + feature + "'", "feature");
+    graph::Transaction tx(g(), std::string(enabled ? "enable " : "disable ") + feature);
+    if (Status s = build->set_feature(feature, enabled, switch_name); !s) {
+      tx.rollback();
+      check(s, "feature");
+    }
+    return Json{{"rig", name}, {"features", features_json(*build)}, {"position", build->position()},
+                {"steps", static_cast<int>(build->plan().size())}};
   }
 
   Json post_rigs_edit_mode(const Request&, const Json& body) {
@@ -828,6 +871,7 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/rigs/edit", &Impl::post_rigs_edit, true},
       {"POST", "/api/rigs/step", &Impl::post_rigs_step, true},
       {"POST", "/api/rigs/edit-mode", &Impl::post_rigs_edit_mode, true},
+      {"POST", "/api/rigs/feature", &Impl::post_rigs_feature, true},
       {"GET", "/api/definition", &Impl::get_definition, false},
       {"POST", "/api/definition/validate", &Impl::post_definition_validate, false},
       {"POST", "/api/definition/build", &Impl::post_definition_build, true},

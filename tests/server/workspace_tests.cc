@@ -10,6 +10,7 @@
 #include "rigel/ephemeral/component.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/gltf_import.h"
+#include "rigel/io/scene_file.h"
 #include "rigel/rig/definition_io.h"
 #include "server_test_util.h"
 #include "workspace.h"
@@ -245,6 +246,23 @@ TEST(ServerApi, RigManagerAddUpdateStepRemove) {
   EXPECT_EQ(step["position"], 3);
   EXPECT_EQ(s.request("POST", "/api/rigs/step", R"({"rig": "hero", "to": 100000})").status, 400);
   s.post("/api/rigs/step", {{"rig", "hero"}, {"to", steps}});
+
+  // Features: the biped's limbs name "ik" and "stretch"; turning one off
+  // redoes the build without its steps, turning it on again brings them back.
+  Json features = s.get("/api/rigs")["rigs"][0]["features"];
+  EXPECT_NE(features.dump().find("\"stretch\""), std::string::npos) << features;
+  const std::string with_stretch = io::write_scene(s.workspace->scene());
+  Json off = s.post("/api/rigs/feature", {{"rig", "hero"}, {"feature", "stretch"}, {"enabled", false}});
+  EXPECT_EQ(off["position"], steps);
+  for (const Json& f : off["features"]) {
+    if (f["feature"] == "stretch") {
+      EXPECT_FALSE(f["enabled"].get<bool>());
+    }
+  }
+  EXPECT_NE(io::write_scene(s.workspace->scene()), with_stretch);  // the stretch steps' work is undone
+  EXPECT_EQ(s.request("POST", "/api/rigs/feature", R"({"rig": "hero", "feature": "wings", "enabled": true})").status, 404);
+  Json on = s.post("/api/rigs/feature", {{"rig", "hero"}, {"feature", "stretch"}, {"enabled", true}});
+  for (const Json& f : on["features"]) EXPECT_TRUE(f["enabled"].get<bool>()) << f;
 
   // Rig edit mode on the built rig, and back; the editor can read the
   // definition it was built from.

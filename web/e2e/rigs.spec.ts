@@ -40,6 +40,19 @@ test('Rig Manager: add, step, out of date, update, remove', async ({ app: page, 
   await page.getByTestId('step-forward').click();
   await expect(page.getByTestId('step-position')).toHaveText(`${steps} / ${steps}`);
 
+  // Feature toggles: stretch off redoes the build without it, then on again.
+  const stretch = page.getByTestId('rig-feature-stretch');
+  await expect(stretch).toBeChecked();
+  await stretch.uncheck();
+  await expect
+    .poll(async () => (await server.get('/api/rigs')).rigs[0].features.find((f: any) => f.feature === 'stretch').enabled)
+    .toBe(false);
+  await shots.take('stretch-off');
+  await page.getByTestId('rig-feature-stretch').check();
+  await expect
+    .poll(async () => (await server.get('/api/rigs')).rigs[0].features.find((f: any) => f.feature === 'stretch').enabled)
+    .toBe(true);
+
   // A newer definition on disk: the rig turns red with a warning.
   const file = join(server.root, 'examples/biped.rig.xml');
   const xml = readFileSync(file, 'utf8');

@@ -86,7 +86,15 @@ export interface RigInfo {
   editMode: boolean;
   buildPosition: number;
   steps: number;
+  /** Features the rig's build steps name (seed 003), with their state. */
+  features?: RigFeature[];
   components: RigComponentInfo[];
+}
+
+export interface RigFeature {
+  feature: string;
+  switch: string;
+  enabled: boolean;
 }
 
 export interface ParamSchema {

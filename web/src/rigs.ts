@@ -178,6 +178,19 @@ export class RigManager {
         h('button.icon', { title: 'One step forward', testid: 'step-forward', onclick: () => step({ by: 1 }) }, '▶'),
         h('button.icon', { title: 'To the end', testid: 'step-last', onclick: () => step({ to: r.steps }) }, '▶|'),
       ),
+      h('h3', {}, 'Features'),
+      (r.features ?? []).length === 0
+        ? h('span.hint', {}, 'No build step of this rig names a feature.')
+        : h(
+            'div.features',
+            {},
+            (r.features ?? []).map((f) => {
+              const label = f.switch ? `${f.feature} / ${f.switch}` : f.feature;
+              const box = h('input', { type: 'checkbox', checked: f.enabled, testid: `rig-feature-${label}` });
+              box.addEventListener('change', () => run(this.setFeature(r.name, f.feature, f.switch, box.checked)));
+              return h('label.toggle', { title: 'Build the steps of this feature (the build is redone from the first step it changes)' }, box, label);
+            }),
+          ),
       h('h3', {}, `Components (${r.components.length})`),
       h(
         'ul.components',
@@ -221,6 +234,14 @@ export class RigManager {
     if (out) body.definitionOut = out;
     await this.app.api.post('/api/rigs/edit', body);
     this.app.status.info(`Committed rig edit mode of ${rig}`);
+    await this.app.refreshAll();
+  }
+
+  async setFeature(rig: string, feature: string, switchName: string, enabled: boolean): Promise<void> {
+    const body: Record<string, unknown> = { rig, feature, enabled };
+    if (switchName) body.switch = switchName;
+    await this.app.api.post('/api/rigs/feature', body);
+    this.app.status.info(`${rig}: feature ${feature}${switchName ? '/' + switchName : ''} ${enabled ? 'on' : 'off'}`);
     await this.app.refreshAll();
   }
 
