@@ -54,11 +54,11 @@ struct Web {
   TempDir dir;
   fs::path web;
   Web() {
-    web = dir.path / "web";
+    web = dir.path() / "web";
     fs::create_directories(web / "assets");
     write_text(web / "index.html", "<!doctype html><title>rigel</title>");
     write_text(web / "assets/app.js", "console.log('rigel');");
-    write_text(dir.path / "secret.txt", "do not serve me");
+    write_text(dir.path() / "secret.txt", "do not serve me");
   }
 };
 

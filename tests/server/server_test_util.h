@@ -19,40 +19,16 @@
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/manager.h"
+#include "../io/io_test_util.h"
 #include "workspace.h"
 
 namespace rigel::server {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static std::atomic<int> n{0};
-    path = fs::temp_directory_path() /
-           ("rigel_server_test_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
-
-inline std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-inline void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
+using io::testing::read_text;
+using io::testing::TempDir;
+using io::testing::write_text;
 
 inline fs::path source_path(const std::string& relative) { return fs::path(RIGEL_SOURCE_DIR) / relative; }
 
@@ -122,7 +98,7 @@ inline std::unique_ptr<scene::Scene> bundled_character() {
 // The character without a rig.
 inline Served served_character() {
   Served s;
-  s.root = s.dir->path / "root";
+  s.root = s.dir->path() / "root";
   fs::create_directories(s.root);
   s.workspace = std::make_unique<Workspace>(bundled_character(), fs::path(), s.root, ephemeral::components());
   return s;
@@ -131,7 +107,7 @@ inline Served served_character() {
 // The character with examples/puppet.rig.xml built (160 controls), history cleared.
 inline Served served_puppet() {
   Served s;
-  s.root = s.dir->path / "root";
+  s.root = s.dir->path() / "root";
   fs::create_directories(s.root);
   auto scene = bundled_character();
   auto added = rig::add_rig(*scene, source_path("examples/puppet.rig.xml"), ephemeral::components());

@@ -179,10 +179,10 @@ TEST(ServerApi, BadRequestsNameTheFieldAndTheServerGoesOn) {
 
 TEST(ServerApi, ConfinedPathsStayInTheRoot) {
   TempDir dir;
-  fs::create_directories(dir.path / "root/defs");
-  fs::create_directories(dir.path / "outside");
-  fs::create_directory_symlink(dir.path / "outside", dir.path / "root/link");
-  const fs::path root = dir.path / "root";
+  fs::create_directories(dir.path() / "root/defs");
+  fs::create_directories(dir.path() / "outside");
+  fs::create_directory_symlink(dir.path() / "outside", dir.path() / "root/link");
+  const fs::path root = dir.path() / "root";
   EXPECT_TRUE(confined_path(root, "defs/a.rig.xml", "p").is_ok());
   EXPECT_TRUE(confined_path(root, "defs/../b.rig.xml", "p").is_ok());
   EXPECT_TRUE(confined_path(root, "new/c.rig.xml", "p").is_ok());
