@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <fstream>
@@ -215,14 +216,13 @@ struct Workspace::Impl {
 
   // ---- pose --------------------------------------------------------------------
 
-  Json pose_json(bool world) {
-    Json nodes = Json::object();
-    // Keys are unique (one per node): append to the ordered map's vector
-    // directly instead of its insert, which searches every key (quadratic
-    // over a character's hundreds of nodes).
-    auto& entries = static_cast<std::vector<std::pair<const std::string, Json>>&>(nodes.get_ref<Json::object_t&>());
+  // Local (offsetParentMatrix * matrix, what a glTF node holds) or world
+  // translation, rotation, scale of every transform node, hierarchy order.
+  using Trs = std::array<double, 10>;
+  std::vector<std::pair<NodeId, Trs>> pose_values(bool world) {
+    std::vector<std::pair<NodeId, Trs>> out;
     const std::vector<NodeId> order = scene.hierarchy();
-    entries.reserve(order.size());
+    out.reserve(order.size());
     for (NodeId id : order) {
       Mat4 m;
       if (world) {
@@ -234,12 +234,32 @@ struct Workspace::Impl {
       }
       const math::Decomposed d = math::decompose(m);
       const Quat& q = d.rotation;
-      entries.emplace_back(uuid(id), Json::array({d.translate.x(), d.translate.y(), d.translate.z(), q.x(), q.y(), q.z(),
-                                                  q.w(), d.scale.x(), d.scale.y(), d.scale.z()}));
+      out.emplace_back(id, Trs{d.translate.x(), d.translate.y(), d.translate.z(), q.x(), q.y(), q.z(), q.w(),
+                               d.scale.x(), d.scale.y(), d.scale.z()});
+    }
+    return out;
+  }
+
+  // The pose answer. With `before` (the values before a change), only the
+  // nodes whose values changed are listed ("partial": a drag's answer).
+  Json pose_json(bool world, const std::vector<std::pair<NodeId, Trs>>* before = nullptr) {
+    const std::vector<std::pair<NodeId, Trs>> now = pose_values(world);
+    const bool partial = before && before->size() == now.size();
+    Json nodes = Json::object();
+    // Keys are unique (one per node): append to the ordered map's vector
+    // directly instead of its insert, which searches every key (quadratic
+    // over a character's hundreds of nodes).
+    auto& entries = static_cast<std::vector<std::pair<const std::string, Json>>&>(nodes.get_ref<Json::object_t&>());
+    entries.reserve(now.size());
+    for (std::size_t i = 0; i < now.size(); ++i) {
+      const auto& [id, v] = now[i];
+      if (partial && (*before)[i].first == id && (*before)[i].second == v) continue;
+      entries.emplace_back(uuid(id), Json::array({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]}));
     }
     Json out{{"revision", revision}};
     out.update(frame_json(scene));
     out["space"] = world ? "world" : "local";
+    out["partial"] = partial;
     out["nodes"] = std::move(nodes);
     return out;
   }
@@ -425,6 +445,7 @@ struct Workspace::Impl {
   }
 
   Json post_drag(const Request&, const Json& body) {
+    const auto before = pose_values(false);
     std::vector<NodeId> selected;
     for (NodeId id : g().selection())
       if (g().node(id)) selected.push_back(id);
@@ -465,7 +486,9 @@ struct Workspace::Impl {
         drag_direct(direct, delta.translate, delta.rotate);
       }
     }
-    return pose_json(false);
+    // The answer lists only what moved: the revision after this drag is the
+    // caller's pose plus these nodes.
+    return pose_json(false, &before);
   }
 
   Json post_release(const Request&, const Json&) {
@@ -906,7 +929,8 @@ Response Workspace::handle(const Request& request) {
     if (!route->handler) return impl_->get_character();
     Json answer = (impl_.get()->*(route->handler))(request, body);
     if (route->changes) ++impl_->revision;
-    if (answer.is_object() && !answer.contains("revision")) answer["revision"] = impl_->revision;
+    // The revision this answer describes: after the change.
+    if (answer.is_object() && (route->changes || !answer.contains("revision"))) answer["revision"] = impl_->revision;
     return json_response(200, answer);
   } catch (const ApiError& e) {
     return error_response(e);

@@ -57,7 +57,17 @@ TEST(ServerApi, InverseDragMovesTheArmOnlyAndUndoRestoresIt) {
   s.post("/api/mode", {{"mode", "inverse"}});
   s.post("/api/options", {{"maxChain", 3}});
   s.post("/api/select", {{"controls", {"hand.L"}}});
-  for (int i = 1; i <= 5; ++i) s.post("/api/drag", {{"translate", {0.0, 0.02, 0.01}}});
+  for (int i = 1; i <= 5; ++i) {
+    // Each answer lists just what the drag moved: the arm's controls and
+    // joints, not the other arm.
+    const Json answer = s.post("/api/drag", {{"translate", {0.0, 0.02, 0.01}}});
+    EXPECT_TRUE(answer["partial"].get<bool>());
+    EXPECT_TRUE(answer["nodes"].contains(s.control("hand.L")));
+    EXPECT_TRUE(answer["nodes"].contains(s.uuid("forearm.L")));
+    EXPECT_FALSE(answer["nodes"].contains(s.uuid("hand.R")));
+    EXPECT_LT(answer["nodes"].size(), 20u);
+    EXPECT_EQ(answer["revision"], s.get("/api/revision")["revision"]);
+  }
   s.post("/api/release", Json::object());
   const Json after = s.get("/api/pose?space=world")["nodes"];
   for (const char* moved : {"forearm.L", "hand.L"}) EXPECT_GT(s.distance(before, after, moved), 1e-3) << moved;
