@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigel/io/diffable_json.h"
 #include "rigel/ops/registry.h"
 
 namespace rigel::io {
@@ -75,46 +76,6 @@ Json encode_value(const Value& v, const AttrSpec& spec) {
   Json a = Json::array();
   for (std::size_t i = 0; i < graph::array_size(v); ++i) a.push_back(encode_scalar(graph::array_element(v, spec.type, i), spec));
   return a;
-}
-
-bool is_scalar(const Json& j) { return !j.is_array() && !j.is_object(); }
-
-// Objects one key per line; arrays of scalars on one line (a vector, a
-// quaternion, a matrix), other arrays one element per line. Diffable.
-void emit(const Json& j, int indent, std::string& out) {
-  const std::string pad(static_cast<std::size_t>(indent), ' ');
-  if (j.is_object()) {
-    if (j.empty()) {
-      out += "{}";
-      return;
-    }
-    out += "{\n";
-    bool first = true;
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      if (!first) out += ",\n";
-      first = false;
-      out += pad + "  " + Json(it.key()).dump() + ": ";
-      emit(it.value(), indent + 2, out);
-    }
-    out += "\n" + pad + "}";
-  } else if (j.is_array()) {
-    bool flat = std::all_of(j.begin(), j.end(), is_scalar);
-    if (j.empty() || flat) {
-      out += "[";
-      for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
-      out += "]";
-      return;
-    }
-    out += "[\n";
-    for (std::size_t i = 0; i < j.size(); ++i) {
-      out += pad + "  ";
-      emit(j[i], indent + 2, out);
-      out += i + 1 < j.size() ? ",\n" : "\n";
-    }
-    out += pad + "]";
-  } else {
-    out += j.dump();
-  }
 }
 
 bool is_hierarchy(const Graph& g, const graph::Connection& c) {
@@ -479,10 +440,7 @@ std::string write_scene(scene::Scene& scene) {
     connections.push_back(std::move(jc));
   }
   root["connections"] = std::move(connections);
-  std::string out;
-  emit(root, 0, out);
-  out += "\n";
-  return out;
+  return diffable_json(root);
 }
 
 Status write_file_atomic(const std::filesystem::path& path, std::string_view content) {

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "definition_io_internal.h"
+#include "rigel/io/diffable_json.h"
 
 namespace rigel::rig::detail {
 namespace {
@@ -530,68 +531,10 @@ Json component_json(const Component& c) {
   return j;
 }
 
-bool is_scalar(const Json& j) { return !j.is_array() && !j.is_object(); }
-
 std::string scalar_text(const Json& j) {
   if (j.is_number_float()) return format_double_json(j.get<double>());
   // Invalid UTF-8 (possible in text that came from XML) is replaced, not thrown.
   return j.dump(-1, ' ', false, Json::error_handler_t::replace);
-}
-
-// A value with nothing nested but arrays of scalars.
-bool is_flat(const Json& j) {
-  if (is_scalar(j)) return true;
-  if (j.is_array()) return std::all_of(j.begin(), j.end(), is_scalar);
-  return std::all_of(j.begin(), j.end(), [](const Json& v) { return is_scalar(v) || (v.is_array() && is_flat(v)); });
-}
-
-// Objects one member per line, except flat objects in arrays (a guide, a
-// control, a switch, a geometry entry: one line each); arrays of scalars on
-// one line (vectors), other arrays one element per line. Diffable, like the
-// .rigel writer.
-void emit(const Json& j, int indent, std::string& out, bool in_array = false) {
-  const std::string pad(static_cast<std::size_t>(indent), ' ');
-  if (j.is_object() && in_array && is_flat(j)) {
-    out += "{";
-    bool first = true;
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      out += first ? "" : ", ";
-      first = false;
-      out += scalar_text(Json(it.key())) + ": ";
-      emit(it.value(), indent, out);
-    }
-    out += "}";
-  } else if (j.is_object()) {
-    if (j.empty()) {
-      out += "{}";
-      return;
-    }
-    out += "{\n";
-    bool first = true;
-    for (auto it = j.begin(); it != j.end(); ++it) {
-      if (!first) out += ",\n";
-      first = false;
-      out += pad + "  " + scalar_text(Json(it.key())) + ": ";
-      emit(it.value(), indent + 2, out);
-    }
-    out += "\n" + pad + "}";
-  } else if (j.is_array()) {
-    if (j.empty() || std::all_of(j.begin(), j.end(), is_scalar)) {
-      out += "[";
-      for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + scalar_text(j[i]);
-      out += "]";
-      return;
-    }
-    out += "[\n";
-    for (std::size_t i = 0; i < j.size(); ++i) {
-      out += pad + "  ";
-      emit(j[i], indent + 2, out, true);
-      out += i + 1 < j.size() ? ",\n" : "\n";
-    }
-    out += pad + "]";
-  } else {
-    out += scalar_text(j);
-  }
 }
 
 }  // namespace
@@ -643,10 +586,9 @@ std::string write_json(const Definition& d) {
   }
   Json root = Json::object();
   root["rig"] = std::move(rig);
-  std::string out;
-  emit(root, 0, out);
-  out += "\n";
-  return out;
+  // Flat objects in arrays (a guide, a control, a switch, a geometry entry)
+  // go on one line each.
+  return io::diffable_json(root, {.inline_flat_objects_in_arrays = true, .scalar = scalar_text});
 }
 
 }  // namespace rigel::rig::detail
