@@ -1444,43 +1444,65 @@ Result<NodeId> BuildContext::create_control(std::string_view role, int index, in
 }
 
 Status BuildContext::drive(NodeId driver, NodeId driven) {
+  ConstraintSpec spec;
+  spec.role = "drive";
+  spec.space_role = "parentSpace";
+  spec.targets = {driver};
+  spec.channels = {"translate", "rotate", "scale"};
+  return constrain(spec, driven, static_cast<int>(nodes("drive").size())).status();
+}
+
+Result<NodeId> BuildContext::constrain(const ConstraintSpec& spec, NodeId driven, int index) {
   graph::Graph& g = graph();
   const graph::Node* d = g.node(driven);
-  if (!d || !scene_.is_transform(driven)) return error(ErrorCode::kInvalidArgument, "drive: the driven is not a transform");
-  const std::string base = std::string(d->name());
-  int count = static_cast<int>(nodes("drive").size());
-  Result<NodeId> c = create(ops::constraints::kParentConstraintType, "drive", count);
+  const std::string where = full_name() + ": " + spec.role;
+  if (!d || !scene_.is_transform(driven))
+    return error(ErrorCode::kInvalidArgument, where + ": the driven is not a transform");
+  if (spec.targets.empty()) return error(ErrorCode::kInvalidArgument, where + ": no target");
+  auto plug = [&](NodeId n, const char* attr, int element = -1) {
+    return Plug{n, g.node(n)->type().attr_find(attr), element};
+  };
+  const std::string name = d->name();
+  Result<NodeId> c = create(spec.type, spec.role, index);
   if (!c) return c.status();
-  Result<NodeId> inv = create(ops::util::kInverseMatrixType, "parentSpace", count);
-  if (!inv) return inv.status();
-  auto attr = [&](NodeId n, const char* a) { return g.node(n)->type().attr_find(a); };
-  const Mat4 driver_world = scene_.world_matrix(driver);
   const Mat4 driven_world = scene_.world_matrix(driven);
-  Status s = g.connect(Plug{driver, xform::kWorldMatrix, -1}, Plug{*c, attr(*c, "targetWorldMatrix"), 0});
-  if (s)
-    s = g.set_value(Plug{*c, attr(*c, "targetOffset"), -1},
-                    Value(std::vector<Mat4>{ops::constraints::compute_offset(driver_world, driven_world)}));
-  // Parent space: (parent world * offsetParentMatrix)^-1, live.
-  NodeId parent = g.parent(driven);
-  if (s && parent.is_valid())
-    s = g.connect(Plug{parent, xform::kWorldMatrix, -1}, Plug{*inv, attr(*inv, "inputMatrix"), -1});
-  if (s) s = g.set_value(Plug{*inv, attr(*inv, "offsetMatrix"), -1}, d->value(xform::kOffsetParentMatrix));
-  if (s) s = g.connect(Plug{*inv, attr(*inv, "outputMatrix"), -1}, Plug{*c, attr(*c, "parentInverseMatrix"), -1});
-  // Euler channels in the driven's order, past its joint orient.
-  if (s) s = g.set_value(Plug{*c, attr(*c, "rotateOrder"), -1}, d->value(xform::kRotateOrder));
+  std::vector<Mat4> offsets;
+  Status s;
+  for (std::size_t i = 0; s && i < spec.targets.size(); ++i) {
+    s = g.connect(Plug{spec.targets[i], xform::kWorldMatrix, -1}, plug(*c, "targetWorldMatrix", static_cast<int>(i)));
+    offsets.push_back(spec.maintain_offset
+                          ? ops::constraints::compute_offset(scene_.world_matrix(spec.targets[i]), driven_world)
+                          : Mat4(Mat4::Identity()));
+  }
+  if (s && spec.maintain_offset) s = g.set_value(plug(*c, "targetOffset"), Value(offsets));
+  if (s && !spec.weights.empty()) s = g.set_value(plug(*c, "targetWeight"), Value(spec.weights));
+  if (s && spec.space != ConstraintSpec::Space::kIdentity) {
+    const NodeId space = spec.space == ConstraintSpec::Space::kParent ? g.parent(driven) : spec.space_node;
+    Result<NodeId> inv =
+        create(ops::util::kInverseMatrixType, spec.space_role.empty() ? spec.role + "Space" : spec.space_role, index);
+    if (!inv) return inv.status();
+    if (space.is_valid()) s = g.connect(Plug{space, xform::kWorldMatrix, -1}, plug(*inv, "inputMatrix"));
+    if (s) s = g.set_value(plug(*inv, "offsetMatrix"), d->value(xform::kOffsetParentMatrix));
+    if (s) s = g.connect(plug(*inv, "outputMatrix"), plug(*c, "parentInverseMatrix"));
+  }
+  // Euler channels in the driven's order, past its joint orient; rest values
+  // are what the driven holds now.
+  if (s) s = g.set_value(plug(*c, "rotateOrder"), d->value(xform::kRotateOrder));
   if (s && d->type().name() == scene::kJointType)
-    s = g.set_value(Plug{*c, attr(*c, "jointOrient"), -1}, d->value(scene::joint_attr::kJointOrient));
+    s = g.set_value(plug(*c, "jointOrient"), d->value(scene::joint_attr::kJointOrient));
+  if (s) s = g.set_value(plug(*c, "restTranslate"), d->value(xform::kTranslate));
+  if (s) s = g.set_value(plug(*c, "restRotate"), d->value(xform::kRotate));
+  if (s) s = g.set_value(plug(*c, "restScale"), d->value(xform::kScale));
   if (s && std::get<std::int64_t>(d->value(xform::kRotateMode)) != 0)
     s = g.set_value(Plug{driven, xform::kRotateMode, -1}, Value(std::int64_t{0}));
-  if (s) s = g.set_value(Plug{*c, attr(*c, "restTranslate"), -1}, d->value(xform::kTranslate));
-  if (s) s = g.set_value(Plug{*c, attr(*c, "restScale"), -1}, d->value(xform::kScale));
-  for (const char* ch : {"translate", "rotate", "scale"}) {
+  for (const char* ch : spec.channels) {
     if (!s) break;
-    const graph::AttrIndex dst = d->type().attr_find(ch);
-    if (g.source(Plug{driven, dst, -1})) s = g.disconnect_input(Plug{driven, dst, -1});
-    if (s) s = g.connect(Plug{*c, attr(*c, ch), -1}, Plug{driven, dst, -1});
+    const Plug dst = plug(driven, ch);
+    if (g.source(dst)) s = g.disconnect_input(dst);
+    if (s) s = g.connect(plug(*c, ch), dst);
   }
-  return s.is_ok() ? s : s.with_context("drive " + base);
+  if (!s) return s.with_context(where + " on " + name);
+  return c;
 }
 
 std::vector<NodeId> BuildContext::nodes(std::string_view role) const {

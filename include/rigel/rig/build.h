@@ -25,6 +25,7 @@
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
 #include "rigel/math/types.h"
+#include "rigel/ops/constraints/nodes.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/schema.h"
 #include "rigel/scene/scene.h"
@@ -183,6 +184,26 @@ class Build {
   friend class BuildContext;
 };
 
+// A constraint for BuildContext::constrain to make: its type, targets and
+// the channels of the driven it drives, and where its parent space (the
+// constraint's parentInverseMatrix) comes from.
+struct ConstraintSpec {
+  enum class Space {
+    kParent,    // inverse(driven's parent world * driven's offsetParentMatrix), live
+    kNode,      // inverse(space_node's world * driven's offsetParentMatrix), live
+    kIdentity,  // the identity: the outputs are the targets' world
+  };
+  const char* type = ops::constraints::kParentConstraintType;
+  std::string role;        // the constraint node's role
+  std::string space_role;  // its parent space node's role; empty: role + "Space"
+  std::vector<NodeId> targets;
+  std::vector<double> weights;  // empty: 1 each
+  bool maintain_offset = true;  // not for aim constraints (their offset moves the target)
+  std::vector<const char*> channels;  // "translate", "rotate", "scale" of the driven
+  Space space = Space::kParent;
+  NodeId space_node;  // kNode
+};
+
 // What a step's construct works with. Everything it changes goes through
 // the graph while a recorder watches, so a step may call any rigel API
 // (ops::ik::setup_two_bone_ik, Scene::reparent, ...), not only these helpers.
@@ -231,8 +252,14 @@ class BuildContext {
   Result<NodeId> create_group(std::string_view role, int index, const math::Mat4& world, NodeId parent);
   // Makes `driven` (a node of the character, e.g. a joint) follow `driver`
   // keeping its current offset: a parentConstraint whose parent space follows
-  // the driven's parent.
+  // the driven's parent (constrain() with role "drive").
   Status drive(NodeId driver, NodeId driven);
+  // Makes a constraint as `spec` says, driving `driven`'s channels (any
+  // input already connected to them is disconnected). The constraint's
+  // rest values and Euler channels are the driven's as they are now (past
+  // its joint orient, in its rotate order), and a driven in quaternion
+  // rotate mode is switched to Euler. Errors name the component and role.
+  Result<NodeId> constrain(const ConstraintSpec& spec, NodeId driven, int index = -1);
 
   // Nodes this component made in earlier steps, by role (in index order).
   std::vector<NodeId> nodes(std::string_view role) const;

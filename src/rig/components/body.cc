@@ -74,76 +74,6 @@ Mat4 frame(const Mat3& rotation, const Vec3& position) {
   return m;
 }
 
-// Where a constraint's parentInverseMatrix comes from.
-enum class SpaceKind {
-  kParent,    // inverse(driven's parent world * driven's offsetParentMatrix), live
-  kNode,      // inverse(space node's world * driven's offsetParentMatrix), live
-  kIdentity,  // the identity: the outputs are the targets' world
-};
-
-struct ConstraintSpec {
-  const char* type = ops::constraints::kParentConstraintType;
-  std::string role;  // the constraint's role; its parent space node gets role + "Space"
-  std::vector<NodeId> targets;
-  std::vector<double> weights;  // empty: 1 each
-  bool maintain_offset = true;  // not for aim constraints (their offset moves the target)
-  std::vector<const char*> channels;
-  SpaceKind space = SpaceKind::kParent;
-  NodeId space_node;  // kNode
-};
-
-// Makes a constraint driving `driven`'s channels (like BuildContext::drive,
-// for any constraint type, several targets and other parent spaces).
-Result<NodeId> constrain(BuildContext& ctx, const ConstraintSpec& spec, NodeId driven, int index) {
-  graph::Graph& g = ctx.graph();
-  scene::Scene& scene = ctx.scene();
-  const graph::Node* d = g.node(driven);
-  if (!d || !scene.is_transform(driven))
-    return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": " + spec.role + ": the driven is not a transform");
-  if (spec.targets.empty()) return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": " + spec.role + ": no target");
-  const std::string name = d->name();
-  Result<NodeId> c = ctx.create(spec.type, spec.role, index);
-  if (!c) return c.status();
-  const Mat4 driven_world = scene.world_matrix(driven);
-  std::vector<Mat4> offsets;
-  Status s;
-  for (std::size_t i = 0; s && i < spec.targets.size(); ++i) {
-    s = g.connect(Plug{spec.targets[i], xform::kWorldMatrix, -1},
-                  plug(g, *c, "targetWorldMatrix", static_cast<int>(i)));
-    offsets.push_back(spec.maintain_offset
-                          ? ops::constraints::compute_offset(scene.world_matrix(spec.targets[i]), driven_world)
-                          : Mat4(Mat4::Identity()));
-  }
-  if (s && spec.maintain_offset) s = g.set_value(plug(g, *c, "targetOffset"), Value(offsets));
-  if (s && !spec.weights.empty()) s = g.set_value(plug(g, *c, "targetWeight"), Value(spec.weights));
-  if (s && spec.space != SpaceKind::kIdentity) {
-    const NodeId space = spec.space == SpaceKind::kParent ? g.parent(driven) : spec.space_node;
-    Result<NodeId> inv = ctx.create(ops::util::kInverseMatrixType, spec.role + "Space", index);
-    if (!inv) return inv.status();
-    if (space.is_valid()) s = g.connect(Plug{space, xform::kWorldMatrix, -1}, plug(g, *inv, "inputMatrix"));
-    if (s) s = g.set_value(plug(g, *inv, "offsetMatrix"), d->value(xform::kOffsetParentMatrix));
-    if (s) s = g.connect(plug(g, *inv, "outputMatrix"), plug(g, *c, "parentInverseMatrix"));
-  }
-  // Euler channels in the driven's order, past its joint orient; rest values
-  // are what the driven holds now.
-  if (s) s = g.set_value(plug(g, *c, "rotateOrder"), d->value(xform::kRotateOrder));
-  if (s && d->type().name() == scene::kJointType)
-    s = g.set_value(plug(g, *c, "jointOrient"), d->value(scene::joint_attr::kJointOrient));
-  if (s) s = g.set_value(plug(g, *c, "restTranslate"), d->value(xform::kTranslate));
-  if (s) s = g.set_value(plug(g, *c, "restRotate"), d->value(xform::kRotate));
-  if (s) s = g.set_value(plug(g, *c, "restScale"), d->value(xform::kScale));
-  if (s && std::get<std::int64_t>(d->value(xform::kRotateMode)) != 0)
-    s = g.set_value(Plug{driven, xform::kRotateMode, -1}, Value(std::int64_t{0}));
-  for (const char* ch : spec.channels) {
-    if (!s) break;
-    const Plug dst = plug(g, driven, ch);
-    if (g.source(dst)) s = g.disconnect_input(dst);
-    if (s) s = g.connect(plug(g, *c, ch), dst);
-  }
-  if (!s) return s.with_context(ctx.full_name() + ": " + spec.role + " on " + name);
-  return c;
-}
-
 // The joints' world matrices of every guide.
 Result<std::vector<Mat4>> guide_worlds(BuildContext& ctx) {
   std::vector<Mat4> out;
@@ -243,9 +173,9 @@ Status build_spline(BuildContext& ctx, const std::vector<Mat4>& worlds, const st
     follow.targets = {*cv};
     follow.maintain_offset = false;
     follow.channels = {"translate"};
-    follow.space = SpaceKind::kNode;
+    follow.space = ConstraintSpec::Space::kNode;
     follow.space_node = attach;
-    if (Result<NodeId> c = constrain(ctx, follow, *point, j); !c) return c.status();
+    if (Result<NodeId> c = ctx.constrain(follow, *point, j); !c) return c.status();
     points.push_back(*point);
   }
 
@@ -299,8 +229,8 @@ Status build_spline(BuildContext& ctx, const std::vector<Mat4>& worlds, const st
     spec.targets = {drivers[i]};
     spec.maintain_offset = false;
     spec.channels = {"translate", "rotate", "scale"};
-    spec.space = SpaceKind::kIdentity;
-    if (Result<NodeId> c = constrain(ctx, spec, *follow, i); !c) return c.status();
+    spec.space = ConstraintSpec::Space::kIdentity;
+    if (Result<NodeId> c = ctx.constrain(spec, *follow, i); !c) return c.status();
   }
   return Status::ok();
 }
@@ -400,7 +330,7 @@ class Spine : public ComponentClass {
                follow.targets = {attach, *shoulder};
                follow.weights = {0.5, 0.5};
                follow.channels = {"translate", "rotate", "scale"};
-               if (Result<NodeId> c = constrain(ctx, follow, *mid_space, -1); !c) return c.status();
+               if (Result<NodeId> c = ctx.constrain(follow, *mid_space, -1); !c) return c.status();
                Result<NodeId> mid = ctx.create_control("mid", -1, mid_guide, mid_world, *mid_space);
                if (!mid) return mid.status();
                std::vector<NodeId> parents;
@@ -457,7 +387,7 @@ class Neck : public ComponentClass {
                  orient.role = "headOrient";
                  orient.targets = {world};
                  orient.channels = {"rotate"};
-                 if (Result<NodeId> c = constrain(ctx, orient, *space, -1); !c) return c.status();
+                 if (Result<NodeId> c = ctx.constrain(orient, *space, -1); !c) return c.status();
                  parent = *space;
                }
                Result<NodeId> head = ctx.create_control("head", -1, n - 1, *head_world, parent);
@@ -604,7 +534,7 @@ class Eye : public ComponentClass {
                  spec.targets = {ctx.node("aim", i)};
                  spec.maintain_offset = false;
                  spec.channels = {"rotate"};
-                 Result<NodeId> c = constrain(ctx, spec, hook, i);
+                 Result<NodeId> c = ctx.constrain(spec, hook, i);
                  if (!c) return c.status();
                  Status s = g.set_value(plug(g, *c, "aimVector"), Value(*axis));
                  if (s) s = g.set_value(plug(g, *c, "upVector"), Value(up_local));
@@ -681,7 +611,7 @@ class Simple : public ComponentClass {
                    return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": constrain '" + mode + "' is unknown");
                  spec.targets = {c};
                  spec.channels = {mode == "point" ? "translate" : "rotate"};
-                 if (Result<NodeId> k = constrain(ctx, spec, *node, i); !k) return k.status();
+                 if (Result<NodeId> k = ctx.constrain(spec, *node, i); !k) return k.status();
                }
                return Status::ok();
              }},
