@@ -28,6 +28,11 @@ using testing::first_difference;
 using testing::normalized;
 using testing::at_joint;
 using testing::metarig;
+using testing::at;
+using testing::built_rig;
+using testing::BuiltRig;
+using testing::joint_worlds;
+using testing::pose_error;
 
 namespace fs = std::filesystem;
 using graph::Plug;
@@ -102,63 +107,17 @@ Definition tail_rig(std::int64_t controls, bool stretch) {
                              {param("controlCount", controls), param("stretch", stretch)})});
 }
 
-std::map<std::string, Mat4> joint_worlds(scene::Scene& s) {
-  std::map<std::string, Mat4> out;
-  for (NodeId id : s.graph().nodes())
-    if (s.graph().node(id)->type().name() == scene::kJointType) out[s.graph().node(id)->name()] = s.world_matrix(id);
-  return out;
-}
 
-// The largest difference of any joint's world matrix from `before`.
-double rest_error(scene::Scene& s, const std::map<std::string, Mat4>& before, std::string* worst) {
-  double most = 0.0;
-  for (const auto& [name, w] : joint_worlds(s)) {
-    auto it = before.find(name);
-    if (it == before.end()) continue;
-    const double e = (w - it->second).cwiseAbs().maxCoeff();
-    if (e > most) {
-      most = e;
-      *worst = name;
-    }
-  }
-  return most;
-}
 
 
 Vec3 position(scene::Scene& s, NodeId id) { return s.world_matrix(id).topRightCorner<3, 1>(); }
 Vec3 position(scene::Scene& s, const char* joint) { return position(s, s.graph().find(joint)); }
 
-NodeId at(scene::Scene& s, const std::string& address) {
-  Result<NodeId> id = resolve_address(s.graph(), address);
-  EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
-  return id ? *id : NodeId{};
-}
 
 void set(scene::Scene& s, NodeId node, graph::AttrIndex attr, const Vec3& v) {
   ASSERT_TRUE(s.graph().set_value(Plug{node, attr, -1}, Value(v)).is_ok());
 }
 
-struct Built {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<Build> build;
-  std::map<std::string, Mat4> rest;
-  std::string before;
-};
-
-Built build(const Definition& d) {
-  Built b;
-  b.scene = metarig();
-  if (!b.scene) return b;
-  b.rest = joint_worlds(*b.scene);
-  b.before = io::write_scene(*b.scene);
-  auto opened = Build::open(*b.scene, d, builtin_components());
-  EXPECT_TRUE(opened.is_ok()) << opened.status().message();
-  if (!opened) return b;
-  b.build = std::move(*opened);
-  const Status s = b.build->build_all();
-  EXPECT_TRUE(s.is_ok()) << s.message();
-  return b;
-}
 
 std::vector<double> bone_lengths(scene::Scene& s, std::initializer_list<const char*> chain) {
   std::vector<Vec3> p;
@@ -173,10 +132,10 @@ std::vector<double> bone_lengths(scene::Scene& s, std::initializer_list<const ch
 TEST(RigBody, every_component_keeps_the_rest_pose_and_is_removed_byte_for_byte) {
   for (const Definition& d : {everything(), tail_rig(3, true), tail_rig(2, false),
                               rig_with({spine("fk")}), rig_with({spine("splineIK")})}) {
-    Built b = build(d);
+    BuiltRig b = built_rig(d);
     ASSERT_TRUE(b.build);
     std::string worst;
-    EXPECT_LT(rest_error(*b.scene, b.rest, &worst), 1e-9) << d.components[0].children[0].children[0].type
+    EXPECT_LT(pose_error(*b.scene, b.rest, &worst), 1e-9) << d.components[0].children[0].children[0].type
                                                           << ": at rest nothing moves (worst: " << worst << ")";
     ASSERT_TRUE(b.build->remove().is_ok());
     const std::string after = io::write_scene(*b.scene);
@@ -185,7 +144,7 @@ TEST(RigBody, every_component_keeps_the_rest_pose_and_is_removed_byte_for_byte) 
 }
 
 TEST(RigBody, stepping_back_and_forward_from_every_index_gives_the_straight_build) {
-  Built b = build(everything());
+  BuiltRig b = built_rig(everything());
   ASSERT_TRUE(b.build);
   Build& build = *b.build;
   testing::expect_stepping_gives_the_straight_build(build, *b.scene);
@@ -194,7 +153,7 @@ TEST(RigBody, stepping_back_and_forward_from_every_index_gives_the_straight_buil
 // ---- spine -------------------------------------------------------------------
 
 TEST(RigBody, spine_fk_rotation_carries_the_chain) {
-  Built b = build(rig_with({spine("fk")}));
+  BuiltRig b = built_rig(rig_with({spine("fk")}));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const Vec3 top = position(s, "spine.003"), neck = position(s, "spine.004");
@@ -211,7 +170,7 @@ TEST(RigBody, spine_fk_rotation_carries_the_chain) {
 }
 
 TEST(RigBody, spline_spine_shoulder_pulls_the_top_and_keeps_the_lengths) {
-  Built b = build(rig_with({spine("splineIK")}));
+  BuiltRig b = built_rig(rig_with({spine("splineIK")}));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const auto chain = {"spine.001", "spine.002", "spine.003", "spine.004"};
@@ -245,7 +204,7 @@ TEST(RigBody, spline_spine_shoulder_pulls_the_top_and_keeps_the_lengths) {
 }
 
 TEST(RigBody, stretchy_spline_spine_reaches_the_shoulder) {
-  Built b = build(rig_with({spine("stretchySplineIK")}));
+  BuiltRig b = built_rig(rig_with({spine("stretchySplineIK")}));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const auto chain = {"spine.001", "spine.002", "spine.003"};
@@ -260,14 +219,14 @@ TEST(RigBody, stretchy_spline_spine_reaches_the_shoulder) {
 }
 
 TEST(RigBody, the_stretch_feature_switches_the_spline_stretch) {
-  Built b = build(rig_with({spine("stretchySplineIK")}));
+  BuiltRig b = built_rig(rig_with({spine("stretchySplineIK")}));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const auto chain = {"spine.001", "spine.002", "spine.003"};
   const std::vector<double> rest = bone_lengths(s, chain);
   ASSERT_TRUE(b.build->set_feature("stretch", false).is_ok());
   std::string worst;
-  EXPECT_LT(rest_error(s, b.rest, &worst), 1e-9) << worst;
+  EXPECT_LT(pose_error(s, b.rest, &worst), 1e-9) << worst;
   set(s, at(s, "body:spine/shoulder"), xform::kTranslate, Vec3(0, 0.08, 0));
   std::vector<double> now = bone_lengths(s, chain);
   for (std::size_t i = 0; i < rest.size(); ++i) EXPECT_NEAR(now[i], rest[i], 1e-5) << "stretch off: lengths kept";
@@ -284,11 +243,11 @@ TEST(RigBody, neck_world_head_keeps_its_orientation_when_the_body_turns) {
   for (const char* orient : {"world", "local"}) {
     Component neck = component("neck", "neck", joints({"spine.004", "spine.005", "spine.006"}),
                                {param("headOrient", std::string(orient))});
-    Built b = build(rig_with({neck}));
+    BuiltRig b = built_rig(rig_with({neck}));
     ASSERT_TRUE(b.build);
     scene::Scene& s = *b.scene;
     std::string worst;
-    EXPECT_LT(rest_error(s, b.rest, &worst), 1e-9) << worst;
+    EXPECT_LT(pose_error(s, b.rest, &worst), 1e-9) << worst;
     const NodeId head = s.graph().find("spine.006");
     const Vec3 head_position = position(s, head);
     set(s, at(s, "body:hip/main"), xform::kRotate, Vec3(0, 40, 15));
@@ -324,7 +283,7 @@ TEST(RigBody, eyes_aim_at_their_controls_and_the_master_moves_both) {
   Component eyes = component("eye", "eyes", joints({"eye.L", "eye.R"}), {param("aimDistance", 0.4)});
   eyes.attach = "END";
   neck.children = {eyes};
-  Built b = build(rig_with({neck}));
+  BuiltRig b = built_rig(rig_with({neck}));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const NodeId aim_l = at(s, "body:eyes/aim[0]"), aim_r = at(s, "body:eyes/aim[1]");
@@ -350,7 +309,7 @@ TEST(RigBody, eyes_aim_at_their_controls_and_the_master_moves_both) {
 
 TEST(RigBody, tail_controls_bend_the_chain_and_stretch_follows_the_feature) {
   for (bool stretch : {false, true}) {
-    Built b = build(tail_rig(3, stretch));
+    BuiltRig b = built_rig(tail_rig(3, stretch));
     ASSERT_TRUE(b.build);
     scene::Scene& s = *b.scene;
     const auto chain = {"spine.001", "spine.002", "spine.003", "spine.004", "spine.005", "spine.006"};
@@ -384,7 +343,7 @@ TEST(RigBody, tail_controls_bend_the_chain_and_stretch_follows_the_feature) {
 TEST(RigBody, simple_drives_its_nodes_and_adopts_controls) {
   for (const char* mode : {"parent", "point", "orient", "none"}) {
     Component simple = component("simple", "simple", joints({"breast.L"}), {param("constrain", std::string(mode))});
-    Built b = build(rig_with({simple}));
+    BuiltRig b = built_rig(rig_with({simple}));
     ASSERT_TRUE(b.build);
     scene::Scene& s = *b.scene;
     const NodeId c = at(s, "body:simple/main");

@@ -29,6 +29,7 @@ namespace {
 using testing::at_joint;
 using testing::first_difference;
 using testing::metarig;
+using testing::joint_worlds;
 using testing::normalized;
 
 using graph::Plug;
@@ -108,11 +109,7 @@ Vec3 turned(const Vec3& x, const Vec3& pivot, const Vec3& axis, double degrees) 
 }
 Quat turn(const Vec3& axis, double degrees) { return Quat(Eigen::AngleAxisd(math::to_radians(degrees), axis)); }
 
-struct Rig {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<Build> build;
-  std::map<std::string, Mat4> rest;  // joint world matrices before the build
-  graph::Graph& g() { return scene->graph(); }
+struct Rig : testing::BuiltRig {
   NodeId at(const std::string& address) {
     Result<NodeId> id = resolve_address(g(), "hero:" + address);
     EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
@@ -141,25 +138,11 @@ struct Rig {
   }
 };
 
-std::map<std::string, Mat4> joint_worlds(scene::Scene& s) {
-  std::map<std::string, Mat4> out;
-  for (NodeId id : s.graph().nodes())
-    if (s.graph().node(id)->type().name() == scene::kJointType) out[s.graph().node(id)->name()] = s.world_matrix(id);
-  return out;
-}
+
 
 Rig built(Definition d = legs()) {
   Rig r;
-  r.scene = metarig();
-  if (!r.scene) return r;
-  r.rest = joint_worlds(*r.scene);
-  auto b = Build::open(*r.scene, std::move(d), builtin_components());
-  EXPECT_TRUE(b.is_ok()) << b.status().message();
-  if (!b) return r;
-  r.build = std::move(*b);
-  Status s = r.build->build_all();
-  EXPECT_TRUE(s.is_ok()) << s.message();
-  if (!s) r.build.reset();
+  testing::build_on_metarig(r, std::move(d));
   return r;
 }
 

@@ -30,6 +30,11 @@ namespace {
 using testing::at_joint;
 using testing::first_difference;
 using testing::metarig;
+using testing::at;
+using testing::built_rig;
+using testing::BuiltRig;
+using testing::joint_worlds;
+using testing::pose_error;
 using testing::normalized;
 
 using graph::Plug;
@@ -136,65 +141,16 @@ Definition rig(Parent parent, Component h = hand()) {
   return d;
 }
 
-std::map<std::string, Mat4> joint_worlds(scene::Scene& s) {
-  std::map<std::string, Mat4> out;
-  for (NodeId id : s.graph().nodes())
-    if (s.graph().node(id)->type().name() == scene::kJointType) out[s.graph().node(id)->name()] = s.world_matrix(id);
-  return out;
-}
 
-// The largest difference of any joint's world matrix from `before`, over the
-// joints not in `skip`.
-double pose_error(scene::Scene& s, const std::map<std::string, Mat4>& before, std::string* worst,
-                  const std::set<std::string>& skip = {}) {
-  double most = 0.0;
-  for (const auto& [name, w] : joint_worlds(s)) {
-    auto it = before.find(name);
-    if (it == before.end() || skip.count(name)) continue;
-    const double e = (w - it->second).cwiseAbs().maxCoeff();
-    if (e > most) {
-      most = e;
-      *worst = name;
-    }
-  }
-  return most;
-}
 
 Vec3 position_of(const Mat4& m) { return m.topRightCorner<3, 1>(); }
 Mat3 rotation_of(const Mat4& m) { return math::decompose(m).rotation.toRotationMatrix(); }
 
-NodeId at(scene::Scene& s, const std::string& address) {
-  Result<NodeId> id = resolve_address(s.graph(), address);
-  EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
-  return id ? *id : NodeId{};
-}
 
 void set(scene::Scene& s, const Plug& p, Value v) { ASSERT_TRUE(s.graph().set_value(p, std::move(v)).is_ok()); }
 
 Mat4 world(scene::Scene& s, const std::string& joint) { return s.world_matrix(s.graph().find(joint)); }
 
-struct Built {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<Build> build;
-  std::map<std::string, Mat4> rest;
-  std::string before;
-};
-
-Built build(const Definition& d) {
-  Built b;
-  b.scene = metarig();
-  if (!b.scene) return b;
-  b.rest = joint_worlds(*b.scene);
-  b.before = io::write_scene(*b.scene);
-  auto opened = Build::open(*b.scene, d, builtin_components());
-  EXPECT_TRUE(opened.is_ok()) << opened.status().message();
-  if (!opened) return b;
-  b.build = std::move(*opened);
-  const Status s = b.build->build_all();
-  EXPECT_TRUE(s.is_ok()) << s.message();
-  if (!s) b.build.reset();
-  return b;
-}
 
 // A turn by `angle` (radians) about the unit world `axis` through `pivot`.
 Mat4 turn_about(const Vec3& axis, double angle, const Vec3& pivot) {
@@ -247,7 +203,7 @@ TEST(RigHand, at_rest_nothing_moves_and_remove_gives_back_the_file_byte_for_byte
       {"standalone", rig(Parent::kNone)},
       {"curlAttributes false", rig(Parent::kFkArm, hand({param("curlAttributes", false)}))}};
   for (const auto& [what, d] : cases) {
-    Built b = build(d);
+    BuiltRig b = built_rig(d);
     ASSERT_TRUE(b.build) << what;
     std::string worst;
     EXPECT_LT(pose_error(*b.scene, b.rest, &worst), 1e-9) << what << ": at rest nothing moves (worst: " << worst << ")";
@@ -260,14 +216,14 @@ TEST(RigHand, at_rest_nothing_moves_and_remove_gives_back_the_file_byte_for_byte
 }
 
 TEST(RigHand, stepping_back_and_forward_from_every_index_gives_the_straight_build) {
-  Built b = build(rig(Parent::kLimb));
+  BuiltRig b = built_rig(rig(Parent::kLimb));
   ASSERT_TRUE(b.build);
   Build& build = *b.build;
   testing::expect_stepping_gives_the_straight_build(build, *b.scene);
 }
 
 TEST(RigHand, controls_sit_at_their_joints_one_per_finger_joint) {
-  Built b = build(rig(Parent::kFkArm));
+  BuiltRig b = built_rig(rig(Parent::kFkArm));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   EXPECT_LT(difference(s.world_matrix(at(s, "hero:hand_L/hand")), b.rest.at("hand.L")), 1e-9);
@@ -290,7 +246,7 @@ TEST(RigHand, controls_sit_at_their_joints_one_per_finger_joint) {
 // ---- curl ----------------------------------------------------------------------
 
 TEST(RigHand, curl_turns_every_finger_joint_about_its_bend_axis) {
-  Built b = build(rig(Parent::kFkArm));
+  BuiltRig b = built_rig(rig(Parent::kFkArm));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const NodeId curl = at(s, "hero:hand_L/fingerCurl");
@@ -317,7 +273,7 @@ TEST(RigHand, curl_turns_every_finger_joint_about_its_bend_axis) {
 }
 
 TEST(RigHand, per_finger_curl_moves_only_that_finger) {
-  Built b = build(rig(Parent::kFkArm));
+  BuiltRig b = built_rig(rig(Parent::kFkArm));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   const NodeId curl = at(s, "hero:hand_L/fingerCurl");
@@ -343,7 +299,7 @@ TEST(RigHand, per_finger_curl_moves_only_that_finger) {
 TEST(RigHand, positive_curl_closes_both_hands) {
   for (Side side : {Side::kLeft, Side::kRight}) {
     const std::string rig_side = side == Side::kLeft ? "L" : "R";
-    Built b = build(rig(Parent::kNone, hand({}, side)));
+    BuiltRig b = built_rig(rig(Parent::kNone, hand({}, side)));
     ASSERT_TRUE(b.build) << rig_side;
     scene::Scene& s = *b.scene;
     std::string worst;
@@ -365,7 +321,7 @@ TEST(RigHand, positive_curl_closes_both_hands) {
 // ---- spread --------------------------------------------------------------------
 
 TEST(RigHand, spread_turns_the_first_joints_away_from_the_middle_finger) {
-  Built b = build(rig(Parent::kFkArm));
+  BuiltRig b = built_rig(rig(Parent::kFkArm));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   // The hand's normal by hand.h's rule: (mean of the first joints - hand) x
@@ -409,7 +365,7 @@ TEST(RigHand, spread_turns_the_first_joints_away_from_the_middle_finger) {
 // ---- FK over curl, the hand control ------------------------------------------
 
 TEST(RigHand, fk_finger_controls_work_on_top_of_the_curl) {
-  Built b = build(rig(Parent::kFkArm));
+  BuiltRig b = built_rig(rig(Parent::kFkArm));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   set(s, Plug{at(s, "hero:hand_L/fingerCurl"), fa::kCurl, -1}, Value(30.0));
@@ -433,7 +389,7 @@ TEST(RigHand, fk_finger_controls_work_on_top_of_the_curl) {
 
 TEST(RigHand, moving_the_hand_control_moves_hand_and_fingers_rigidly) {
   for (Parent parent : {Parent::kFkArm, Parent::kNone}) {
-    Built b = build(rig(parent));
+    BuiltRig b = built_rig(rig(parent));
     ASSERT_TRUE(b.build);
     scene::Scene& s = *b.scene;
     const NodeId control = at(s, "hero:hand_L/hand");
@@ -454,7 +410,7 @@ TEST(RigHand, moving_the_hand_control_moves_hand_and_fingers_rigidly) {
 }
 
 TEST(RigHand, under_a_limb_the_limb_keeps_the_wrist_and_the_fingers_follow) {
-  Built b = build(rig(Parent::kLimb));
+  BuiltRig b = built_rig(rig(Parent::kLimb));
   ASSERT_TRUE(b.build);
   scene::Scene& s = *b.scene;
   graph::Graph& g = s.graph();

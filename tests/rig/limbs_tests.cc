@@ -27,6 +27,7 @@ using testing::first_difference;
 using testing::normalized;
 using testing::at_joint;
 using testing::metarig;
+using testing::joint_worlds;
 
 namespace fs = std::filesystem;
 using graph::Plug;
@@ -83,10 +84,7 @@ Vec3 pos(const Mat4& m) { return m.topRightCorner<3, 1>(); }
 Quat rot(const Mat4& m) { return math::decompose(m).rotation; }
 
 // A built rig with shorthands.
-struct Rig {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<Build> build;
-  graph::Graph& g() { return scene->graph(); }
+struct Rig : testing::BuiltRig {
   NodeId at(const std::string& address) {
     Result<NodeId> id = resolve_address(g(), "hero:" + address);
     EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
@@ -118,23 +116,10 @@ struct Rig {
 
 Rig built(Definition d = limbs()) {
   Rig r;
-  r.scene = metarig();
-  if (!r.scene) return r;
-  auto b = Build::open(*r.scene, std::move(d), builtin_components());
-  EXPECT_TRUE(b.is_ok()) << b.status().message();
-  if (!b) return r;
-  r.build = std::move(*b);
-  Status s = r.build->build_all();
-  EXPECT_TRUE(s.is_ok()) << s.message();
+  testing::build_on_metarig(r, std::move(d));
   return r;
 }
 
-std::map<std::string, Mat4> joint_worlds(scene::Scene& s) {
-  std::map<std::string, Mat4> out;
-  for (NodeId id : s.graph().nodes())
-    if (s.graph().node(id)->type().name() == scene::kJointType) out[s.graph().node(id)->name()] = s.world_matrix(id);
-  return out;
-}
 
 void expect_same_pose(Rig& r, const std::map<std::string, Mat4>& before, const char* what, double tol_m = 1e-6,
                       double tol_rad = 1e-6) {
@@ -155,7 +140,9 @@ TEST(RigLimbs, at_rest_no_joint_moves) {
   for (const auto& [name, m] : before)
     EXPECT_LT((scene->world_matrix(scene->graph().find(name)) - m).cwiseAbs().maxCoeff(), 1e-9) << name;
   // In IK mode too: the IK controls sit on the rest pose.
-  Rig r{std::move(scene), std::move(*b)};
+  Rig r;
+  r.scene = std::move(scene);
+  r.build = std::move(*b);
   r.fk_ik("arm_L", 1.0);
   r.fk_ik("leg_L", 1.0);
   for (const auto& [name, m] : before)

@@ -1,9 +1,11 @@
 #pragma once
-// Helpers shared by the rig layer's tests: comparing scenes built twice
-// (uuids differ, names do not) and short messages where texts differ.
+// Helpers shared by the rig layer's tests: a rig built on the metarig,
+// joint poses and their differences, comparing scenes built twice (uuids
+// differ, names do not) and short messages where texts differ.
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -12,8 +14,10 @@
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/definition.h"
+#include "rigel/rig/component.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/scene.h"
+#include "rigel/scene/transform_types.h"
 
 namespace rigel::rig::testing {
 
@@ -22,15 +26,13 @@ using graph::NodeId;
 // Rigify's human metarig (tests/data/gltf), over `registry` (the rig layer's
 // by default), with an empty undo history.
 inline std::unique_ptr<scene::Scene> metarig(std::shared_ptr<const graph::Registry> registry = default_registry()) {
+  io::GltfImportOptions options;
+  options.registry = std::move(registry);
   auto imported =
-      io::import_gltf(std::filesystem::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
+      io::import_gltf(std::filesystem::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb", options);
   EXPECT_TRUE(imported.is_ok()) << imported.status().message();
   if (!imported) return nullptr;
-  auto loaded = io::parse_scene(io::write_scene(**imported), "metarig", std::move(registry));
-  EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
-  if (!loaded) return nullptr;
-  (*loaded)->graph().clear_history();
-  return std::move(*loaded);
+  return std::move(*imported);
 }
 
 // A guide placed at a joint of the character.
@@ -38,6 +40,70 @@ inline Guide at_joint(std::string joint) {
   Guide g;
   g.joint = std::move(joint);
   return g;
+}
+
+// Every joint's world matrix, by name.
+inline std::map<std::string, math::Mat4> joint_worlds(scene::Scene& s) {
+  std::map<std::string, math::Mat4> out;
+  for (NodeId id : s.graph().nodes())
+    if (s.graph().node(id)->type().name() == scene::kJointType) out[s.graph().node(id)->name()] = s.world_matrix(id);
+  return out;
+}
+
+// The largest difference of any joint's world matrix from `before`, over the
+// joints not in `skip`; the joint that differs most goes to `worst`.
+inline double pose_error(scene::Scene& s, const std::map<std::string, math::Mat4>& before, std::string* worst,
+                         const std::set<std::string>& skip = {}) {
+  double most = 0.0;
+  for (const auto& [name, w] : joint_worlds(s)) {
+    auto it = before.find(name);
+    if (it == before.end() || skip.count(name)) continue;
+    const double e = (w - it->second).cwiseAbs().maxCoeff();
+    if (e > most) {
+      most = e;
+      *worst = name;
+    }
+  }
+  return most;
+}
+
+// The node at a rig address ("rig:component/role"), or an invalid id and a
+// test failure that names the address.
+inline NodeId at(scene::Scene& s, const std::string& address) {
+  Result<NodeId> id = resolve_address(s.graph(), address);
+  EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
+  return id ? *id : NodeId{};
+}
+
+// A rig built on the metarig, with what the metarig was before the build.
+struct BuiltRig {
+  std::unique_ptr<scene::Scene> scene;
+  std::unique_ptr<Build> build;           // null when the build failed
+  std::map<std::string, math::Mat4> rest;  // joint world matrices before the build
+  std::string before;                      // the scene's text before the build
+  graph::Graph& g() { return scene->graph(); }
+};
+
+// Builds every component of `d` on a fresh metarig into `r` (a BuiltRig or a
+// test's own struct derived from it); failures are test failures.
+inline void build_on_metarig(BuiltRig& r, Definition d) {
+  r.scene = metarig();
+  if (!r.scene) return;
+  r.rest = joint_worlds(*r.scene);
+  r.before = io::write_scene(*r.scene);
+  auto opened = Build::open(*r.scene, std::move(d), builtin_components());
+  EXPECT_TRUE(opened.is_ok()) << opened.status().message();
+  if (!opened) return;
+  r.build = std::move(*opened);
+  const Status s = r.build->build_all();
+  EXPECT_TRUE(s.is_ok()) << s.message();
+  if (!s) r.build.reset();
+}
+
+inline BuiltRig built_rig(Definition d) {
+  BuiltRig r;
+  build_on_metarig(r, std::move(d));
+  return r;
 }
 
 // The scene's text with every uuid replaced by the name of its node, so two
