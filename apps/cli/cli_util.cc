@@ -35,18 +35,17 @@ Result<std::unique_ptr<scene::Scene>> load(const std::string& path) {
 // import` does (units kept); either way over ephemeral::default_registry().
 Result<std::unique_ptr<scene::Scene>> load_or_import(const std::string& path) {
   const std::string ext = lower_extension(path);
-  // The importers build over ops::default_registry(), which has no
-  // ephemeralRig type: carry the scene over through its file text.
-  auto reload = [&](Result<std::unique_ptr<scene::Scene>> imported)
-      -> Result<std::unique_ptr<scene::Scene>> {
-    if (!imported) return imported.status();
-    return io::parse_scene(io::write_scene(**imported), path, ephemeral::default_registry());
-  };
-  if (ext == ".glb" || ext == ".gltf") return reload(io::import_gltf(path));
+  if (ext == ".glb" || ext == ".gltf") {
+    io::GltfImportOptions options;
+    options.registry = ephemeral::default_registry();
+    return io::import_gltf(path, options);
+  }
   if (ext == ".bvh") {
     auto file = io::load_bvh(path);
     if (!file) return file.status();
-    return reload(io::import_bvh(*file));
+    io::BvhImportOptions options;
+    options.registry = ephemeral::default_registry();
+    return io::import_bvh(*file, options);
   }
   return load(path);
 }

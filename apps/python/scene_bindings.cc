@@ -24,19 +24,11 @@ SceneRef new_scene() { return std::make_shared<scene::Scene>(registry()); }
 
 SceneRef load_scene(const std::string& path) { return SceneRef(unwrap(io::load_scene(path, registry()))); }
 
-// The importers build over ops::default_registry(), which lacks the rig and
-// ephemeral types: carry the scene over through its file text (as the CLI).
-SceneRef reload(Result<std::unique_ptr<scene::Scene>> imported, const std::string& path) {
-  std::unique_ptr<scene::Scene> s = unwrap(std::move(imported));
-  std::unique_ptr<scene::Scene> full = unwrap(io::parse_scene(io::write_scene(*s), path, registry()));
-  full->graph().clear_history();
-  return SceneRef(std::move(full));
-}
-
 SceneRef import_gltf(const std::string& path, double scale) {
   io::GltfImportOptions options;
   options.scale = scale;
-  return reload(io::import_gltf(path, options), path);
+  options.registry = registry();
+  return SceneRef(unwrap(io::import_gltf(path, options)));
 }
 
 SceneRef import_bvh(const std::string& path, double scale, bool skip_end_sites) {
@@ -44,7 +36,8 @@ SceneRef import_bvh(const std::string& path, double scale, bool skip_end_sites) 
   io::BvhImportOptions options;
   options.scale = scale;
   options.skip_end_sites = skip_end_sites;
-  return reload(io::import_bvh(file, options), path);
+  options.registry = registry();
+  return SceneRef(unwrap(io::import_bvh(file, options)));
 }
 
 SceneRef open_any(const std::string& path) {

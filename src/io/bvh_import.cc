@@ -38,7 +38,7 @@ Status add_track(graph::Graph& g, const std::string& name, const std::vector<dou
 Result<std::unique_ptr<scene::Scene>> import_bvh(const BvhFile& file, const BvhImportOptions& options) {
   if (!(options.scale > 0.0) || !std::isfinite(options.scale))
     return error(ErrorCode::kInvalidArgument, "BVH import: scale must be a positive number");
-  auto scene = std::make_unique<scene::Scene>(ops::default_registry());
+  auto scene = std::make_unique<scene::Scene>(options.registry ? options.registry : ops::default_registry());
   graph::Graph& g = scene->graph();
   const double fps = snapped_fps(file.frame_time);
   if (Status s = g.set_fps(fps); !s) return s;

@@ -1980,7 +1980,7 @@ Result<std::unique_ptr<scene::Scene>> Importer::run() {
   if (Status s = check_scenes(); !s) return s;
   if (Status s = read_meshes(); !s) return s;
   if (Status s = read_animations(); !s) return s;
-  scene_ = std::make_unique<scene::Scene>(ops::default_registry());
+  scene_ = std::make_unique<scene::Scene>(options_.registry ? options_.registry : ops::default_registry());
   if (Status s = build_nodes(); !s) return s;
   if (Status s = build_meshes(); !s) return s;
   if (Status s = build_animations(); !s) return s;

@@ -49,12 +49,12 @@ Rig random_rig(std::mt19937& rng, int joints) {
 
 Rig import_character(const std::string& file) {
   Rig r;
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests" / "data" / "gltf" / file);
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  if (!imported) return r;
-  // Reload over the registry that knows ephemeralRig.
-  auto loaded = io::parse_scene(io::write_scene(**imported), file, default_registry());
+  // Over the registry that knows ephemeralRig.
+  io::GltfImportOptions options;
+  options.registry = default_registry();
+  auto loaded = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests" / "data" / "gltf" / file, options);
   EXPECT_TRUE(loaded.is_ok()) << loaded.status().message();
+  if (!loaded) return r;
   r.scene = std::move(*loaded);
   SetupOptions o;
   o.keep_animation = false;

@@ -11,6 +11,8 @@
 #include "rigel/io/bvh.h"
 #include "rigel/io/bvh_import.h"
 #include "rigel/math/rotation.h"
+#include "rigel/ops/registry.h"
+#include "rigel/scene/transform_types.h"
 
 namespace rigel::io {
 namespace {
@@ -241,6 +243,24 @@ TEST(BvhImport, scale_and_end_sites_options) {
   EXPECT_NEAR(hips(1, 3), 0.5 * (1.0 + 5.0), 1e-12) << "offset plus position channel, both scaled";
   options.scale = 0.0;
   EXPECT_FALSE(import_bvh(*f, options).is_ok()) << "a zero scale is refused";
+}
+
+TEST(BvhImport, the_scene_is_built_over_the_registry_given) {
+  Result<BvhFile> f = parse_bvh(kSmall, "small.bvh");
+  ASSERT_TRUE(f.is_ok()) << f.status().message();
+  auto registry = std::make_shared<graph::Registry>();
+  ASSERT_TRUE(scene::register_scene_types(*registry).is_ok());
+  ASSERT_TRUE(ops::register_ops_types(*registry).is_ok());
+  BvhImportOptions options;
+  options.registry = registry;
+  Result<std::unique_ptr<scene::Scene>> imported = import_bvh(*f, options);
+  ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+  EXPECT_EQ(&(*imported)->graph().registry(), registry.get());
+  EXPECT_FALSE((*imported)->graph().can_undo());
+  // A registry without the types the importer makes is an error, not a crash.
+  options.registry = std::make_shared<graph::Registry>();
+  Result<std::unique_ptr<scene::Scene>> refused = import_bvh(*f, options);
+  EXPECT_FALSE(refused.is_ok());
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 #include "rigel/ops/anim/clips.h"
 #include "rigel/ops/anim/nodes.h"
 #include "rigel/ops/deform/nodes.h"
+#include "rigel/ops/registry.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::io {
@@ -383,8 +384,8 @@ TEST(GltfImportCharacters, scale_option_scales_translations_positions_and_invers
   s.g().set_time(1.0);
   const std::vector<Vec3> points = s.get<std::vector<Vec3>>("node_0_mesh", scene::mesh_attr::kPoints);
   EXPECT_TRUE(near(points[8], Vec3(-2, 1, 0), 1e-6)) << "the posed skin is the unscaled one times 2";
-  EXPECT_FALSE(import_gltf(gltf_dir() / "SimpleSkin.gltf", GltfImportOptions{-1.0}).is_ok()) << "scale must be positive";
-  EXPECT_FALSE(import_gltf(gltf_dir() / "SimpleSkin.gltf", GltfImportOptions{std::nan("")}).is_ok());
+  EXPECT_FALSE(import_gltf(gltf_dir() / "SimpleSkin.gltf", GltfImportOptions{.scale = -1.0, .registry = nullptr}).is_ok()) << "scale must be positive";
+  EXPECT_FALSE(import_gltf(gltf_dir() / "SimpleSkin.gltf", GltfImportOptions{.scale = std::nan(""), .registry = nullptr}).is_ok());
 }
 
 TEST(GltfImportCharacters, cesium_man__weights_kept_as_stored_and_renormalised_when_skinning) {
@@ -1201,6 +1202,30 @@ TEST(GltfImportFuzz, every_member_replaced_by_every_json_kind_imports_or_fails_c
   }
   EXPECT_GT(checked, 500);
   EXPECT_GT(loaded, 0) << "names, for one, take any string";
+}
+
+TEST(GltfImport, the_scene_is_built_over_the_registry_given) {
+  auto registry = std::make_shared<graph::Registry>();
+  ASSERT_TRUE(scene::register_scene_types(*registry).is_ok());
+  ASSERT_TRUE(ops::register_ops_types(*registry).is_ok());
+  GltfImportOptions options;
+  options.registry = registry;
+  auto imported = import_gltf(gltf_dir() / "RiggedSimple.glb", options);
+  ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+  EXPECT_EQ(&(*imported)->graph().registry(), registry.get());
+  EXPECT_FALSE((*imported)->graph().can_undo());
+  // The same character as over the default registry, node for node.
+  auto plain = import_gltf(gltf_dir() / "RiggedSimple.glb");
+  ASSERT_TRUE(plain.is_ok()) << plain.status().message();
+  auto names = [](scene::Scene& sc) {
+    std::vector<std::string> out;
+    for (graph::NodeId id : sc.graph().nodes()) out.push_back(sc.graph().node(id)->name());
+    return out;
+  };
+  EXPECT_EQ(names(**imported), names(**plain));
+  // A registry without the types the importer makes is an error, not a crash.
+  options.registry = std::make_shared<graph::Registry>();
+  EXPECT_FALSE(import_gltf(gltf_dir() / "RiggedSimple.glb", options).is_ok());
 }
 
 }  // namespace

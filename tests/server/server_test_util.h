@@ -85,14 +85,12 @@ struct Served {
 };
 
 inline std::unique_ptr<scene::Scene> bundled_character() {
-  auto imported = io::import_gltf(source_path("tests/data/gltf/rigify_human_metarig.glb"));
+  // Over the registry with the rig and ephemeral types (as `rigel serve`).
+  io::GltfImportOptions options;
+  options.registry = ephemeral::default_registry();
+  auto imported = io::import_gltf(source_path("tests/data/gltf/rigify_human_metarig.glb"), options);
   EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  // The importer builds over the ops types; the rig and ephemeral types come
-  // with a reload over their registry (as `rigel serve` does).
-  auto scene = io::parse_scene(io::write_scene(**imported), "metarig", ephemeral::default_registry());
-  EXPECT_TRUE(scene.is_ok()) << scene.status().message();
-  (*scene)->graph().clear_history();
-  return std::move(*scene);
+  return std::move(*imported);
 }
 
 // The character without a rig.

@@ -30,12 +30,11 @@ namespace fs = std::filesystem;
 using graph::NodeId;
 
 std::unique_ptr<scene::Scene> metarig() {
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb");
-  EXPECT_TRUE(imported.is_ok());
-  auto s = io::parse_scene(io::write_scene(**imported), "metarig", ephemeral::default_registry());
-  EXPECT_TRUE(s.is_ok());
-  (*s)->graph().clear_history();
-  return std::move(*s);
+  io::GltfImportOptions options;
+  options.registry = ephemeral::default_registry();
+  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb", options);
+  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
+  return std::move(*imported);
 }
 
 std::vector<math::Mat4> worlds(scene::Scene& s, const std::vector<NodeId>& nodes, double frame) {

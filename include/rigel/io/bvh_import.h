@@ -16,6 +16,9 @@ struct BvhImportOptions {
   double scale = 1.0;
   // Skip End Site joints.
   bool skip_end_sites = false;
+  // The node types the scene is built over; null: ops::default_registry()
+  // (a registry given must hold those types).
+  std::shared_ptr<const graph::Registry> registry;
 };
 
 // The scene's frame rate comes from Frame Time (snapped to a whole number

@@ -114,11 +114,15 @@ struct GltfImportOptions {
   // tangents), positions, morph deltas and the translations of inverse bind
   // matrices: a uniform change of units. Must be positive and finite.
   double scale = 1.0;
+  // The node types the scene is built over; null: ops::default_registry().
+  // A registry given must hold those types (a higher layer's superset, such
+  // as ephemeral::default_registry(), so rigs can be built on the result).
+  std::shared_ptr<const graph::Registry> registry;
 };
 
 // Reads a .gltf or .glb (told apart by content: a .glb starts with the
 // magic "glTF"; external buffers are resolved relative to the file's
-// folder) and builds a scene over ops::default_registry(). The undo history
+// folder) and builds a scene over the options' registry. The undo history
 // of the new scene is empty.
 Result<std::unique_ptr<scene::Scene>> import_gltf(const std::filesystem::path& path,
                                                   const GltfImportOptions& options = {});
