@@ -538,10 +538,14 @@ struct Workspace::Impl {
     const std::vector<double> times = ephemeral::key_times(g(), controls);
     Json frames = Json::array();
     for (double t : times) frames.push_back(std::round(t * g().fps() * 1e6) / 1e6);
-    std::string scope = "controls";
-    const NodeId rig = controls.empty() ? NodeId{} : ephemeral::rig_of(g(), controls.front());
-    if (rig.is_valid()) scope = ephemeral::key_scope_name(ephemeral::key_scope(g(), rig));
-    return Json{{"scope", scope}, {"frames", std::move(frames)}, {"times", times}};
+    // The keying scope of the controls' ephemeral rig; controls of a built
+    // rig are keyed one by one ("controls"); no controls, no scope (null).
+    Json scope = nullptr;
+    if (!controls.empty()) {
+      const NodeId rig = ephemeral::rig_of(g(), controls.front());
+      scope = rig.is_valid() ? ephemeral::key_scope_name(ephemeral::key_scope(g(), rig)) : "controls";
+    }
+    return Json{{"scope", std::move(scope)}, {"frames", std::move(frames)}, {"times", times}};
   }
 
   Json get_keys(const Request& req, const Json&) {

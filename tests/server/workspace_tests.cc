@@ -127,6 +127,11 @@ TEST(ServerApi, KeysOnTwoFramesAndTime) {
   s.post("/api/options", {{"autoKey", true}});
   s.post("/api/drag", {{"translate", {0, 0.01, 0}}});
   EXPECT_EQ(s.get("/api/keys")["frames"].size(), 3u);
+  // Nothing selected: no scope and no frames.
+  s.post("/api/select", {{"controls", Json::array()}});
+  const Json none = s.get("/api/keys");
+  EXPECT_TRUE(none["scope"].is_null());
+  EXPECT_TRUE(none["frames"].empty());
 }
 
 TEST(ServerApi, BadRequestsNameTheFieldAndTheServerGoesOn) {

@@ -22,7 +22,7 @@ export interface SceneInfo {
   undo: string | null;
   redo: string | null;
   selection: string[];
-  /** Keying scope per ephemeral rig (not in docs/SERVER.md; the server sends it). */
+  /** Keying scope per ephemeral rig. */
   keyScopes?: Record<string, string>;
 }
 
@@ -63,7 +63,8 @@ export interface PoseAnswer {
 }
 
 export interface KeysAnswer {
-  scope: string;
+  /** null when no controls were asked for and nothing is selected. */
+  scope: string | null;
   frames: number[];
   times: number[];
 }

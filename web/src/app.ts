@@ -148,7 +148,7 @@ export class App {
     const sel = this.scene?.selection ?? [];
     if (sel.length) {
       this.keys = await this.api.get<KeysAnswer>(`/api/keys?controls=${sel.map(encodeURIComponent).join(',')}`);
-      this.scope = this.keys.scope;
+      this.scope = this.keys.scope ?? '';
     } else {
       // Nothing selected: the scopes of the characters (one line per rig).
       this.keys = null;
