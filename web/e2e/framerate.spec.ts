@@ -34,7 +34,9 @@ test('frame rate while dragging', async ({ app: page, server, shots }, testInfo)
   await expect.poll(() => page.evaluate(() => (window as any).rigel.app.drag.active)).toBe(false);
 
   const result = {
-    device: 'headless chromium, SwiftShader (software WebGL)',
+    browser: `headless ${testInfo.project.use.browserName ?? 'chromium'}`,
+    renderer: end.renderer,
+    antialias: end.antialias,
     mode: 'inverse',
     control: 'hand.L_ctrl',
     seconds: Number(elapsed.toFixed(2)),

@@ -11,6 +11,7 @@ import { RigManager } from './rigs';
 import { StatusBar, run, setStatusBar } from './status';
 import { Timeline } from './timeline';
 import { Viewport } from './viewport';
+import type { FrameStats } from './viewport';
 
 function byId(id: string): HTMLElement {
   const el = document.getElementById(id);
@@ -196,7 +197,7 @@ interface RigelHook {
   toScreen: (p: Vec3) => { x: number; y: number; visible: boolean };
   gizmoHandle: (axis: 'x' | 'y' | 'z') => { x: number; y: number; dx: number; dy: number } | null;
   uuidOf: (name: string) => string | null;
-  stats: () => { fps: number; posesPerSecond: number; frames: number; poses: number; drag: App['drag']['stats'] };
+  stats: () => FrameStats & { drag: App['drag']['stats'] };
   errors: string[];
 }
 

@@ -52,6 +52,10 @@ export interface FrameStats {
   posesPerSecond: number;
   frames: number;
   poses: number;
+  /** The WebGL renderer the browser reports (e.g. a GPU's name, or SwiftShader). */
+  renderer: string;
+  /** Whether frames are multisampled (off on software renderers). */
+  antialias: boolean;
 }
 
 const kSelected = new THREE.Color(0.35, 1.0, 0.75);
@@ -87,13 +91,21 @@ export class Viewport {
   private frames = 0;
   private poses = 0;
   private readonly label: HTMLElement;
+  private readonly rendererName: string;
 
   constructor(
     private readonly container: HTMLElement,
     private readonly events: ViewportEvents,
   ) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: false });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    // A software rasteriser (SwiftShader, llvmpipe: a browser without a GPU,
+    // a VM, CI) draws multisampled frames several times slower, so there the
+    // view drops antialiasing and high-DPI pixels; ?antialias=1 or 0 decides.
+    this.rendererName = webglRendererName();
+    const software = /swiftshader|llvmpipe|softpipe|software/i.test(this.rendererName);
+    const asked = new URLSearchParams(window.location.search).get('antialias');
+    const antialias = asked === null ? !software : asked !== '0';
+    this.renderer = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: false });
+    this.renderer.setPixelRatio(software ? 1 : Math.min(window.devicePixelRatio, 2));
     this.renderer.setClearColor(0x1d2026);
     this.renderer.domElement.dataset.testid = 'viewport-canvas';
     container.appendChild(this.renderer.domElement);
@@ -622,13 +634,30 @@ export class Viewport {
     const now = performance.now();
     while (this.frameTimes.length && now - this.frameTimes[0]! > 1000) this.frameTimes.shift();
     while (this.poseTimes.length && now - this.poseTimes[0]! > 1000) this.poseTimes.shift();
-    return { fps: this.frameTimes.length, posesPerSecond: this.poseTimes.length, frames: this.frames, poses: this.poses };
+    return {
+      fps: this.frameTimes.length,
+      posesPerSecond: this.poseTimes.length,
+      frames: this.frames,
+      poses: this.poses,
+      renderer: this.rendererName,
+      antialias: this.renderer.getContext().getContextAttributes()?.antialias ?? false,
+    };
   }
 
   /** Forces a render on the next animation frame. */
   invalidate(): void {
     this.dirty = true;
   }
+}
+
+/** The renderer string of the browser's WebGL ('' when there is none). */
+function webglRendererName(): string {
+  const gl = document.createElement('canvas').getContext('webgl2') ?? document.createElement('canvas').getContext('webgl');
+  if (!gl) return '';
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER) ?? '');
+  gl.getExtension('WEBGL_lose_context')?.loseContext();
+  return name;
 }
 
 function distanceToShape(s: ScreenShape, x: number, y: number): number {
