@@ -254,7 +254,7 @@ struct Workspace::Impl {
     for (std::size_t i = 0; i < now.size(); ++i) {
       const auto& [id, v] = now[i];
       if (partial && (*before)[i].first == id && (*before)[i].second == v) continue;
-      entries.emplace_back(uuid(id), Json::array({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]}));
+      entries.emplace_back(uuid(id), v);
     }
     Json out{{"revision", revision}};
     out.update(frame_json(scene));

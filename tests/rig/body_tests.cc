@@ -41,7 +41,6 @@ using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
 
-
 std::vector<Guide> joints(std::initializer_list<const char*> names) {
   std::vector<Guide> out;
   for (const char* n : names) out.push_back(at_joint(n));
@@ -107,17 +106,12 @@ Definition tail_rig(std::int64_t controls, bool stretch) {
                              {param("controlCount", controls), param("stretch", stretch)})});
 }
 
-
-
-
 Vec3 position(scene::Scene& s, NodeId id) { return s.world_matrix(id).topRightCorner<3, 1>(); }
 Vec3 position(scene::Scene& s, const char* joint) { return position(s, s.graph().find(joint)); }
-
 
 void set(scene::Scene& s, NodeId node, graph::AttrIndex attr, const Vec3& v) {
   ASSERT_TRUE(s.graph().set_value(Plug{node, attr, -1}, Value(v)).is_ok());
 }
-
 
 std::vector<double> bone_lengths(scene::Scene& s, std::initializer_list<const char*> chain) {
   std::vector<Vec3> p;

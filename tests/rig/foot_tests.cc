@@ -138,8 +138,6 @@ struct Rig : testing::BuiltRig {
   }
 };
 
-
-
 Rig built(Definition d = legs()) {
   Rig r;
   testing::build_on_metarig(r, std::move(d));

@@ -141,16 +141,12 @@ Definition rig(Parent parent, Component h = hand()) {
   return d;
 }
 
-
-
 Vec3 position_of(const Mat4& m) { return m.topRightCorner<3, 1>(); }
 Mat3 rotation_of(const Mat4& m) { return math::decompose(m).rotation.toRotationMatrix(); }
-
 
 void set(scene::Scene& s, const Plug& p, Value v) { ASSERT_TRUE(s.graph().set_value(p, std::move(v)).is_ok()); }
 
 Mat4 world(scene::Scene& s, const std::string& joint) { return s.world_matrix(s.graph().find(joint)); }
-
 
 // A turn by `angle` (radians) about the unit world `axis` through `pivot`.
 Mat4 turn_about(const Vec3& axis, double angle, const Vec3& pivot) {

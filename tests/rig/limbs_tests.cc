@@ -37,7 +37,6 @@ using math::Quat;
 using math::Vec3;
 namespace xform = scene::xform;
 
-
 Component component(std::string type, std::string name, Side side, std::vector<std::string> joints,
                     std::vector<Param> params = {}) {
   Component c;
@@ -72,7 +71,6 @@ Definition limbs() {
   d.components = {global};
   return d;
 }
-
 
 // The glTF metarig's joint matrices are single precision (scales 1 within
 // ~1e-7), and the two-bone kernel reaches its target within ~1e-7 on them:
@@ -119,7 +117,6 @@ Rig built(Definition d = limbs()) {
   testing::build_on_metarig(r, std::move(d));
   return r;
 }
-
 
 void expect_same_pose(Rig& r, const std::map<std::string, Mat4>& before, const char* what, double tol_m = 1e-6,
                       double tol_rad = 1e-6) {

@@ -36,11 +36,9 @@
 #include <Eigen/Dense>
 
 #include "rigel/math/transform.h"
-#include "rigel/ops/constraints/constraints.h"
 #include "rigel/ops/constraints/nodes.h"
 #include "rigel/ops/ik/nodes.h"
 #include "rigel/ops/ik/spline_ik.h"
-#include "rigel/ops/util/nodes.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
