@@ -41,6 +41,10 @@ rigel_jobs() { nproc 2>/dev/null || echo 2; }
 rigel_build() {
   local dir=$1
   shift
+  # ccache, when installed, makes a rebuild from a clean clone cheap.
+  if command -v ccache >/dev/null; then
+    set -- -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@"
+  fi
   if [ ! -f "$dir/CMakeCache.txt" ]; then
     cmake -S . -B "$dir" "$@" >/dev/null
   else
