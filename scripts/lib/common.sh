@@ -7,7 +7,7 @@ RIGEL_PACKAGES=(
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libtinygltf-dev libpugixml-dev libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-pytest
-  pkg-config libcpp-httplib-dev
+  pkg-config libcpp-httplib-dev ccache
 )
 
 rigel_log() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }
@@ -37,20 +37,67 @@ rigel_ensure_packages() {
 
 rigel_jobs() { nproc 2>/dev/null || echo 2; }
 
-# rigel_build DIR [cmake options...]: configure (once) and build.
+# Phase timings: rigel_phase NAME starts a phase (ending the one before);
+# rigel_phase_report prints each phase's duration (scripts/test calls it on
+# exit, so a failed run shows where its time went too).
+RIGEL_PHASES=()
+RIGEL_PHASE_NAME=""
+RIGEL_PHASE_START=0
+rigel_phase_end() {
+  if [ -n "$RIGEL_PHASE_NAME" ]; then
+    RIGEL_PHASES+=("$(( $(date +%s) - RIGEL_PHASE_START ))|$RIGEL_PHASE_NAME")
+    RIGEL_PHASE_NAME=""
+  fi
+}
+rigel_phase() {
+  rigel_phase_end
+  RIGEL_PHASE_NAME=$1
+  RIGEL_PHASE_START=$(date +%s)
+  rigel_log "$1"
+}
+rigel_phase_report() {
+  rigel_phase_end
+  local total=0 entry secs
+  printf '\033[1m==> phase durations\033[0m\n' >&2
+  for entry in "${RIGEL_PHASES[@]}"; do
+    secs=${entry%%|*}
+    total=$((total + secs))
+    printf '  %4dm%02ds  %s\n' $((secs / 60)) $((secs % 60)) "${entry#*|}" >&2
+  done
+  printf '  %4dm%02ds  total\n' $((total / 60)) $((total % 60)) >&2
+}
+
+# Build output: on a terminal, cmake's "[ 42%] Building ..." lines are
+# folded into one updating line; elsewhere (CI logs) they pass as they are.
+# Warnings and errors always pass through whole.
+rigel_progress() {
+  if [ -t 2 ]; then
+    awk '/^\[ *[0-9]+%\]|^(Consolidate compiler|Scanning dependencies)/ { printf "\r\033[K%s", substr($0, 1, 100) > "/dev/stderr"; fflush("/dev/stderr"); next }
+         { printf "\r\033[K" > "/dev/stderr"; print > "/dev/stderr"; fflush("/dev/stderr") }
+         END { printf "\r\033[K" > "/dev/stderr" }'
+  else
+    cat >&2
+  fi
+}
+
+# rigel_build DIR [cmake options...]: configure (once) and build, showing
+# progress (see rigel_progress).
 rigel_build() {
   local dir=$1
   shift
   # ccache, when installed, makes a rebuild from a clean clone cheap.
+  # The sloppiness lets ccache cache sources built with precompiled headers.
   if command -v ccache >/dev/null; then
     set -- -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@"
+    export CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
   fi
   if [ ! -f "$dir/CMakeCache.txt" ]; then
     cmake -S . -B "$dir" "$@" >/dev/null
   else
     cmake "$dir" "$@" >/dev/null
   fi
-  cmake --build "$dir" -j "$(rigel_jobs)"
+  cmake --build "$dir" -j "$(rigel_jobs)" 2>&1 | rigel_progress
+  return "${PIPESTATUS[0]}"
 }
 
 # Node.js and npm for the web app: the machine's own when it has them (a
