@@ -26,6 +26,8 @@
 #include "rigel/scene/skeleton.h"
 #include "rigel/scene/transform_types.h"
 
+#include "gltf_materials.h"
+
 namespace rigel::io {
 namespace {
 
@@ -1294,6 +1296,13 @@ class Exporter {
         ++report_.channel_count;
       }
       model.animations.push_back(std::move(animation));
+    }
+
+    // Materials, textures, uv sets and colours of the meshes (gltf_materials.h).
+    gltf_look::LookWriter looks(g_, model, buffer.bytes(), report_.notes);
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      if (nodes_[i].mesh < 0) continue;
+      if (Status s = looks.write(nodes_[i].id, model.nodes[i].mesh); !s) return s;
     }
 
     if (!buffer.error().empty()) return error(ErrorCode::kInvalidArgument, buffer.error());

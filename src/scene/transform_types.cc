@@ -4,6 +4,7 @@
 
 #include "rigel/graph/graph.h"
 #include "rigel/math/transform.h"
+#include "rigel/scene/materials.h"
 
 namespace rigel::scene {
 namespace {
@@ -162,11 +163,12 @@ Status register_scene_types(graph::Registry& registry) {
   mesh.attrs.push_back(input("points", {ValueType::kDouble3, true}, std::vector<Vec3>{}));
   mesh.attrs.push_back(input("normals", {ValueType::kDouble3, true}, std::vector<Vec3>{}));
   mesh.attrs.push_back(input("triangles", {ValueType::kInt, true}, std::vector<std::int64_t>{}));
+  add_mesh_look_attrs(mesh);  // uv0, uv1, colors, material (materials.h)
 
   for (graph::NodeTypeSpec* spec : {&transform, &joint, &control, &locator, &mesh}) {
     if (Status s = registry.add(std::move(*spec)); !s) return s;
   }
-  return Status::ok();
+  return register_material_types(registry);
 }
 
 std::shared_ptr<const graph::Registry> default_registry() {
