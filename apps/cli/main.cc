@@ -168,8 +168,11 @@ void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << "\n
 int run_import_gltf(const ImportArgs& args) {
   rigel::io::GltfImportOptions options;
   options.scale = args.scale;
+  std::vector<std::string> warnings;
+  options.warnings = &warnings;
   auto scene = rigel::io::import_gltf(args.input, options);
   if (!scene) return fail(scene.status());
+  for (const std::string& w : warnings) std::cerr << "rigel: warning: " << args.input << ": " << w << "\n";
   if (Status s = rigel::io::save_scene(**scene, args.output); !s) return fail(s);
   const rigel::graph::Graph& g = (*scene)->graph();
   std::size_t joints = 0, meshes = 0;

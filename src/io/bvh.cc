@@ -3,6 +3,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -13,6 +14,13 @@ namespace {
 
 constexpr std::size_t kMaxJoints = 100000;
 constexpr std::size_t kMaxDepth = 1000;
+
+// 0.0001, 1000: seconds as people write them.
+std::string format_seconds(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 struct Token {
   std::string_view text;
@@ -124,13 +132,18 @@ class Parser {
     if (Status s = expect("Frames:"); !s) return s;
     Result<double> frames = number("Frames");
     if (!frames) return frames.status();
-    if (*frames < 0 || *frames != std::floor(*frames) || *frames > 1e8) return fail_line(read_line_, "Frames must be a whole number >= 0");
+    if (*frames < 0 || *frames != std::floor(*frames) || *frames > kBvhMaxFrames)
+      return fail_line(read_line_, "Frames must be a whole number from 0 to " + std::to_string(static_cast<std::uint64_t>(kBvhMaxFrames)) +
+                                       ", not " + std::string(tokens_[pos_ - 1].text));
     file_.frame_count = static_cast<std::uint32_t>(*frames);
     if (Status s = expect("Frame"); !s) return s;
     if (Status s = expect("Time:"); !s) return s;
     Result<double> frame_time = number("Frame Time");
     if (!frame_time) return frame_time.status();
-    if (!(*frame_time > 0.0)) return fail_line(read_line_, "Frame Time must be positive");
+    if (!(*frame_time >= kBvhMinFrameTime && *frame_time <= kBvhMaxFrameTime))
+      return fail_line(read_line_, "Frame Time must be from " + format_seconds(kBvhMinFrameTime) + " to " + format_seconds(kBvhMaxFrameTime) +
+                                       " seconds (" + format_seconds(1.0 / kBvhMaxFrameTime) + " to " + format_seconds(1.0 / kBvhMinFrameTime) +
+                                       " frames per second), not " + std::string(tokens_[pos_ - 1].text));
     file_.frame_time = *frame_time;
     const std::size_t expected = std::size_t{file_.frame_count} * file_.channel_count;
     const std::size_t available = tokens_.size() - pos_;

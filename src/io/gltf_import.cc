@@ -30,8 +30,6 @@
 #include "rigel/ops/registry.h"
 #include "rigel/scene/transform_types.h"
 
-#include "gltf_materials.h"
-
 namespace rigel::io {
 namespace {
 
@@ -472,9 +470,56 @@ std::string join_path(const std::string& dir, const std::string& file) {
 struct SchemaContext {
   const Source* source = nullptr;
   std::string base_dir;                 // the folder of the file, as tinygltf joins paths
+  fs::path folder;                      // that folder, absolute, symbolic links resolved
   std::set<std::string> buffer_files;   // external buffer files tinygltf may read
   bool quantized = false;               // KHR_mesh_quantization in extensionsUsed
 };
+
+// Whether `path` (absolute, links resolved) lies inside `folder` (likewise).
+bool inside(const fs::path& folder, const fs::path& path) {
+  auto f = folder.begin(), p = path.begin();
+  for (; f != folder.end(); ++f, ++p) {
+    if (p == path.end() || *f != *p) return false;
+  }
+  return p != path.end();
+}
+
+// The file an external URI (a buffer's, an image's) names, as tinygltf will
+// ask for it: the URI decoded and joined to the glTF file's folder. Only
+// relative names that stay inside that folder are read: no scheme (file:,
+// http:), no absolute path, no ".." that climbs out, and no symbolic link
+// (in the name or the folders on the way) that leads out; checked on the
+// resolved path, so the file read is the file checked. Refusals name the
+// URI, never anything about the file it pointed at (its size, its bytes).
+Result<std::string> external_file(const SchemaContext& ctx, const std::string& uri, const std::string& where) {
+  const std::string decoded = url_decode(uri);
+  if (decoded.empty()) return bad(where, "an empty uri");
+  if (decoded.find('\0') != std::string::npos) return bad(where, "uri " + quote_text(uri) + " holds a NUL character");
+  // RFC 3986: scheme = ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":"
+  const std::size_t colon = uri.find(':');
+  if (colon != std::string::npos && colon > 0 && std::isalpha(static_cast<unsigned char>(uri[0]))) {
+    const bool scheme = std::all_of(uri.begin(), uri.begin() + static_cast<std::ptrdiff_t>(colon), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+    });
+    if (scheme)
+      return error(ErrorCode::kUnsupported, where + ": uri " + quote_text(uri) +
+                                                " has a scheme; rigel reads data: URIs and relative file names only");
+  }
+  const fs::path relative = fs::path(decoded).lexically_normal();
+  if (decoded.front() == '/' || relative.is_absolute())
+    return bad(where, "uri " + quote_text(uri) + " is an absolute path; only names relative to the glTF file's folder are read");
+  if (relative.empty() || *relative.begin() == ".." || relative == ".")
+    return bad(where, "uri " + quote_text(uri) + " reaches outside the glTF file's folder");
+  const std::string file = join_path(ctx.base_dir, decoded);
+  std::error_code ec;
+  const fs::path real = fs::canonical(fs::path(file), ec);
+  if (ec) return error(ErrorCode::kNotFound, where + ": missing (uri " + quote_text(uri) + " not found)");
+  if (!inside(ctx.folder, real))
+    return bad(where, "uri " + quote_text(uri) + " leads outside the glTF file's folder (through a symbolic link)");
+  const fs::file_status status = fs::status(real, ec);
+  if (ec || !fs::is_regular_file(status)) return error(ErrorCode::kNotFound, where + ": uri " + quote_text(uri) + " is not a file");
+  return file;
+}
 
 Status check_buffers(const Json& doc, SchemaContext& ctx) {
   const Json* buffers = member(doc, "buffers");
@@ -519,10 +564,10 @@ Status check_buffers(const Json& doc, SchemaContext& ctx) {
         return bad(path, "the data URI holds " + std::to_string(decoded) + " bytes, byteLength says " + std::to_string(length));
       continue;
     }
-    const std::string file = join_path(ctx.base_dir, url_decode(text));
+    Result<std::string> external = external_file(ctx, text, path);
+    if (!external) return external.status();
+    const std::string& file = *external;
     std::error_code ec;
-    const fs::file_status status = fs::status(fs::path(file), ec);
-    if (ec || !fs::is_regular_file(status)) return error(ErrorCode::kNotFound, path + ": missing (uri " + quote_text(text) + " not found)");
     const std::uintmax_t size = fs::file_size(fs::path(file), ec);
     if (ec || size != length)
       return bad(path, quote_text(text) + " has " + (ec ? std::string("an unknown size") : std::to_string(size) + " bytes") +
@@ -770,8 +815,15 @@ bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::strin
     if (err) *err = "not a buffer of this file";
     return false;
   }
+  // Checked again as it is read: the file must still resolve inside the folder.
+  std::error_code ec;
+  const fs::path real = fs::canonical(fs::path(path), ec);
+  if (ec || !inside(static_cast<const SchemaContext*>(user)->folder, real)) {
+    if (err) *err = "not inside the glTF file's folder";
+    return false;
+  }
   std::vector<unsigned char> bytes;
-  if (Status s = read_file(fs::path(path), bytes); !s) {
+  if (Status s = read_file(real, bytes); !s) {
     if (err) *err = s.message();
     return false;
   }
@@ -922,6 +974,15 @@ struct PrimitiveData {
   std::vector<double> weights;
 };
 
+// A skinned primitive's influences as the skinCluster takes them; vertices
+// without a weight above zero are bound to one extra joint matrix (index =
+// the skin's joint count), the world matrix of the glTF node holding the mesh.
+struct SkinBinding {
+  std::vector<std::int64_t> offsets, joints;
+  std::vector<double> weights;
+  std::vector<std::size_t> unweighted;
+};
+
 struct MeshData {
   std::vector<PrimitiveData> primitives;
   std::size_t target_count = 0;
@@ -934,11 +995,6 @@ class Importer {
 
   Result<std::unique_ptr<scene::Scene>> run();
 
-  // After run(): the mesh nodes made, with their primitives, and the
-  // accessor reader, for the materials and uv sets (gltf_materials.h).
-  std::span<const gltf_look::MeshSource> mesh_sources() const { return mesh_sources_; }
-  Result<const std::vector<double>*> accessor_values(int accessor) { return read(accessor); }
-
  private:
   // checks and reading
   Status check_accessors();
@@ -946,10 +1002,11 @@ class Importer {
   Status check_hierarchy();
   Status check_skins();
   Status check_nodes();
+  Status check_finite_world();
   Status check_scenes();
   Status read_meshes();
   Status read_primitive(std::size_t m, std::size_t p, PrimitiveData& out);
-  Status check_skin_binding(std::size_t node);
+  Result<std::vector<SkinBinding>> bind_skin(std::size_t node);
   Status read_animations();
   Status read_channel(std::size_t a, std::size_t c, ClipKeys& out, std::size_t width, Path path);
 
@@ -988,7 +1045,6 @@ class Importer {
   std::vector<Vec3> rest_translate_, rest_scale_;
   std::vector<Quat> rest_rotate_;
   std::vector<std::vector<NodeId>> blend_shapes_;  // per glTF node
-  std::vector<gltf_look::MeshSource> mesh_sources_;
 };
 
 Status Importer::set(NodeId node, graph::AttrIndex attr, graph::Value value) {
@@ -1088,11 +1144,10 @@ Result<const std::vector<double>*> Importer::read(int index) {
     for (std::size_t k = 0; k < static_cast<std::size_t>(sp.count); ++k) {
       const double target = read_component(ibase + k * isize, sp.indices.componentType, false);
       if (target <= previous)
-        return bad(dot(dot(path, "sparse"), "indices"), "not increasing at " + std::to_string(k) + " (" + number(target) +
-                                                            " after " + number(previous) + ")");
+        return bad(dot(dot(path, "sparse"), "indices"), "not increasing at " + std::to_string(k));
       if (target >= static_cast<double>(a.count))
-        return bad(dot(dot(path, "sparse"), "indices"), "index " + number(target) + " at " + std::to_string(k) +
-                                                            " is not below the count " + std::to_string(a.count));
+        return bad(dot(dot(path, "sparse"), "indices"), "the index at " + std::to_string(k) + " is not below the count " +
+                                                            std::to_string(a.count));
       previous = target;
       if (Status s = read_element(vbase + k * esize, static_cast<std::size_t>(target)); !s) return s.with_context("sparse value " + std::to_string(k));
     }
@@ -1215,8 +1270,7 @@ Status Importer::check_skins() {
         Mat4 matrix = Eigen::Map<const Mat4>((*values)->data() + 16 * k);  // column-major, as glTF
         const double off = std::max({std::abs(matrix(3, 0)), std::abs(matrix(3, 1)), std::abs(matrix(3, 2)), std::abs(matrix(3, 3) - 1.0)});
         if (off > 1e-5)
-          return bad(ip, "matrix " + std::to_string(k) + " is not affine (last row " + number(matrix(3, 0)) + " " +
-                             number(matrix(3, 1)) + " " + number(matrix(3, 2)) + " " + number(matrix(3, 3)) + ")");
+          return bad(ip, "matrix " + std::to_string(k) + " is not affine (its last row is not 0 0 0 1)");
         matrix.row(3) << 0.0, 0.0, 0.0, 1.0;
         matrix.topRightCorner<3, 1>() *= options_.scale;
         ibm[k] = matrix;
@@ -1270,6 +1324,47 @@ Status Importer::check_nodes() {
       }
     }
     if (!rest_translate_[i].allFinite()) return bad(path, "the translation overflows at this scale");
+  }
+  return check_finite_world();
+}
+
+// Numbers that are finite one by one can still overflow together: a matrix
+// of 1e308 decomposes into an infinite scale, and a chain of large scales
+// multiplies out to infinity. Every node's decomposed transform, local
+// matrix and world matrix (and the world matrix's decomposition, which is
+// what reports print) must be finite; the first node that breaks it is named.
+Status Importer::check_finite_world() {
+  const std::size_t count = m_.nodes.size();
+  auto finite = [](const math::Decomposed& d) {
+    return d.translate.allFinite() && d.rotation.coeffs().allFinite() && d.scale.allFinite() && d.shear.allFinite();
+  };
+  auto name_of = [&](std::size_t i) {
+    return at("nodes", i) + (m_.nodes[i].name.empty() ? std::string() : " (" + quote_text(m_.nodes[i].name) + ")");
+  };
+  std::vector<Mat4> world(count, Mat4::Identity());
+  std::vector<bool> done(count, false);
+  std::vector<std::size_t> chain;
+  for (std::size_t start = 0; start < count; ++start) {
+    chain.clear();
+    for (int x = static_cast<int>(start); x >= 0 && !done[static_cast<std::size_t>(x)]; x = parent_[static_cast<std::size_t>(x)])
+      chain.push_back(static_cast<std::size_t>(x));
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const std::size_t i = *it;
+      const tinygltf::Node& n = m_.nodes[i];
+      Mat4 local = math::trs_matrix(rest_translate_[i], rest_rotate_[i], rest_scale_[i]);
+      if (!n.matrix.empty()) {
+        local = Eigen::Map<const Mat4>(n.matrix.data());
+        local.topRightCorner<3, 1>() *= options_.scale;
+        if (!finite(math::decompose(local)))
+          return bad(name_of(i), "its matrix overflows when decomposed into translation, rotation, scale and shear");
+      }
+      if (!local.allFinite()) return bad(name_of(i), "its local transform overflows (numbers beyond a double's range)");
+      const int parent = parent_[i];
+      world[i] = parent >= 0 ? Mat4(world[static_cast<std::size_t>(parent)] * local) : local;
+      if (!world[i].allFinite() || !finite(math::decompose(world[i])))
+        return bad(name_of(i), "its world matrix overflows (the transforms down to it multiply out of a double's range)");
+      done[i] = true;
+    }
   }
   return Status::ok();
 }
@@ -1400,7 +1495,7 @@ Status Importer::read_primitive(std::size_t m, std::size_t p, PrimitiveData& out
     for (std::size_t v = 0; v < count; ++v) {
       for (std::size_t c = 0; c < 4; ++c) {
         const double w = (**weights)[4 * v + c];
-        if (w < 0.0) return bad(dot(attr_path, wn), "element " + std::to_string(v) + " has a negative weight " + number(w));
+        if (w < 0.0) return bad(dot(attr_path, wn), "element " + std::to_string(v) + " has a negative weight");
         out.joints[v * out.per_vertex + 4 * k + c] = static_cast<std::int64_t>((**joints)[4 * v + c]);
         out.weights[v * out.per_vertex + 4 * k + c] = w;
       }
@@ -1441,7 +1536,7 @@ Status Importer::read_primitive(std::size_t m, std::size_t p, PrimitiveData& out
     for (std::size_t k = 0; k < indices.size(); ++k) {
       const double v = (**values)[k];
       if (v >= static_cast<double>(count))
-        return bad(ip, "element " + std::to_string(k) + " is " + number(v) + ", not below the vertex count " + std::to_string(count));
+        return bad(ip, "element " + std::to_string(k) + " is not below the vertex count " + std::to_string(count));
       indices[k] = static_cast<std::int64_t>(v);
     }
   } else {
@@ -1494,17 +1589,18 @@ Status Importer::read_meshes() {
 // The node's mesh against its skin: joint indices (where the weight is not
 // zero) below the joint count, and a weight on every vertex; then the
 // skinCluster's own validation, so that it will skin and not pass through.
-Status Importer::check_skin_binding(std::size_t node) {
+Result<std::vector<SkinBinding>> Importer::bind_skin(std::size_t node) {
   const tinygltf::Node& n = m_.nodes[node];
   const auto skin_index = static_cast<std::size_t>(n.skin);
   const std::size_t joint_count = m_.skins[skin_index].joints.size();
   const auto m = static_cast<std::size_t>(n.mesh);
+  std::vector<SkinBinding> result(meshes_[m].primitives.size());
   for (std::size_t p = 0; p < meshes_[m].primitives.size(); ++p) {
     const PrimitiveData& prim = meshes_[m].primitives[p];
     const std::string path = at(dot(at("meshes", m), "primitives"), p);
     const std::string user = " (skins[" + std::to_string(skin_index) + "], used by nodes[" + std::to_string(node) + "])";
-    std::vector<std::int64_t> offsets = {0}, joints;
-    std::vector<double> weights;
+    SkinBinding& b = result[p];
+    b.offsets = {0};
     for (std::size_t v = 0; v < prim.vertex_count; ++v) {
       for (std::size_t k = 0; k < prim.per_vertex; ++k) {
         const double w = prim.weights[v * prim.per_vertex + k];
@@ -1512,20 +1608,33 @@ Status Importer::check_skin_binding(std::size_t node) {
         const std::int64_t j = prim.joints[v * prim.per_vertex + k];
         if (j < 0 || static_cast<std::size_t>(j) >= joint_count)
           return bad(dot(dot(path, "attributes"), "JOINTS_" + std::to_string(prim.sets[k / 4])),
-                     "element " + std::to_string(v) + " has joint " + std::to_string(j) + ", not below the joint count " +
+                     "element " + std::to_string(v) + " has a joint index not below the joint count " +
                          std::to_string(joint_count) + user);
-        joints.push_back(j);
-        weights.push_back(w);
+        b.joints.push_back(j);
+        b.weights.push_back(w);
       }
-      if (static_cast<std::size_t>(offsets.back()) == joints.size())
-        return bad(path, "vertex " + std::to_string(v) + " has no joint weight above zero" + user);
-      offsets.push_back(static_cast<std::int64_t>(joints.size()));
+      if (static_cast<std::size_t>(b.offsets.back()) == b.joints.size()) {
+        // No weight above zero: bound to the glTF node that holds the mesh
+        // (one more joint matrix, after the skin's own).
+        b.unweighted.push_back(v);
+        b.joints.push_back(static_cast<std::int64_t>(joint_count));
+        b.weights.push_back(1.0);
+      }
+      b.offsets.push_back(static_cast<std::int64_t>(b.joints.size()));
     }
     ops::SkinBuildOptions build;
-    build.joint_count = joint_count;
-    if (Result<ops::Skin> skin = ops::build_skin({offsets, joints, weights}, build); !skin) return skin.status().with_context(path);
+    build.joint_count = joint_count + (b.unweighted.empty() ? 0 : 1);
+    if (Result<ops::Skin> skin = ops::build_skin({b.offsets, b.joints, b.weights}, build); !skin) return skin.status().with_context(path);
+    if (!b.unweighted.empty() && options_.warnings) {
+      std::string list;
+      for (std::size_t k = 0; k < b.unweighted.size() && k < 10; ++k) list += (k ? ", " : "") + std::to_string(b.unweighted[k]);
+      if (b.unweighted.size() > 10) list += ", ... (" + std::to_string(b.unweighted.size()) + " in all)";
+      options_.warnings->push_back(path + ": vertices " + list + " have no joint weight above zero" + user +
+                                   "; they follow the mesh's node " + quote_text(scene_->graph().node(ids_[node])->name()) +
+                                   " instead of a joint");
+    }
   }
-  return Status::ok();
+  return result;
 }
 
 // ---- animations ----
@@ -1548,8 +1657,7 @@ Status Importer::read_channel(std::size_t a, std::size_t c, ClipKeys& out, std::
   out.times = **times;
   for (std::size_t k = 1; k < out.times.size(); ++k) {
     if (!(out.times[k] > out.times[k - 1]))
-      return bad(dot(sp, "input"), "times not increasing at key " + std::to_string(k) + " (" + number(out.times[k]) + " after " +
-                                       number(out.times[k - 1]) + ")");
+      return bad(dot(sp, "input"), "times not increasing at key " + std::to_string(k));
   }
   const tinygltf::Accessor& output = m_.accessors[static_cast<std::size_t>(sampler.output)];
   const std::string op = dot(sp, "output");
@@ -1688,8 +1796,11 @@ Status Importer::build_meshes() {
   for (std::size_t i = 0; i < m_.nodes.size(); ++i) {
     const tinygltf::Node& n = m_.nodes[i];
     if (n.mesh < 0) continue;
+    std::vector<SkinBinding> bindings;
     if (n.skin >= 0) {
-      if (Status s = check_skin_binding(i); !s) return s;
+      Result<std::vector<SkinBinding>> bound = bind_skin(i);
+      if (!bound) return bound.status();
+      bindings = std::move(*bound);
     }
     const auto mi = static_cast<std::size_t>(n.mesh);
     const tinygltf::Mesh& mesh = m_.meshes[mi];
@@ -1709,7 +1820,6 @@ Status Importer::build_meshes() {
       const bool skinned = n.skin >= 0;
       Result<NodeId> mesh_id = scene_->create(scene::kMeshType, name, skinned ? NodeId{} : ids_[i]);
       if (!mesh_id) return mesh_id.status().with_context(where);
-      mesh_sources_.push_back({*mesh_id, mi, p});
       const std::string& mesh_name = g.node(*mesh_id)->name();
       Status s = set(*mesh_id, ma::kTriangles, prim.triangles);
       // Where the points come from: the file, a blendShape, a skinCluster.
@@ -1737,28 +1847,22 @@ Status Importer::build_meshes() {
         const auto& joints = m_.skins[skin_index].joints;
         Result<NodeId> skin = g.create_node(ops::kSkinClusterType, mesh_name + "_skinCluster");
         if (!skin) return skin.status().with_context(where);
-        std::vector<std::int64_t> offsets = {0}, influence_joints;
-        std::vector<double> influence_weights;
-        for (std::size_t v = 0; v < prim.vertex_count; ++v) {
-          for (std::size_t k = 0; k < prim.per_vertex; ++k) {
-            const double w = prim.weights[v * prim.per_vertex + k];
-            if (w == 0.0) continue;
-            influence_joints.push_back(prim.joints[v * prim.per_vertex + k]);
-            influence_weights.push_back(w);
-          }
-          offsets.push_back(static_cast<std::int64_t>(influence_joints.size()));
-        }
+        SkinBinding& binding = bindings[p];
+        std::vector<Mat4> bind_pre = inverse_bind_[skin_index];
+        if (!binding.unweighted.empty()) bind_pre.push_back(Mat4::Identity());
         if (points_src.is_valid()) s = connect(points_src, points_attr, *skin, sc::kBindPoints);
         else s = set(*skin, sc::kBindPoints, prim.points);
         if (s) s = set(*skin, sc::kBindNormals, prim.normals);
-        if (s) s = set(*skin, sc::kBindPreMatrices, inverse_bind_[skin_index]);
-        if (s) s = set(*skin, sc::kInfluenceOffsets, std::move(offsets));
-        if (s) s = set(*skin, sc::kInfluenceJoints, std::move(influence_joints));
-        if (s) s = set(*skin, sc::kInfluenceWeights, std::move(influence_weights));
+        if (s) s = set(*skin, sc::kBindPreMatrices, std::move(bind_pre));
+        if (s) s = set(*skin, sc::kInfluenceOffsets, std::move(binding.offsets));
+        if (s) s = set(*skin, sc::kInfluenceJoints, std::move(binding.joints));
+        if (s) s = set(*skin, sc::kInfluenceWeights, std::move(binding.weights));
         if (s) s = set(*skin, sc::kNormalizeWeights, true);
         for (std::size_t k = 0; s && k < joints.size(); ++k)
           s = connect(ids_[static_cast<std::size_t>(joints[k])], scene::xform::kWorldMatrix, *skin, sc::kJointMatrices,
                       static_cast<std::int32_t>(k));
+        if (s && !binding.unweighted.empty())
+          s = connect(ids_[i], scene::xform::kWorldMatrix, *skin, sc::kJointMatrices, static_cast<std::int32_t>(joints.size()));
         if (s) s = connect(*skin, sc::kOutPoints, *mesh_id, ma::kPoints);
         if (s) s = connect(*skin, sc::kOutNormals, *mesh_id, ma::kNormals);
       } else if (s) {
@@ -2014,18 +2118,15 @@ Result<std::unique_ptr<scene::Scene>> import_gltf(const std::filesystem::path& p
     // tinygltf's GetBaseDir: the text before the last separator.
     const std::size_t slash = where.find_last_of('/');
     ctx.base_dir = slash == std::string::npos ? std::string() : slash == 0 ? std::string("/") : where.substr(0, slash);
+    std::error_code ec;
+    ctx.folder = fs::weakly_canonical(ctx.base_dir.empty() ? fs::current_path(ec) : fs::path(ctx.base_dir), ec);
+    if (ec) return error(ErrorCode::kIoError, where + ": cannot resolve the file's folder: " + ec.message());
     if (Status s = check_json(*doc, ctx); !s) return s.with_context(where);
-    const Json images = doc->contains("images") ? doc->at("images") : Json();  // tinygltf never sees them
     Result<tinygltf::Model> model = load_model(std::move(*doc), source, ctx);
     if (!model) return model.status().with_context(where);
     Importer importer(*model, options, ctx.quantized);
     Result<std::unique_ptr<scene::Scene>> scene = importer.run();
     if (!scene) return scene.status().with_context(where);
-    if (Status s = gltf_look::import_looks(**scene, *model, images, ctx.base_dir, importer.mesh_sources(),
-                                           [&](int a) { return importer.accessor_values(a); });
-        !s)
-      return s.with_context(where);
-    (*scene)->graph().clear_history();
     return scene;
   } catch (const std::bad_alloc&) {
     return error(ErrorCode::kIoError, where + ": out of memory");

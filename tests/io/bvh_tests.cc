@@ -111,7 +111,7 @@ TEST(Bvh, parse__malformed_files_name_the_line) {
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n1\n",
        "bad.bvh:10:", "expected 2 frames x 1 channels"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0\n1\n",
-       "bad.bvh:9:", "Frame Time must be positive"},
+       "bad.bvh:9:", "Frame Time must be from 0.0001 to 1000 seconds"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\ninf\n",
        "bad.bvh:10:", "finite number for motion value"},
       {"HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nEnd Site\n{\nOFFSET 0 0 0\nJOINT b\n{\nOFFSET 0 0 0\n}\n}\n}\nMOTION\n",
@@ -127,6 +127,47 @@ TEST(Bvh, parse__malformed_files_name_the_line) {
     EXPECT_NE(m.find(c.where), std::string::npos) << "message should name " << c.where << ": " << m;
     EXPECT_NE(m.find(c.what), std::string::npos) << "message should say '" << c.what << "': " << m;
   }
+}
+
+// The MOTION header's ranges (bvh.h): Frames 0..1e8, Frame Time 1e-4..1000 s.
+TEST(Bvh, parse__frames_and_frame_time_outside_their_ranges_name_the_line_and_the_limit) {
+  const std::string head = "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\n}\nMOTION\n";
+  struct Case {
+    std::string motion;
+    std::string where, what;
+  };
+  const std::vector<Case> cases = {
+      {"Frames: 2000000000\nFrame Time: 0.1\n", "bad.bvh:7:", "Frames must be a whole number from 0 to 100000000, not 2000000000"},
+      {"Frames: 100000001\nFrame Time: 0.1\n", "bad.bvh:7:", "from 0 to 100000000"},
+      {"Frames: 1.5\nFrame Time: 0.1\n", "bad.bvh:7:", "not 1.5"},
+      {"Frames: 0\nFrame Time: 1e-300\n", "bad.bvh:8:", "Frame Time must be from 0.0001 to 1000 seconds (0.001 to 10000 frames per second), not 1e-300"},
+      {"Frames: 0\nFrame Time: 1e300\n", "bad.bvh:8:", "not 1e300"},
+      {"Frames: 0\nFrame Time: 0.00009\n", "bad.bvh:8:", "Frame Time must be from"},
+      {"Frames: 0\nFrame Time: 1000.5\n", "bad.bvh:8:", "Frame Time must be from"},
+      {"Frames: 0\nFrame Time: -0.04\n", "bad.bvh:8:", "Frame Time must be from"},
+  };
+  for (const Case& c : cases) {
+    Result<BvhFile> r = parse_bvh(head + c.motion, "bad.bvh");
+    ASSERT_FALSE(r.is_ok()) << c.motion;
+    EXPECT_EQ(r.status().message().rfind(c.where + " ", 0), 0u) << r.status().message();
+    EXPECT_NE(r.status().message().find(c.what), std::string::npos) << r.status().message();
+  }
+  // The ends of the ranges are accepted, and import at their frame rates.
+  for (const char* motion : {"Frames: 0\nFrame Time: 0.0001\n", "Frames: 0\nFrame Time: 1000\n"}) {
+    Result<BvhFile> r = parse_bvh(head + motion, "edge.bvh");
+    ASSERT_TRUE(r.is_ok()) << motion << r.status().message();
+    Result<std::unique_ptr<scene::Scene>> s = import_bvh(*r);
+    ASSERT_TRUE(s.is_ok()) << s.status().message();
+    EXPECT_NEAR((*s)->graph().fps() * r->frame_time, 1.0, 1e-12);
+  }
+  // A BvhFile made in code is held to the same range.
+  BvhFile made;
+  made.joints.push_back(BvhJoint{});
+  made.joints[0].name = "a";
+  made.frame_time = 1e300;
+  Result<std::unique_ptr<scene::Scene>> s = import_bvh(made);
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_NE(s.status().message().find("outside [0.0001, 1000] s"), std::string::npos) << s.status().message();
 }
 
 TEST(Bvh, parse__deep_nesting_is_refused_not_a_stack_overflow) {

@@ -892,7 +892,7 @@ TEST(GltfImportMalformed, bad_numbers_in_the_buffers) {
     GltfFile f = skinned_file();
     f.bin[f.doc["bufferViews"][1]["byteOffset"].get<std::size_t>() + 4] = 2;  // vertex 1 on joint 2 of 2
     const std::string message = import_error(f.write_gltf(dir.path(), "joint_range.gltf"));
-    EXPECT_TRUE(contains(message, "meshes[0].primitives[0].attributes.JOINTS_0: element 1 has joint 2, not below the joint count 2"))
+    EXPECT_TRUE(contains(message, "meshes[0].primitives[0].attributes.JOINTS_0: element 1 has a joint index not below the joint count 2"))
         << message;
   }
   {
@@ -900,14 +900,14 @@ TEST(GltfImportMalformed, bad_numbers_in_the_buffers) {
     const float minus = -1;
     std::memcpy(f.bin.data() + f.doc["bufferViews"][2]["byteOffset"].get<std::size_t>() + 16 * 2 + 4, &minus, 4);
     const std::string message = import_error(f.write_gltf(dir.path(), "negative.gltf"));
-    EXPECT_TRUE(contains(message, "WEIGHTS_0: element 2 has a negative weight -1")) << message;
+    EXPECT_TRUE(contains(message, "WEIGHTS_0: element 2 has a negative weight")) << message;
   }
   {
     GltfFile f = triangle_file();
     const int indices = f.u16s({0, 1, 7}, "SCALAR");
     f.doc["meshes"][0]["primitives"][0]["indices"] = indices;
     const std::string message = import_error(f.write_gltf(dir.path(), "index.gltf"));
-    EXPECT_TRUE(contains(message, "meshes[0].primitives[0].indices: element 2 is 7, not below the vertex count 3")) << message;
+    EXPECT_TRUE(contains(message, "meshes[0].primitives[0].indices: element 2 is not below the vertex count 3")) << message;
   }
   {
     GltfFile f = triangle_file();
@@ -1063,7 +1063,7 @@ TEST(GltfImportValidator, the_messages_match_what_the_validator_found) {
       {"mesh__unequal_joints.gltf", "meshes[0].primitives[0].attributes: JOINTS_1 has no WEIGHTS_1"},
       {"mesh_data__joints_no_weights.gltf", "bufferViews[0]: bytes 0..32 reach past the end of buffer 0 (16 bytes)"},
       // Also has a joint index out of range; the weights are read first.
-      {"mesh_data__joints_weights_complex.gltf", "meshes[0].primitives[0].attributes.WEIGHTS_1: element 1 has a negative weight -1"},
+      {"mesh_data__joints_weights_complex.gltf", "meshes[0].primitives[0].attributes.WEIGHTS_1: element 1 has a negative weight"},
       {"node__node_skin_without_skinned_mesh.gltf", "nodes[0].skin: meshes[0].primitives[0] has no JOINTS_0"},
       {"node__skin_with_no_mesh.gltf", "nodes[0].skin: a skin needs a mesh on the node"},
       {"node__unresolved_skin.gltf", "nodes[0].skin: skin 0 does not exist"},
@@ -1226,6 +1226,205 @@ TEST(GltfImport, the_scene_is_built_over_the_registry_given) {
   // A registry without the types the importer makes is an error, not a crash.
   options.registry = std::make_shared<graph::Registry>();
   EXPECT_FALSE(import_gltf(gltf_dir() / "RiggedSimple.glb", options).is_ok());
+}
+
+// ---- external files stay inside the file's folder (security) ---------------------------
+
+// A .gltf in dir/sub whose buffer is `uri`, with a byteLength of `length`.
+fs::path gltf_with_uri(const fs::path& folder, const std::string& uri, std::size_t length) {
+  GltfFile f = triangle_file();
+  Json doc = f.with_buffer(uri);
+  doc["buffers"][0]["byteLength"] = length;
+  write_text(folder / "x.gltf", doc.dump());
+  return folder / "x.gltf";
+}
+
+TEST(GltfImportBuffers, uris_that_leave_the_files_folder_are_refused_before_anything_is_read) {
+  TempDir dir;
+  const fs::path sub = dir.path() / "sub";
+  fs::create_directories(sub / "inner");
+  // A file outside the folder whose bytes would make a valid buffer: only
+  // the folder rule can stop it (its size even matches byteLength).
+  GltfFile f = triangle_file();
+  write_text(dir.path() / "secret.bin", f.bin);
+  const std::size_t size = f.bin.size();
+  struct Case {
+    std::string uri;
+    const char* expected;
+  };
+  const std::vector<Case> cases = {
+      {"../secret.bin", "reaches outside the glTF file's folder"},
+      {"inner/../../secret.bin", "reaches outside the glTF file's folder"},
+      {"%2E%2E/secret.bin", "reaches outside the glTF file's folder"},
+      {"../../../../../../../../etc/passwd", "reaches outside the glTF file's folder"},
+      {"/etc/passwd", "is an absolute path"},
+      {(dir.path() / "secret.bin").string(), "is an absolute path"},
+      {"%2Fetc%2Fpasswd", "is an absolute path"},
+      {"file:///etc/passwd", "has a scheme"},
+      {"file:../secret.bin", "has a scheme"},
+      {"http://example.com/x.bin", "has a scheme"},
+  };
+  for (const Case& c : cases) {
+    for (std::size_t length : {size, std::size_t{3}}) {
+      const std::string message = import_error(gltf_with_uri(sub, c.uri, length));
+      EXPECT_TRUE(contains(message, "buffers[0]: uri '")) << c.uri << ": " << message;
+      EXPECT_TRUE(contains(message, c.expected)) << c.uri << ": " << message;
+      EXPECT_FALSE(contains(message, "bytes")) << "nothing about the file it names, not even its size: " << message;
+    }
+  }
+  // Symbolic links: a linked file, a linked folder, a link in a subfolder,
+  // all leading out; resolved before the folder rule is applied.
+  fs::create_symlink(dir.path() / "secret.bin", sub / "link.bin");
+  fs::create_directory_symlink(dir.path(), sub / "up");
+  fs::create_symlink("../../secret.bin", sub / "inner" / "rel.bin");
+  for (const char* uri : {"link.bin", "up/secret.bin", "inner/rel.bin"}) {
+    for (std::size_t length : {size, std::size_t{3}}) {
+      const std::string message = import_error(gltf_with_uri(sub, uri, length));
+      EXPECT_TRUE(contains(message, "leads outside the glTF file's folder")) << uri << ": " << message;
+      EXPECT_FALSE(contains(message, "bytes")) << message;
+    }
+  }
+  // Inside the folder: plain names, subfolders, escapes, and a link that
+  // stays inside all import.
+  write_text(sub / "inner" / "my data.bin", f.bin);
+  fs::create_symlink("inner/my data.bin", sub / "inside.bin");
+  for (const char* uri : {"inner/my%20data.bin", "./inner/my data.bin", "inner/./my%20data.bin", "inside.bin",
+                          "inner/../inner/my%20data.bin"}) {
+    Result<std::unique_ptr<Scene>> r = import_gltf(gltf_with_uri(sub, uri, size));
+    EXPECT_TRUE(r.is_ok()) << uri << ": " << r.status().message();
+  }
+}
+
+TEST(GltfImportBuffers, refusals_never_quote_numbers_read_from_a_buffer) {
+  // A buffer is a file: a message quoting its values would disclose the
+  // bytes of whatever file it is. Messages name the element and the rule.
+  TempDir dir;
+  {
+    GltfFile f = triangle_file();
+    f.doc["meshes"][0]["primitives"][0]["indices"] = f.u16s({0, 1, 114}, "SCALAR");
+    const std::string message = import_error(f.write_gltf(dir.path(), "index.gltf"));
+    EXPECT_TRUE(contains(message, "indices: element 2 is not below the vertex count 3")) << message;
+    EXPECT_FALSE(contains(message, "114")) << message;
+  }
+  {
+    GltfFile f = skinned_file();
+    f.bin[f.doc["bufferViews"][1]["byteOffset"].get<std::size_t>() + 4] = 77;  // vertex 1 on joint 77
+    const std::string message = import_error(f.write_gltf(dir.path(), "joint.gltf"));
+    EXPECT_TRUE(contains(message, "element 1 has a joint index not below the joint count 2")) << message;
+    EXPECT_FALSE(contains(message, "77")) << message;
+  }
+  {
+    GltfFile f = skinned_file();
+    const float minus = -0.625f;
+    std::memcpy(f.bin.data() + f.doc["bufferViews"][2]["byteOffset"].get<std::size_t>() + 4, &minus, 4);
+    const std::string message = import_error(f.write_gltf(dir.path(), "weight.gltf"));
+    EXPECT_FALSE(contains(message, "625")) << message;
+  }
+  {
+    GltfFile f = skinned_file();
+    const float last = 7.5f;  // an inverse bind matrix whose last row is not 0 0 0 1
+    std::memcpy(f.bin.data() + f.doc["bufferViews"][3]["byteOffset"].get<std::size_t>() + 3 * 4, &last, 4);
+    const std::string message = import_error(f.write_gltf(dir.path(), "ibm.gltf"));
+    EXPECT_TRUE(contains(message, "matrix 0 is not affine")) << message;
+    EXPECT_FALSE(contains(message, "7.5")) << message;
+  }
+  {
+    GltfFile f = triangle_file();
+    const int input = f.floats({0.0f, 2.25f, 1.125f}, "SCALAR");
+    const int output = f.floats({0, 0, 0, 0, 1, 0, 0, 2, 0}, "VEC3");
+    f.push("animations", {{"samplers", {{{"input", input}, {"output", output}}}},
+                          {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}});
+    const std::string message = import_error(f.write_gltf(dir.path(), "times.gltf"));
+    EXPECT_TRUE(contains(message, "times not increasing at key 2")) << message;
+    EXPECT_FALSE(contains(message, "2.25") || contains(message, "1.125")) << message;
+  }
+}
+
+// ---- numbers that overflow together --------------------------------------------------------
+
+TEST(GltfImportNodes, transforms_that_overflow_are_refused_naming_the_node) {
+  TempDir dir;
+  {
+    GltfFile f;
+    f.node({{"name", "huge"}, {"matrix", {1e308, 0, 0, 0, 0, 1e308, 0, 0, 0, 0, 1e308, 0, 0, 0, 0, 1}}});
+    const std::string message = import_error(f.write_gltf(dir.path(), "matrix.gltf"));
+    EXPECT_TRUE(contains(message, "nodes[0] ('huge'): ")) << message;
+    EXPECT_TRUE(contains(message, "overflows")) << message;
+  }
+  {
+    // Each scale is finite; their product is not: the deepest node is named.
+    GltfFile f;
+    f.node({{"name", "a"}, {"scale", {1e100, 1e100, 1e100}}, {"children", {1}}});
+    f.node({{"name", "b"}, {"children", {2}}});
+    f.node({{"name", "c"}, {"scale", {1e200, 1, 1}}});
+    const std::string message = import_error(f.write_gltf(dir.path(), "chain.gltf"));
+    EXPECT_TRUE(contains(message, "nodes[2] ('c'): its world matrix overflows")) << message;
+  }
+  {
+    GltfFile f;
+    f.node({{"name", "far"}, {"translation", {1e308, 0, 0}}, {"children", {1}}});
+    f.node({{"name", "farther"}, {"translation", {1e308, 0, 0}}});
+    const std::string message = import_error(f.write_gltf(dir.path(), "translation.gltf"));
+    EXPECT_TRUE(contains(message, "nodes[1] ('farther'): its world matrix overflows")) << message;
+  }
+  {
+    // Large but representable all the way down: imports.
+    GltfFile f;
+    f.node({{"name", "big"}, {"scale", {1e50, 1e50, 1e50}}, {"translation", {1e150, 0, 0}}, {"children", {1}}});
+    f.node({{"name", "bigger"}, {"scale", {1e50, 1e50, 1e50}}});
+    Imported s = import_ok(f.write_gltf(dir.path(), "large.gltf"));
+    EXPECT_TRUE(s.world("bigger").allFinite());
+  }
+}
+
+// ---- vertices without a weight -----------------------------------------------------------
+
+TEST(GltfImportValidator, vertices_without_a_weight_follow_the_mesh_node_with_a_warning) {
+  // Valid per the validator (weights summing to 1 is a SHOULD); all their
+  // weights are zero (accessors without a buffer view).
+  struct Case {
+    const char* file;
+    Vec3 expected;  // where every vertex (at the origin in the file) ends up: the mesh node's world position
+  };
+  for (const Case& c : {Case{"skin__ignored_local_transform.gltf", Vec3(1, 2, 3)}, Case{"skin__ignored_parent_transform.gltf", Vec3(1, 2, 3)}}) {
+    SCOPED_TRACE(c.file);
+    std::vector<std::string> warnings;
+    GltfImportOptions options;
+    options.warnings = &warnings;
+    Imported s = import_ok(invalid_dir() / c.file, options);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_TRUE(contains(warnings[0], "meshes[0].primitives[0]: vertices 0, 1, 2 have no joint weight above zero")) << warnings[0];
+    EXPECT_TRUE(contains(warnings[0], "follow the mesh's node 'node_")) << warnings[0];
+    for (NodeId id : s.g().nodes()) {
+      if (s.g().node(id)->type().name() != scene::kMeshType) continue;
+      const auto& points = std::get<std::vector<Vec3>>(s.g().evaluate(id, scene::mesh_attr::kPoints));
+      ASSERT_EQ(points.size(), 3u);
+      for (const Vec3& p : points) EXPECT_TRUE(near(p, c.expected, 1e-12));
+    }
+  }
+  // Without a warnings list the import still succeeds.
+  EXPECT_TRUE(import_gltf(invalid_dir() / "skin__ignored_local_transform.gltf").is_ok());
+}
+
+TEST(GltfImportSkin, unweighted_vertices_follow_the_mesh_node_as_it_moves_and_weighted_ones_their_joints) {
+  TempDir dir;
+  GltfFile f = skinned_file();
+  // Vertex 2 loses its weights.
+  const float zero[4] = {0, 0, 0, 0};
+  std::memcpy(f.bin.data() + f.doc["bufferViews"][2]["byteOffset"].get<std::size_t>() + 16 * 2, zero, 16);
+  std::vector<std::string> warnings;
+  GltfImportOptions options;
+  options.warnings = &warnings;
+  Imported s = import_ok(f.write_gltf(dir.path(), "unweighted.gltf"), options);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(contains(warnings[0], "vertices 2 have no joint weight above zero")) << warnings[0];
+  EXPECT_TRUE(contains(warnings[0], "'body'")) << warnings[0];
+  const std::string mesh = "skinned";
+  auto points = [&] { return std::get<std::vector<Vec3>>(s.g().evaluate(s.id(mesh), scene::mesh_attr::kPoints)); };
+  EXPECT_TRUE(near(points()[2], Vec3(6, 5.5, 5), 1e-12)) << "body's translation (5, 5, 5) applied to (1, 0.5, 0)";
+  EXPECT_TRUE(near(points()[0], Vec3(1, 0, 0), 1e-12)) << "vertex 0 stays on its joint";
+  ASSERT_TRUE(s.g().set_value(Plug{s.id("body"), xf::kTranslate, -1}, Vec3(0, 0, 0)).is_ok());
+  EXPECT_TRUE(near(points()[2], Vec3(1, 0.5, 0), 1e-12));
 }
 
 }  // namespace

@@ -35,11 +35,19 @@ struct BvhFile {
   double value(std::uint32_t frame, std::uint32_t column) const { return motion[std::size_t{frame} * channel_count + column]; }
 };
 
+// The ranges a BVH file's MOTION header must keep: Frames from 0 to 10^8,
+// Frame Time from 0.0001 s to 1000 s (10,000 down to 0.001 frames per
+// second, the scene's frame rate).
+constexpr double kBvhMaxFrames = 1e8;
+constexpr double kBvhMinFrameTime = 1e-4;
+constexpr double kBvhMaxFrameTime = 1e3;
+
 // Parses BVH text. Errors name the place: "walk.bvh:12: expected '{' after JOINT Hips".
 // Refuses: missing sections, unbalanced braces, unknown channel names,
-// repeated channels, non-finite numbers, a Frame Time that is not positive,
-// a motion table whose size differs from Frames x channels, more than
-// 100,000 joints or nesting deeper than 1,000.
+// repeated channels, non-finite numbers, Frames or a Frame Time outside the
+// ranges above (the message names the range and the value), a motion table
+// whose size differs from Frames x channels, more than 100,000 joints or
+// nesting deeper than 1,000.
 Result<BvhFile> parse_bvh(std::string_view text, const std::string& source);
 Result<BvhFile> load_bvh(const std::string& path);
 

@@ -41,8 +41,11 @@
 //   repeated joints merged), normalizeWeights on (old exporters leave sums
 //   that are not 1); its outPoints and outNormals feed the mesh's points
 //   and normals. A joint index is checked only where its weight is not zero.
-//   A vertex whose weights are all zero is refused (a skinCluster cannot
-//   leave a vertex unbound). A mesh with JOINTS_n used by a node without
+//   A vertex whose weights are all zero (valid glTF: sums of 1 are a
+//   "should") follows the glTF node that holds the mesh: it is bound with
+//   weight 1 to one more joint matrix, jointMatrices[joint count], fed by
+//   that node's worldMatrix (bindPreMatrices identity there), and the import
+//   warns, naming the vertices. A mesh with JOINTS_n used by a node without
 //   `skin` is imported unskinned.
 // - Morph targets: a `blendShape` named `<mesh>_blendShape` with basePoints
 //   = POSITION, dense targetDeltas from each target's POSITION (a target
@@ -99,10 +102,24 @@
 // input; a (node, path) animated twice by one animation; required
 // extensions that change geometry (Draco, meshopt). tinygltf's own load
 // errors come prefixed with the file path. An accessor without a buffer
-// view (all zeros) may have at most 2^24 elements.
+// view (all zeros) may have at most 2^24 elements. Transforms whose
+// numbers overflow together (a matrix of 1e308, scales multiplying past a
+// double's range: any non-finite local or world matrix or decomposition)
+// are refused naming the node.
+//
+// External files. A buffer's URI is a data: URI or a file name relative to
+// the glTF file's folder; it must stay inside that folder once decoded
+// (%20 escapes) and once every symbolic link is resolved. Refused without
+// reading or measuring the file: absolute paths, URIs with a scheme (file:,
+// http:), ".." that climbs out, links that lead out. Messages never quote
+// numbers read from a buffer (indices, joints, weights, times, matrices):
+// a buffer is a file, and its bytes stay private; they name the element
+// and the rule broken ("indices: element 2 is not below the vertex count 3").
 
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "rigel/base/status.h"
 #include "rigel/scene/scene.h"
@@ -118,6 +135,9 @@ struct GltfImportOptions {
   // A registry given must hold those types (a higher layer's superset, such
   // as ephemeral::default_registry(), so rigs can be built on the result).
   std::shared_ptr<const graph::Registry> registry;
+  // Where the importer says what it did that the file did not ask for in so
+  // many words (one sentence each, naming the element); may be null.
+  std::vector<std::string>* warnings = nullptr;
 };
 
 // Reads a .gltf or .glb (told apart by content: a .glb starts with the
