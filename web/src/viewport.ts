@@ -232,6 +232,10 @@ export class Viewport {
         const mesh = o as THREE.Mesh;
         const mats = Array.isArray(mesh.material) ? mesh.material : [mesh.material];
         for (const m of mats) {
+          // A material from the file (its colours, textures, alpha) is drawn as
+          // the file says; only GLTFLoader's default grey gets the see-through
+          // look that keeps the joints and controls inside visible.
+          if (gltf.parser.associations.get(m)?.materials !== undefined) continue;
           const std = m as THREE.MeshStandardMaterial;
           if (std.isMeshStandardMaterial) {
             std.transparent = true;

@@ -80,6 +80,10 @@
 //   restValue (the node's own TRS in an imported glTF), so what a viewer
 //   shows with no animation playing survives import -> export.
 //   Baking changes the scene's time and active clip and puts both back.
+// - A mesh's uv0/uv1, colors and material (scene/materials.h) become
+//   TEXCOORD_0/1, COLOR_0 and the primitive's material, with its textures,
+//   samplers and images (each written once); docs/ARCHITECTURE.md, "How
+//   meshes look", lists what is left out with a note.
 // - Units, axes and times are written as they are (seconds, the scene's
 //   units); rigel and glTF share right-handed Y-up axes.
 

@@ -1,9 +1,9 @@
 #pragma once
 // glTF 2.0 import: a .gltf (JSON, buffers embedded or in files beside it) or
 // a .glb (binary container) becomes a scene of joints, transforms, meshes,
-// skin and blend-shape deformers, and animation clips. The file is read with
-// tinygltf (images are never decoded: rigel has no use for textures), after
-// the importer's own checks; nothing in a file can crash it.
+// skin and blend-shape deformers, materials and textures, and animation
+// clips. The file is read with tinygltf (images are kept as bytes, never
+// decoded), after the importer's own checks; nothing in a file can crash it.
 //
 // What each glTF object becomes (the glTF exporter relies on this mapping):
 //
@@ -26,8 +26,12 @@
 // TRIANGLE_FAN converted to triangles; POINTS and LINES primitives make no
 // mesh node (their data is still checked). A primitive without POSITION
 // makes no mesh node (glTF: clients skip it). Non-indexed primitives get
-// indices 0..n-1. Other attributes (TEXCOORD_n, COLOR_n, TANGENT) are not
-// imported.
+// indices 0..n-1. TEXCOORD_0/1 go to uv0/uv1, COLOR_0 to colors (RGBA), the
+// primitive's material to a `material` node (with `texture` nodes holding
+// the image bytes) connected to mesh.material: scene/materials.h, and
+// docs/ARCHITECTURE.md ("How meshes look") for what is kept and refused.
+// Other attributes (TEXCOORD_2 and above, COLOR_1 and above, TANGENT) are
+// not imported.
 // - Unskinned: the mesh node is a child of its glTF node's transform, with
 //   an identity local transform.
 // - Skinned (the glTF node has `skin`): the mesh node is a root with an
