@@ -489,9 +489,11 @@ void Graph::dirty_downstream(NodeId start, AttrIndex attr) {
   }
 }
 
+// A time change: every output of a time-dependent node but its
+// time-invariant ones.
 void Graph::dirty_outputs(Node& n) {
   for (AttrIndex o : n.type_->outputs()) {
-    if (n.dirty_[o]) continue;
+    if (n.dirty_[o] || (n.type_->attr(o).flags & kTimeInvariant)) continue;
     n.dirty_[o] = 1;
     queue(n);
     dirty_downstream(n.id_, o);

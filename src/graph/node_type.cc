@@ -60,6 +60,7 @@ Status Registry::add(NodeTypeSpec spec) {
     if ((attr.flags & kAngle) && !(attr.type.value == ValueType::kDouble || attr.type.value == ValueType::kDouble3))
       return fail(where + ": only double and double3 attributes can be angles");
     if (output && !attr.affects.empty()) return fail(where + " is an output and cannot affect others");
+    if ((attr.flags & kTimeInvariant) && !output) return fail(where + ": only an output can be time-invariant");
     if (output) type->outputs_.push_back(static_cast<AttrIndex>(i));
   }
   type->affects_.resize(spec.attrs.size());

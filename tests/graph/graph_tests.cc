@@ -739,5 +739,51 @@ TEST(Graph, set_time__recomputes_time_dependent_nodes_only) {
   EXPECT_EQ(eval_double(graph, back, "out"), 8.0) << "and keeps following it";
 }
 
+// A time-invariant output (kTimeInvariant) of a time-dependent node stays
+// clean when the time changes, so a compute can keep what it derived from
+// the inputs alone (animation curves keep the check of their keys); an
+// input change still dirties it. Only outputs may be time-invariant.
+TEST(Graph, set_time__leaves_time_invariant_outputs_clean) {
+  auto compute = [](ComputeContext& c) {
+    c.output(1) = c.get<double>(0) * c.time();
+    if (c.node().is_dirty(2)) c.output(2) = std::get<std::int64_t>(c.output(2)) + 1;  // times checked
+  };
+  NodeTypeSpec spec;
+  spec.name = "checkedClock";
+  spec.attrs = {testing::in_spec("gain", testing::kDoubleT, {"out", "checks"}, 1.0), testing::out_spec("out", testing::kDoubleT),
+                testing::out_spec("checks", testing::kIntT)};
+  spec.attrs[2].flags |= kTimeInvariant;
+  spec.compute = compute;
+  spec.time_dependent = true;
+  auto registry = std::make_shared<Registry>();
+  ASSERT_TRUE(registry->add(spec).is_ok());
+  Graph graph(registry);
+  NodeId n = make(graph, "checkedClock", "c");
+  auto checks = [&] { return std::get<std::int64_t>(graph.evaluate(n, 2)); };
+  EXPECT_EQ(checks(), 1);
+  for (double t : {1.0, 2.0, 3.0}) {
+    graph.set_time(t);
+    EXPECT_TRUE(graph.node(n)->is_dirty(1)) << t;
+    EXPECT_FALSE(graph.node(n)->is_dirty(2)) << t;
+    EXPECT_EQ(eval_double(graph, n, "out"), t);
+  }
+  EXPECT_EQ(checks(), 1) << "time changes did not redo the check";
+  ASSERT_TRUE(graph.set_value(plug(graph, n, "gain"), 2.0).is_ok());
+  EXPECT_TRUE(graph.node(n)->is_dirty(2)) << "an input change dirties it";
+  EXPECT_EQ(eval_double(graph, n, "out"), 6.0);
+  EXPECT_EQ(checks(), 2);
+  ASSERT_TRUE(graph.undo());
+  EXPECT_EQ(checks(), 3) << "so does undo";
+
+  NodeTypeSpec bad;
+  bad.name = "badInvariant";
+  bad.attrs = {testing::in_spec("gain", testing::kDoubleT, {"out"}), testing::out_spec("out", testing::kDoubleT)};
+  bad.attrs[0].flags |= kTimeInvariant;
+  bad.compute = compute;
+  const Status refused = registry->add(bad);
+  EXPECT_FALSE(refused.is_ok());
+  EXPECT_NE(refused.message().find("only an output can be time-invariant"), std::string::npos) << refused.message();
+}
+
 }  // namespace
 }  // namespace rigel::graph

@@ -33,6 +33,11 @@ enum AttrFlag : std::uint32_t {
   kHidden = 1u << 4,    // not shown to users by default
   kAngle = 1u << 5,     // a double/double3 angle, stored in degrees (the user's unit);
                         // compute functions convert to radians
+  // Outputs only: the value does not depend on time, so a time change
+  // leaves it clean on a time_dependent type (what a compute derives from
+  // its inputs alone, such as a curve's check of its keys). The compute
+  // sees it clean (Node::is_dirty) and may keep it rather than redo it.
+  kTimeInvariant = 1u << 6,
 };
 
 struct AttrSpec {
@@ -79,7 +84,7 @@ struct NodeTypeSpec {
   // parent when it names a matrix output holding its world matrix.
   std::string parent_input;
   std::string world_output;
-  // Outputs are dirtied whenever the graph's time changes.
+  // Outputs (but kTimeInvariant ones) are dirtied whenever the graph's time changes.
   bool time_dependent = false;
   std::string description;
 };

@@ -35,6 +35,10 @@ AttrSpec output(std::string name, AttrType type, std::uint32_t extra = 0) {
 
 const std::vector<std::string> kOutputs = {"output", "error"};
 
+// `error` holds the check of the keys, which does not depend on time (nor on
+// a driven key's input): a time change leaves it clean (kTimeInvariant).
+AttrSpec error_output() { return output("error", {ValueType::kString, false}, graph::kHidden | graph::kTimeInvariant); }
+
 std::vector<AttrSpec> curve_attrs() {
   const AttrType doubles{ValueType::kDouble, true};
   const AttrType enums{ValueType::kEnum, true};
@@ -59,7 +63,7 @@ std::vector<AttrSpec> curve_attrs() {
       pre,
       post,
       output("output", {ValueType::kDouble, false}),
-      output("error", {ValueType::kString, false}, graph::kHidden),
+      error_output(),
   };
 }
 
@@ -73,6 +77,20 @@ void write_error(ComputeContext& c, AttrIndex attr, const Status& status) {
   std::string& message = std::get<std::string>(c.output(attr));
   if (status.is_ok()) message.clear();
   else message = status.message();
+}
+
+// Whether the keys must be checked in this compute: `error` is dirty. While
+// it is clean no input it depends on has changed since it was written (every
+// key array affects it; time does not), so its message is the check's
+// result. Playback then checks a curve's keys once, not at every frame
+// (a check reads every key: per frame it made playing N frames of N keys
+// cost N^2).
+bool must_check(const ComputeContext& c, AttrIndex error_attr) { return c.node().is_dirty(error_attr); }
+
+// The check's result as written in `error`.
+Status checked(const ComputeContext& c, AttrIndex error_attr) {
+  const std::string& message = c.get<std::string>(error_attr);
+  return message.empty() ? Status::ok() : error(ErrorCode::kInvalidArgument, message);
 }
 
 // ---- clips ------------------------------------------------------------------
@@ -157,9 +175,10 @@ void compute_curve_at(ComputeContext& c, double x) {
   arrays.settings.weighted = c.get<bool>(a::kWeighted);
   arrays.settings.pre_infinity = read_enum<Infinity>(c, a::kPreInfinity, kInfinityCount);
   arrays.settings.post_infinity = read_enum<Infinity>(c, a::kPostInfinity, kInfinityCount);
-  const Status status = arrays.validate();
+  const bool check = must_check(c, a::kError);
+  const Status status = check ? arrays.validate() : checked(c, a::kError);
   c.output(a::kOutput) = status.is_ok() ? evaluate_arrays(arrays, x) : 0.0;
-  write_error(c, a::kError, status);
+  if (check) write_error(c, a::kError, status);
 }
 
 void compute_anim_curve(ComputeContext& c) {
@@ -182,14 +201,17 @@ void compute_anim_curve(ComputeContext& c) {
   all.settings.pre_infinity = read_enum<Infinity>(c, a::kPreInfinity, kInfinityCount);
   all.settings.post_infinity = read_enum<Infinity>(c, a::kPostInfinity, kInfinityCount);
   const std::size_t key_count = all.times.size();
-  Status status = check_clip_offsets(offsets, key_count);
-  for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
-                                    std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
-                                    std::pair{all.out_weights, "outWeight"}}) {
-    if (status) status = check_per_key(array, key_count, name);
+  const bool check = must_check(c, a::kError);
+  Status status = check ? check_clip_offsets(offsets, key_count) : checked(c, a::kError);
+  if (check) {
+    for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
+                                      std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
+                                      std::pair{all.out_weights, "outWeight"}}) {
+      if (status) status = check_per_key(array, key_count, name);
+    }
+    if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
+    if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
   }
-  if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
-  if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
   const auto slice = [&all](std::size_t first, std::size_t count) {
     CurveArrays part = all;
     part.times = cut(all.times, first, count);
@@ -205,7 +227,9 @@ void compute_anim_curve(ComputeContext& c) {
   double value = 0.0;
   if (status) {
     auto keys = clip_keys(offsets, c.get<std::int64_t>(anim_curve_attr::kClip), key_count,
-                          [&](std::size_t first, std::size_t count) { return slice(first, count).validate(); });
+                          [&](std::size_t first, std::size_t count) {
+                            return check ? slice(first, count).validate() : Status::ok();
+                          });
     if (!keys) {
       status = keys.status();
     } else if (!keys.value()) {
@@ -215,7 +239,7 @@ void compute_anim_curve(ComputeContext& c) {
     }
   }
   c.output(a::kOutput) = value;
-  write_error(c, a::kError, status);
+  if (check) write_error(c, a::kError, status);
 }
 
 void compute_driven_key(ComputeContext& c) { compute_curve_at(c, c.get<double>(driven_key_attr::kInput)); }
@@ -231,8 +255,9 @@ void compute_track(ComputeContext& c) {
   all.interpolation = read_enum<Interpolation>(c, a::kInterpolation, kInterpolationCount);
   const auto& offsets = c.get<std::vector<std::int64_t>>(a::kClipOffsets);
   const std::size_t key_count = all.times.size();
-  Status status = Status::ok();
-  if (!offsets.empty()) {
+  const bool check = must_check(c, a::kError);
+  Status status = check ? Status::ok() : checked(c, a::kError);
+  if (check && !offsets.empty()) {
     status = check_clip_offsets(offsets, key_count);
     if (status) status = check_per_key(all.values, key_count, "keyValues");
     if (status) status = check_per_key(all.in_tangents, key_count, "inTangents");
@@ -250,7 +275,9 @@ void compute_track(ComputeContext& c) {
   TrackArrays<T> arrays = all;
   if (status) {
     auto keys = clip_keys(offsets, c.get<std::int64_t>(a::kClip), key_count,
-                          [&](std::size_t first, std::size_t count) { return slice(first, count).validate(); });
+                          [&](std::size_t first, std::size_t count) {
+                            return check ? slice(first, count).validate() : Status::ok();
+                          });
     if (!keys) status = keys.status();
     else if (!keys.value()) rest = true;
     else arrays = slice(keys.value()->first, keys.value()->count);
@@ -262,7 +289,7 @@ void compute_track(ComputeContext& c) {
   } else {
     c.output(a::kOutput) = Vec3(Vec3::Zero());
   }
-  write_error(c, a::kError, status);
+  if (check) write_error(c, a::kError, status);
 }
 
 template <typename T>
@@ -287,7 +314,7 @@ graph::NodeTypeSpec track_spec(std::string name, ValueType value_type, std::stri
       input("outTangents", values, std::vector<T>{}, kOutputs),
       interpolation,
       output("output", {value_type, false}),
-      output("error", {ValueType::kString, false}, graph::kHidden),
+      error_output(),
       input("clipOffsets", {ValueType::kInt, true}, std::vector<std::int64_t>{}, kOutputs),
       input("clip", {ValueType::kInt, false}, std::int64_t{0}, kOutputs),
       input("restValue", {value_type, false}, rest_default<T>(), kOutputs),
@@ -314,7 +341,7 @@ Status register_anim_types(graph::Registry& registry) {
   driven.name = kDrivenKeyType;
   driven.description = "A driven-key curve: keys over the value of its input attribute (set-driven keys)";
   driven.attrs = curve_attrs();
-  driven.attrs.push_back(input("input", {ValueType::kDouble, false}, 0.0, kOutputs, graph::kKeyable));
+  driven.attrs.push_back(input("input", {ValueType::kDouble, false}, 0.0, {"output"}, graph::kKeyable));
   driven.compute = compute_driven_key;
 
   graph::NodeTypeSpec vec3 = track_spec<Vec3>(kAnimCurveVec3Type, ValueType::kDouble3,

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -220,6 +221,83 @@ TEST_F(AnimNodes, anim_curve__empty_curve_outputs_zero) {
   EXPECT_TRUE(value<std::string>(curve, curve_attr::kError).empty()) << "no keys is valid";
   const NodeId track = create(kAnimCurveVec3Type, "track");
   EXPECT_TRUE(value<Vec3>(track, track_attr::kOutput) == Vec3::Zero());
+}
+
+// The check of the keys (O(keys)) is done when the keys change, not at
+// every time: `error` is time-invariant, so a time change leaves it clean
+// and a compute keeps its message. Playback of N frames of an N-key curve
+// was O(N^2) while every frame's compute re-checked every key.
+TEST_F(AnimNodes, keys_are_checked_when_they_change_not_when_the_time_does) {
+  const NodeId curve = create(kAnimCurveType, "c");
+  const NodeId track = create(kAnimCurveVec3Type, "v");
+  const NodeId clips = create(kAnimCurveQuatType, "q");
+  set(curve, curve_attr::kKeyTimes, std::vector<double>{0, 1});
+  set(curve, curve_attr::kKeyValues, std::vector<double>{1, 3});
+  set(track, track_attr::kKeyTimes, std::vector<double>{0, 2});
+  set(track, track_attr::kKeyValues, std::vector<Vec3>{Vec3(0, 0, 0), Vec3(2, 0, 0)});
+  const Quat z90(Eigen::AngleAxisd(math::kPi / 2, Vec3::UnitZ()));
+  set(clips, track_attr::kKeyTimes, std::vector<double>{0, 1, 0, 1});
+  set(clips, track_attr::kKeyValues, std::vector<Quat>{Quat::Identity(), z90, z90, Quat::Identity()});
+  set(clips, track_attr::kClipOffsets, std::vector<std::int64_t>{0, 2, 4});
+  set(clips, track_attr::kClip, std::int64_t{1});
+  const std::vector<std::pair<NodeId, graph::AttrIndex>> errors = {
+      {curve, curve_attr::kError}, {track, track_attr::kError}, {clips, track_attr::kError}};
+  const std::vector<std::pair<NodeId, graph::AttrIndex>> outputs = {
+      {curve, curve_attr::kOutput}, {track, track_attr::kOutput}, {clips, track_attr::kOutput}};
+  for (const auto& [n, a] : errors) EXPECT_TRUE(value<std::string>(n, a).empty());
+  for (double t : {0.25, 0.5, 0.75}) {
+    graph().set_time(t);
+    for (std::size_t i = 0; i < errors.size(); ++i) {
+      EXPECT_TRUE(graph().node(outputs[i].first)->is_dirty(outputs[i].second)) << "t " << t;
+      EXPECT_FALSE(graph().node(errors[i].first)->is_dirty(errors[i].second)) << "t " << t << ": error dirtied by time";
+    }
+    EXPECT_DOUBLE_EQ(value<double>(curve, curve_attr::kOutput), 1 + 2 * (3 * t * t - 2 * t * t * t))
+        << "flat auto tangents at both ends";
+    EXPECT_NEAR((value<Vec3>(track, track_attr::kOutput) - Vec3(t, 0, 0)).norm(), 0.0, kTight);
+    const Quat q = value<Quat>(clips, track_attr::kOutput);
+    EXPECT_NEAR(q.angularDistance(Quat(Eigen::AngleAxisd(math::kPi / 2 * (1 - t), Vec3::UnitZ()))), 0.0, 1e-12);
+  }
+  // Bad keys: checked at once, and the error stays while only time changes.
+  set(curve, curve_attr::kKeyTimes, std::vector<double>{1, 0});
+  set(track, track_attr::kKeyValues, std::vector<Vec3>{Vec3(0, 0, 0), Vec3(NAN, 0, 0)});
+  set(clips, track_attr::kKeyTimes, std::vector<double>{0, 1, 1, 0});
+  for (double t : {0.5, 0.25}) {
+    graph().set_time(t);
+    EXPECT_EQ(value<double>(curve, curve_attr::kOutput), 0.0);
+    EXPECT_EQ(value<Vec3>(track, track_attr::kOutput), Vec3::Zero());
+    EXPECT_TRUE(value<Quat>(clips, track_attr::kOutput).isApprox(Quat::Identity()));
+    EXPECT_NE(value<std::string>(curve, curve_attr::kError).find("keys[1].time"), std::string::npos);
+    EXPECT_NE(value<std::string>(track, track_attr::kError).find("keyValues[1]"), std::string::npos);
+    EXPECT_NE(value<std::string>(clips, track_attr::kError).find("clip 1"), std::string::npos);
+  }
+  // Undone, the keys are valid again and are checked again.
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(graph().undo());
+  graph().set_time(0.5);
+  for (const auto& [n, a] : errors) EXPECT_TRUE(value<std::string>(n, a).empty());
+  EXPECT_NEAR((value<Vec3>(track, track_attr::kOutput) - Vec3(0.5, 0, 0)).norm(), 0.0, kTight);
+  // Switching clips re-checks (the clip picks the keys).
+  set(clips, track_attr::kClip, std::int64_t{0});
+  EXPECT_TRUE(graph().node(clips)->is_dirty(track_attr::kError));
+  EXPECT_NEAR(value<Quat>(clips, track_attr::kOutput).angularDistance(Quat(Eigen::AngleAxisd(math::kPi / 4, Vec3::UnitZ()))),
+              0.0, 1e-12);
+}
+
+// A driven key's input moves its output only: the keys are not re-checked.
+TEST_F(AnimNodes, driven_key__input_leaves_the_check_clean) {
+  const NodeId sdk = create(kDrivenKeyType, "sdk");
+  set(sdk, curve_attr::kKeyTimes, std::vector<double>{0, 10});
+  set(sdk, curve_attr::kKeyValues, std::vector<double>{1, 2});
+  set(sdk, curve_attr::kInTangentType, std::vector<std::int64_t>{1, 1});
+  set(sdk, curve_attr::kOutTangentType, std::vector<std::int64_t>{1, 1});
+  EXPECT_DOUBLE_EQ(value<double>(sdk, curve_attr::kOutput), 1.0);
+  set(sdk, driven_key_attr::kInput, 5.0);
+  EXPECT_FALSE(graph().node(sdk)->is_dirty(curve_attr::kError));
+  EXPECT_DOUBLE_EQ(value<double>(sdk, curve_attr::kOutput), 1.5);
+  set(sdk, curve_attr::kKeyValues, std::vector<double>{1});
+  EXPECT_NE(value<std::string>(sdk, curve_attr::kError).find("keyValues"), std::string::npos);
+  set(sdk, driven_key_attr::kInput, 7.0);
+  EXPECT_EQ(value<double>(sdk, curve_attr::kOutput), 0.0);
+  EXPECT_FALSE(value<std::string>(sdk, curve_attr::kError).empty());
 }
 
 }  // namespace

@@ -4,15 +4,17 @@
 // glTF tracks (animCurveVec3, animCurveQuat). Each node stores its keys in
 // its own input attributes and calls the kernels of curve.h / track.h.
 //
-// No per-node cache. A node has nothing but attributes, and an unconnected
-// input carries no dirty flag, so a compute cannot tell whether the keys
-// changed since the last one; every compute therefore validates the key
-// arrays (O(keys), no allocation) and evaluates with a binary search over
-// the key times plus the (at most four) keys around the time
-// (evaluate_arrays). A hidden cursor attribute was considered and left out:
-// it would save only the O(log keys) search while the validation stays
-// O(keys). Playback of many channels at the kernel's speed goes through
-// SampleCurvesJob / SampleTracksJob on compiled curves instead.
+// No per-node cache but the check of the keys. The hidden `error` output is
+// time-invariant (graph::kTimeInvariant) and depends on every key array, so
+// it is dirty exactly when the keys (or a driven key's settings) changed
+// since it was written: a compute validates the key arrays (O(keys)) only
+// then, and otherwise takes `error`'s message as the result. A time change
+// therefore costs a binary search over the key times plus the (at most
+// four) keys around the time (evaluate_arrays), not O(keys): playing or
+// baking N frames of an N-key curve is O(N log N), not O(N^2). A hidden
+// cursor attribute was considered and left out: it would save only the
+// O(log keys) search. Playback of many channels at the kernel's speed goes
+// through SampleCurvesJob / SampleTracksJob on compiled curves instead.
 //
 // Bad key data never crashes a compute: the node writes 0 (zero / the
 // identity rotation for tracks) to `output` and the reason, naming the key
