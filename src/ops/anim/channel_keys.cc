@@ -80,10 +80,13 @@ KeyRange active_range(const graph::Node& curve, const CurveLayout& l) {
   return r;
 }
 
+// Whether a key at `key` is the key at `t`.
+bool same_time(double key, double t) { return std::abs(key - t) <= kKeyTimeTolerance; }
+
 // Index of the key at `t` in the range, or -1.
 long key_at(const std::vector<double>& times, const KeyRange& r, double t) {
   for (std::size_t i = r.begin; i < r.end && i < times.size(); ++i)
-    if (std::abs(times[i] - t) <= kKeyTimeTolerance) return static_cast<long>(i);
+    if (same_time(times[i], t)) return static_cast<long>(i);
   return -1;
 }
 
@@ -243,6 +246,249 @@ std::string channel_name(const Graph& graph, NodeId control, AttrIndex attr, int
   return graph.plug_name(Plug{control, attr, -1, static_cast<std::int8_t>(component)});
 }
 
+// ---- many keys at once (write_channel_keys) ----------------------------------
+// The same edits as curve_write / curve_create once per key in time order,
+// computed in one pass over each curve's arrays, which are then set once.
+
+// `array` with `fill` at each position of `at` (increasing, positions in the
+// result).
+template <typename E>
+std::vector<E> with_inserted(const std::vector<E>& array, const std::vector<std::size_t>& at, const E& fill) {
+  std::vector<E> out;
+  out.reserve(array.size() + at.size());
+  std::size_t from = 0, q = 0;
+  for (std::size_t p = 0; p < array.size() + at.size(); ++p) {
+    if (q < at.size() && at[q] == p) {
+      out.push_back(fill);
+      ++q;
+    } else {
+      out.push_back(array[from++]);
+    }
+  }
+  return out;
+}
+
+// A quaternion key turned into the hemisphere of `ref` (curve_write's rule);
+// other values as they are.
+template <typename T>
+T continuous(T v, const T* ref) {
+  if constexpr (std::is_same_v<T, Quat>) {
+    if (ref && v.dot(*ref) < 0) v.coeffs() = -v.coeffs();
+  }
+  (void)ref;
+  return v;
+}
+
+// A curve's key times and values after writing keys (ts, vs) into its active
+// clip, and where keys were inserted (positions in the result, increasing).
+template <typename T>
+struct Merged {
+  std::vector<double> times;
+  std::vector<T> values;
+  std::vector<std::size_t> inserted;
+};
+
+// Writing the keys one at a time, in time order (`ts` increasing, each more
+// than the tolerance after the last): a key matches the first key of the
+// clip within the tolerance (only the next unmatched old key or the one the
+// last time matched can be it), else it is inserted before the first later
+// key; quaternions are turned toward the key before (the key after when
+// updating the clip's first key), as the array stood at that moment.
+// `old_t` is sorted within `r`.
+template <typename T>
+Result<Merged<T>> merge_keys(const Graph& graph, const std::vector<double>& old_t, const std::vector<T>& old_v,
+                             const KeyRange& r, std::span<const double> ts, std::span<const T> vs, bool insert,
+                             const std::string& channel) {
+  Merged<T> m;
+  m.times.reserve(old_t.size() + ts.size());
+  m.values.reserve(old_t.size() + ts.size());
+  m.times.assign(old_t.begin(), old_t.begin() + static_cast<std::ptrdiff_t>(r.begin));
+  m.values.assign(old_v.begin(), old_v.begin() + static_cast<std::ptrdiff_t>(r.begin));
+  std::size_t j = r.begin;  // the next old key not in `m`
+  bool matched_last = false;  // m's last key is an old key a time matched
+  // Element p of the array as sequential writes would have it now.
+  auto current = [&](std::size_t p) -> const T* {
+    if (p < m.values.size()) return &m.values[p];
+    p = j + (p - m.values.size());
+    return p < old_v.size() ? &old_v[p] : nullptr;
+  };
+  for (std::size_t k = 0; k < ts.size(); ++k) {
+    const double t = ts[k];
+    if (matched_last && same_time(m.times.back(), t)) {
+      const std::size_t i = m.values.size() - 1;
+      m.values[i] = continuous(vs[k], i > r.begin ? current(i - 1) : current(i + 1));
+      continue;
+    }
+    matched_last = false;
+    while (j < r.end && old_t[j] < t && !same_time(old_t[j], t)) {
+      m.times.push_back(old_t[j]);
+      m.values.push_back(old_v[j]);
+      ++j;
+    }
+    const std::size_t i = m.values.size();
+    if (j < r.end && same_time(old_t[j], t)) {
+      const T v = continuous(vs[k], i > r.begin ? current(i - 1) : current(i + 1));
+      m.times.push_back(old_t[j]);
+      m.values.push_back(v);
+      ++j;
+      matched_last = true;
+      continue;
+    }
+    if (!insert)
+      return error(ErrorCode::kInvalidArgument, channel + " is keyed and " + frame_at(graph, t) +
+                                                    " has no key; set a key there or turn auto-key on");
+    const T v = continuous(vs[k], i > r.begin ? current(i - 1) : nullptr);
+    m.inserted.push_back(i);
+    m.times.push_back(t);
+    m.values.push_back(v);
+  }
+  m.times.insert(m.times.end(), old_t.begin() + static_cast<std::ptrdiff_t>(j), old_t.end());
+  m.values.insert(m.values.end(), old_v.begin() + static_cast<std::ptrdiff_t>(j), old_v.end());
+  return m;
+}
+
+// curve_write for many keys: each array of the curve set at most once.
+template <typename T>
+Status curve_write_many(Graph& graph, NodeId curve, CurveKind kind, std::span<const double> ts, std::span<const T> vs,
+                        bool insert, const std::string& channel) {
+  const graph::Node& n = *graph.node(curve);
+  const CurveLayout l = layout(kind);
+  (void)graph.evaluate(Plug{curve, l.clip, -1});  // the active clip, up to date
+  const KeyRange r = active_range(n, l);
+  if (r.clip == -2)
+    return error(ErrorCode::kInvalidArgument,
+                 channel + ": the active clip does not animate this channel (curve '" + n.name() + "')");
+  const auto& old_t = std::get<std::vector<double>>(n.value(l.times));
+  const auto& old_v = std::get<std::vector<T>>(n.value(l.values));
+  const std::size_t count = old_t.size();
+  if (old_v.size() != count)
+    return error(ErrorCode::kInvalidArgument, channel + ": curve '" + n.name() + "' has " +
+                                                  std::to_string(old_v.size()) + " key values for " +
+                                                  std::to_string(count) + " key times");
+  Result<Merged<T>> m = merge_keys(graph, old_t, old_v, r, ts, vs, insert, channel);
+  if (!m) return m.status();
+  graph::Transaction tx(graph, "key " + channel);
+  Status s;
+  if (!m->inserted.empty()) {
+    s = graph.set_value(Plug{curve, l.times, -1}, std::move(m->times));
+    for (AttrIndex a : l.per_key) {
+      if (!s) break;
+      const Value& arr = n.value(a);
+      if (array_size(arr) != count) continue;  // empty: defaults for every key
+      Value grown;
+      if constexpr (std::is_same_v<T, double>) {
+        if (a == curve_attr::kInTangentType || a == curve_attr::kOutTangentType)
+          grown = with_inserted(std::get<std::vector<std::int64_t>>(arr), m->inserted, kAutoTangent);
+        else
+          grown = with_inserted(std::get<std::vector<double>>(arr), m->inserted,
+                                a == curve_attr::kInWeight || a == curve_attr::kOutWeight ? 1.0 / 3.0 : 0.0);
+      } else if constexpr (std::is_same_v<T, Vec3>) {
+        grown = with_inserted(std::get<std::vector<Vec3>>(arr), m->inserted, Vec3(Vec3::Zero()));
+      } else {
+        grown = with_inserted(std::get<std::vector<Quat>>(arr), m->inserted, Quat(0, 0, 0, 0));  // cubic tangents: flat
+      }
+      s = graph.set_value(Plug{curve, a, -1}, std::move(grown));
+    }
+    if (s && r.clip >= 0) {
+      auto offsets = std::get<std::vector<std::int64_t>>(n.value(l.offsets));
+      for (std::size_t c = static_cast<std::size_t>(r.clip) + 1; c < offsets.size(); ++c)
+        offsets[c] += static_cast<std::int64_t>(m->inserted.size());
+      s = graph.set_value(Plug{curve, l.offsets, -1}, std::move(offsets));
+    }
+  }
+  if (s) s = graph.set_value(Plug{curve, l.values, -1}, std::move(m->values));
+  if (!s) tx.rollback();
+  return s;
+}
+
+// curve_create for many keys.
+template <typename T>
+Status curve_create_many(Graph& graph, const std::string& name, CurveKind kind, std::span<const double> ts,
+                         std::span<const T> vs, const Plug& dst) {
+  const char* type = kind == CurveKind::kScalar ? ops::anim::kAnimCurveType
+                     : kind == CurveKind::kVec3 ? ops::anim::kAnimCurveVec3Type
+                                                : ops::anim::kAnimCurveQuatType;
+  Result<NodeId> curve = graph.create_node(type, name);
+  if (!curve) return curve.status();
+  const CurveLayout l = layout(kind);
+  std::vector<T> values;
+  values.reserve(vs.size());
+  for (const T& v : vs) values.push_back(continuous(v, values.empty() ? nullptr : &values.back()));
+  Status s = graph.set_value(Plug{*curve, l.times, -1}, std::vector<double>(ts.begin(), ts.end()));
+  if (s) s = graph.set_value(Plug{*curve, l.values, -1}, std::move(values));
+  const AttrIndex out = kind == CurveKind::kScalar ? AttrIndex{curve_attr::kOutput} : AttrIndex{track_attr::kOutput};
+  if (s) s = graph.connect(Plug{*curve, out, -1}, dst);
+  return s;
+}
+
+// write_channel_keys: T is Vec3 (double3 channels) or Quat (rotateQuaternion).
+template <typename T>
+Status write_keys(Graph& graph, NodeId control, AttrIndex attr, std::span<const double> times, std::span<const T> values,
+                  bool insert) {
+  constexpr bool kQuat = std::is_same_v<T, Quat>;
+  const graph::Node* n = graph.node(control);
+  if (!n) return error(ErrorCode::kNotFound, "key: no such node (stale handle)");
+  if (attr >= n->type().attr_count()) return error(ErrorCode::kNotFound, "key: no such attribute on '" + n->name() + "'");
+  const std::string channel = channel_name(graph, control, attr);
+  if (kQuat != (attr == xform::kRotateQuaternion) ||
+      n->type().attr(attr).type != graph::AttrType{kQuat ? graph::ValueType::kQuat : graph::ValueType::kDouble3, false})
+    return error(ErrorCode::kInvalidArgument,
+                 "key " + channel + ": " + (kQuat ? "quaternion keys go on rotateQuaternion" : "not a double3 channel"));
+  if (times.size() != values.size())
+    return error(ErrorCode::kInvalidArgument, "key " + channel + ": " + std::to_string(times.size()) + " times for " +
+                                                  std::to_string(values.size()) + " values");
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    if (!std::isfinite(times[k]))
+      return error(ErrorCode::kInvalidArgument, "key " + channel + ": time " + std::to_string(k) + " is not finite");
+    if (k > 0 && !(times[k] > times[k - 1] && !same_time(times[k - 1], times[k])))
+      return error(ErrorCode::kInvalidArgument, "key " + channel + ": " + frame_at(graph, times[k]) + " (time " +
+                                                    std::to_string(k) + ") is not after " + frame_at(graph, times[k - 1]) +
+                                                    " by more than the key tolerance");
+  }
+  if (times.empty()) return Status::ok();
+  const std::string base = n->name() + "_" + n->type().attr(attr).name;
+  if (auto src = source_of(*n, Plug{control, attr, -1})) {
+    const CurveKind kind = curve_kind(graph, src->node);
+    if (kind != (kQuat ? CurveKind::kQuat : CurveKind::kVec3))
+      return error(ErrorCode::kInvalidArgument,
+                   channel + " is driven by " + graph.plug_name(*src) + ", not by a curve; it cannot be keyed");
+    return curve_write_many<T>(graph, src->node, kind, times, values, insert, channel);
+  }
+  if constexpr (kQuat) {
+    if (!insert) return graph.set_value(Plug{control, attr, -1}, values.back());
+    graph::Transaction tx(graph, "key " + channel);
+    Status s = curve_create_many<Quat>(graph, base, CurveKind::kQuat, times, values, Plug{control, attr, -1});
+    if (!s) tx.rollback();
+    return s;
+  } else {
+    // Each component free or keyed by its own curve.
+    static constexpr const char* kAxis[3] = {"X", "Y", "Z"};
+    std::optional<Plug> comp[3];
+    bool any = false;
+    for (int i = 0; i < 3; ++i) {
+      comp[i] = source_of(*n, Plug{control, attr, -1, static_cast<std::int8_t>(i)});
+      if (!comp[i]) continue;
+      any = true;
+      if (curve_kind(graph, comp[i]->node) != CurveKind::kScalar)
+        return error(ErrorCode::kInvalidArgument, channel_name(graph, control, attr, i) + " is driven by " +
+                                                      graph.plug_name(*comp[i]) + ", not by a curve; it cannot be keyed");
+    }
+    if (!any && !insert) return graph.set_value(Plug{control, attr, -1}, values.back());
+    graph::Transaction tx(graph, "key " + channel);
+    Status s;
+    std::vector<double> component(values.size());
+    for (int i = 0; i < 3 && s; ++i) {
+      const Plug dst{control, attr, -1, static_cast<std::int8_t>(i)};
+      for (std::size_t k = 0; k < values.size(); ++k) component[k] = values[k][i];
+      if (comp[i]) s = curve_write_many<double>(graph, comp[i]->node, CurveKind::kScalar, times, component, insert, graph.plug_name(dst));
+      else if (insert) s = curve_create_many<double>(graph, base + kAxis[i], CurveKind::kScalar, times, component, dst);
+      else s = graph.set_value(dst, component.back());
+    }
+    if (!s) tx.rollback();
+    return s;
+  }
+}
+
 }  // namespace
 
 CurveKind curve_kind(const Graph& graph, NodeId id) {
@@ -324,6 +570,16 @@ Status write_channel_key(Graph& graph, NodeId control, AttrIndex attr, const Val
   }
   if (!s) tx.rollback();
   return s;
+}
+
+Status write_channel_keys(Graph& graph, NodeId node, AttrIndex attr, std::span<const double> times,
+                          std::span<const Vec3> values, bool insert) {
+  return write_keys<Vec3>(graph, node, attr, times, values, insert);
+}
+
+Status write_channel_keys(Graph& graph, NodeId node, AttrIndex attr, std::span<const double> times,
+                          std::span<const Quat> values, bool insert) {
+  return write_keys<Quat>(graph, node, attr, times, values, insert);
 }
 
 }  // namespace rigel::ops::anim

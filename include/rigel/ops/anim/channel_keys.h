@@ -12,11 +12,13 @@
 // Keys closer than kKeyTimeTolerance are the same key: float32 glTF times of
 // frame f differ from f / fps by ~1e-9.
 
+#include <span>
 #include <string>
 #include <vector>
 
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
+#include "rigel/math/types.h"
 
 namespace rigel::ops::anim {
 
@@ -43,6 +45,22 @@ bool curve_has_key_at(const graph::Graph& graph, graph::NodeId curve, double t);
 // a fitting curve: kInvalidArgument naming the driver. One undo step.
 Status write_channel_key(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, const graph::Value& value,
                          double t, bool insert);
+
+// Many keys on one channel: what write_channel_key(values[k], times[k])
+// gives for k = 0, 1, ... in turn (same keys, tangents, quaternion signs,
+// clip offsets and curve names), but each curve's arrays are merged in one
+// pass and set once, so time and memory grow with the keys, not with their
+// square: the undo step holds each array before and after, not a copy per
+// key (a bake of N frames set every array N times, O(N^2)). `times` are
+// finite and increase, each more than kKeyTimeTolerance after the one
+// before; one value per time (math::Vec3 for a double3 channel, math::Quat
+// for rotateQuaternion). A free channel is set to the last value when not
+// `insert`. Fails as write_channel_key, and on times out of order; all or
+// nothing, one undo step.
+Status write_channel_keys(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, std::span<const double> times,
+                          std::span<const math::Vec3> values, bool insert);
+Status write_channel_keys(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, std::span<const double> times,
+                          std::span<const math::Quat> values, bool insert);
 
 // Removes the key at `t` from `curve`, which drives `channel`; a curve left
 // without keys is deleted and the channel is set to `keep`. Ok with
