@@ -5,8 +5,11 @@ import { defineConfig } from '@playwright/test';
 export default defineConfig({
   testDir: './e2e',
   outputDir: './test-results',
-  timeout: 90_000,
-  expect: { timeout: 10_000 },
+  // Generous: the suite runs on two shared cores with software WebGL
+  // (SwiftShader). Tests wait on state, never on time: a limit only bounds
+  // how long a broken test takes to fail.
+  timeout: 180_000,
+  expect: { timeout: 30_000 },
   // One scene per test and two shared cores: tests run one after the other.
   workers: 1,
   fullyParallel: false,

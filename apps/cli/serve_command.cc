@@ -106,6 +106,7 @@ int run_serve(const ServeArgs& a) {
   }
 
   server::Workspace workspace(std::move(scene), scene_path, fs::absolute(a.root), ephemeral::components());
+  if (!a.scene.empty()) workspace.set_character(fs::absolute(a.scene).lexically_normal());
   server::HttpServer http(workspace, options);
 
   // SIGINT / SIGTERM stop the server from a thread of ours (stop() is not

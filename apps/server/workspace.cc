@@ -147,6 +147,7 @@ struct Workspace::Impl {
   ephemeral::Session session;
   fs::path scene_path;
   fs::path root;
+  fs::path character;  // the file the scene was opened from, or empty
   const rig::ComponentFactory& factory;
   std::uint64_t revision = 1;
   std::uint64_t gesture = 0;  // undo merge key of the current direct (non-ephemeral) drag
@@ -296,6 +297,8 @@ struct Workspace::Impl {
     out["undo"] = g().undo_label();
     out["redo"] = g().redo_label();
     out["selection"] = selection_json();
+    out["root"] = root.string();
+    out["character"] = character.empty() ? Json(nullptr) : Json(character.string());
     return out;
   }
 
@@ -845,6 +848,11 @@ Workspace::Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, f
       impl_(std::make_unique<Impl>(*scene_, std::move(scene_path), std::move(root), factory)) {}
 
 Workspace::~Workspace() = default;
+
+void Workspace::set_character(fs::path file) {
+  std::lock_guard lock(mutex_);
+  impl_->character = std::move(file);
+}
 
 std::uint64_t Workspace::revision() const {
   std::lock_guard lock(mutex_);

@@ -58,6 +58,9 @@ class Workspace {
   Response handle(const Request& request);
 
   std::uint64_t revision() const;
+  // The character file the scene was opened from (GET /api/scene's
+  // `character`: the geometry of a definition the editor starts).
+  void set_character(fs::path file);
   // For tests and the CLI: the scene, under the caller's care (no request
   // must be running).
   scene::Scene& scene() { return *scene_; }

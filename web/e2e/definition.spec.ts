@@ -3,10 +3,11 @@
 // check the saved file with `rigel validate`.
 
 import { spawnSync } from 'node:child_process';
-import { existsSync, readFileSync } from 'node:fs';
-import { join } from 'node:path';
+import { existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
 import type { Page } from '@playwright/test';
-import { expect, rigelBin, test } from './fixtures';
+import { character, expect, rigelBin, settle, test } from './fixtures';
 
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
 
@@ -89,7 +90,7 @@ test('definition editor: build global + fkChain live, save, validate', async ({ 
       const rigs = (await server.get('/api/rigs')).rigs as any[];
       const r = rigs.find((x) => x.name === 'armrig');
       return r ? r.components.map((c: any) => c.type).sort() : null;
-    }, { timeout: 15_000 })
+    })
     .toEqual(['fkChain', 'global']);
   await page.getByTestId('tab-rigs').click();
   await expect(page.getByTestId('rig-armrig')).toBeVisible();
@@ -112,6 +113,10 @@ test('definition editor: build global + fkChain live, save, validate', async ({ 
   const text = readFileSync(saved, 'utf8');
   expect(text).toContain('type="fkChain"');
   expect(text).toContain('upper_arm.L');
+  // The rig's geometry: the scene's character, relative to the saved file's folder.
+  const geo = /<geo file="([^"]+)"/.exec(text);
+  expect(geo, text).not.toBeNull();
+  expect(resolve(dirname(saved), geo![1]!)).toBe(resolve(character));
   await shots.take('saved');
   const v = spawnSync(rigelBin, ['validate', saved], { encoding: 'utf8' });
   expect(v.status, `rigel validate: ${v.stdout}${v.stderr}`).toBe(0);
@@ -119,4 +124,93 @@ test('definition editor: build global + fkChain live, save, validate', async ({ 
   const errors = (await page.evaluate(() => (window as any).rigel.errors)) as string[];
   expect(errors.filter((e) => /^(GET|POST) /.test(e))).toEqual([]);
   expect(errors.filter((e) => e.startsWith('Link refused')).length).toBe(2);
+});
+
+/** The geo files of a saved .rig.xml, resolved against its folder. */
+function geoFiles(file: string): string[] {
+  const text = readFileSync(file, 'utf8');
+  return [...text.matchAll(/<geo file="([^"]+)"/g)].map((m) => resolve(dirname(file), m[1]!));
+}
+
+test('definition editor: a live build that fails shows the build error, not "valid"', async ({ app: page, server }) => {
+  await page.getByTestId('tab-def').click();
+  await page.getByTestId('palette-global').click();
+  const global = await nodeId(page, 'global');
+  await page.getByTestId('palette-fkChain').click();
+  const chain = await nodeId(page, 'fkChain');
+  await page.getByTestId(`node-${chain}`).click();
+  await page.getByTestId('def-guide-joint-0').fill('upper_arm.L');
+  await page.getByTestId('def-guide-joint-0').press('Enter');
+  await page.getByTestId('def-guide-add').click();
+  // A joint the character does not have: the definition is valid, its build is not.
+  await page.getByTestId('def-guide-joint-1').fill('no_such_joint');
+  await page.getByTestId('def-guide-joint-1').press('Enter');
+  await link(page, 'rig', global);
+  await link(page, global, chain);
+  const problems = page.getByTestId('def-problems');
+  await expect(problems).toHaveAttribute('data-state', 'build-failed');
+  await expect(page.getByTestId('def-build-error')).toContainText('no_such_joint');
+  await expect(problems).not.toContainText('✔');
+  await settle(page, server);
+  // The failed rebuild changed nothing: the rig has only what built before (global).
+  const types = async (): Promise<string[]> => ((await server.get('/api/rigs')).rigs[0]?.components ?? []).map((c: any) => c.type).sort();
+  expect(await types()).toEqual(['global']);
+
+  // Fixed: valid and built.
+  await page.getByTestId(`node-${chain}`).click();
+  await page.getByTestId('def-guide-joint-1').fill('forearm.L');
+  await page.getByTestId('def-guide-joint-1').press('Enter');
+  await expect(problems).toHaveAttribute('data-state', 'valid');
+  await expect(problems).toContainText('✔ valid and built');
+  await expect.poll(types).toEqual(['fkChain', 'global']);
+});
+
+test('definition editor: open the definition of a built rig, save it elsewhere with its <geo>', async ({ app: page, server, shots }) => {
+  await page.getByTestId('rig-add-path').fill('examples/biped.rig.xml');
+  await page.getByTestId('rig-add').click();
+  await expect(page.getByTestId('rig-hero')).toBeVisible();
+  await settle(page, server);
+  const built = (await server.get('/api/rigs')).rigs[0];
+
+  // From the Rig Manager: the editor opens with every component of the rig.
+  await page.getByTestId('rig-open-definition').click();
+  await expect(page.locator('#def-panel')).toBeVisible();
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.editor.nodes.size - 1)).toBe(built.components.length);
+  await expect(page.locator('svg.links path.link.live')).toHaveCount(built.components.length);
+  await expect(page.getByTestId('def-save-path')).toHaveValue('examples/biped.rig.xml');
+  await page.getByTestId('node-rig').click();
+  await expect(page.getByTestId('def-rig-name')).toHaveValue('hero');
+  await expect(page.getByTestId('def-geo-file-0')).toHaveValue(join(server.root, 'tests/data/gltf/rigify_human_metarig.glb'));
+  await shots.take('opened');
+
+  // Saved two folders down: the <geo> line still names the same character.
+  await page.getByTestId('def-save-path').fill('rigs/sub/hero.rig.xml');
+  await page.getByTestId('def-save').click();
+  await expect(page.getByTestId('status-text')).toContainText('Saved');
+  const saved = join(server.root, 'rigs/sub/hero.rig.xml');
+  expect(readFileSync(saved, 'utf8')).toContain('<geo file="../../tests/data/gltf/rigify_human_metarig.glb"/>');
+  expect(geoFiles(saved)).toEqual(geoFiles(join(server.root, 'examples/biped.rig.xml')));
+  // The same rig as the original (rigel diff), and it builds on its own <geo>.
+  // The editor adds node positions, and the geometry's text moved with the
+  // file (the files it names are the same, checked above); nothing else differs.
+  const diff = spawnSync(rigelBin, ['diff', join(server.root, 'examples/biped.rig.xml'), saved, '--json'], { encoding: 'utf8' });
+  const differences = (JSON.parse(diff.stdout) as { differences: { kind: string; text: string }[] }).differences;
+  const moved = new Set(['rigGuiLocation', 'componentGuiLocation', 'geometryRemoved', 'geometryAdded']);
+  expect(differences.filter((d) => !moved.has(d.kind)).map((d) => d.text)).toEqual([]);
+  const out = mkdtempSync(join(tmpdir(), 'rigel-e2e-build-'));
+  try {
+    const b = spawnSync(rigelBin, ['build', saved, '-o', join(out, 'hero.rigel')], { encoding: 'utf8' });
+    expect(b.status, `rigel build: ${b.stdout}${b.stderr}`).toBe(0);
+  } finally {
+    rmSync(out, { recursive: true, force: true });
+  }
+
+  // The editor's own Open does the same.
+  await page.getByTestId('def-new').click();
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.editor.nodes.size)).toBe(1);
+  await page.getByTestId('def-open-rig').selectOption('hero');
+  await page.getByTestId('def-open').click();
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.editor.nodes.size - 1)).toBe(built.components.length);
+  const errors = (await page.evaluate(() => (window as any).rigel.errors)) as string[];
+  expect(errors).toEqual([]);
 });

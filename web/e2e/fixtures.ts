@@ -35,8 +35,13 @@ export class RigelServer {
     readonly url: string,
     readonly root: string,
     readonly token: string | null,
-    private readonly proc: ChildProcess,
+    private proc: ChildProcess,
+    private readonly args: string[],
   ) {}
+
+  get port(): number {
+    return Number(new URL(this.url).port);
+  }
 
   pageUrl(): string {
     return this.url.includes('?') || !this.token ? this.url : `${this.url}?token=${this.token}`;
@@ -81,36 +86,47 @@ export class RigelServer {
     return this.proc.exitCode === null && this.proc.signalCode === null;
   }
 
+  /** Kills the server as a crash would (SIGKILL), keeping its folder. */
+  async kill(): Promise<void> {
+    if (!this.alive()) return;
+    const exited = new Promise<void>((r) => this.proc.once('exit', () => r()));
+    this.proc.kill('SIGKILL');
+    await exited;
+  }
+
+  /** Starts the server again on the same port and folder (a fresh scene). */
+  async restart(): Promise<void> {
+    await this.kill();
+    const args = this.args.map((a, i) => (this.args[i - 1] === '--port' ? String(this.port) : a));
+    const { proc, log } = await spawnServer(args);
+    this.proc = proc;
+    this.log += log;
+    proc.stderr!.on('data', (d: Buffer) => (this.log += d.toString()));
+    await waitListening(this);
+  }
+
   async stop(): Promise<void> {
     if (this.alive()) {
       const exited = new Promise<void>((r) => this.proc.once('exit', () => r()));
       this.proc.kill('SIGTERM');
-      await Promise.race([exited, new Promise((r) => setTimeout(r, 3000))]);
-      if (this.alive()) this.proc.kill('SIGKILL');
+      // The exit, or SIGKILL when SIGTERM is not enough (a wedged server).
+      const timer = setTimeout(() => this.proc.kill('SIGKILL'), 5000);
+      await exited;
+      clearTimeout(timer);
     }
     rmSync(this.root, { recursive: true, force: true });
   }
 }
 
-/** Starts `rigel serve` on the demo character in a temp root with copies of the examples. */
-export async function startServer(opts: ServerOptions): Promise<RigelServer> {
-  const root = mkdtempSync(join(tmpdir(), 'rigel-e2e-'));
-  // The examples as the definitions reference them (biped's <geo> is ../tests/data/gltf/...).
-  mkdirSync(join(root, 'examples'), { recursive: true });
-  mkdirSync(join(root, 'tests/data/gltf'), { recursive: true });
-  mkdirSync(join(root, 'rigs'), { recursive: true });
-  copyFileSync(join(repoDir, 'examples/biped.rig.xml'), join(root, 'examples/biped.rig.xml'));
-  copyFileSync(character, join(root, 'tests/data/gltf/rigify_human_metarig.glb'));
-
-  const args = ['serve', character, '--port', '0', '--json', '--root', root, '--web', join(webDir, 'dist')];
-  if (opts.ephemeral) args.push('--setup-ephemeral');
-  if (opts.token) args.push('--token', opts.token);
+/** Spawns `rigel serve ARGS` and resolves with its URL once it prints it. */
+async function spawnServer(args: string[]): Promise<{ proc: ChildProcess; url: string; log: string }> {
   const proc = spawn(rigelBin, args, { stdio: ['ignore', 'pipe', 'pipe'] });
   let log = `$ ${rigelBin} ${args.join(' ')}\n`;
   proc.stderr!.on('data', (d: Buffer) => (log += d.toString()));
   const url = await new Promise<string>((resolvePromise, reject) => {
     let out = '';
-    const timer = setTimeout(() => reject(new Error(`rigel serve printed no URL in 20 s:\n${log}${out}`)), 20_000);
+    // Generous: the first start on a loaded machine imports the character.
+    const timer = setTimeout(() => reject(new Error(`rigel serve printed no URL in 60 s:\n${log}${out}`)), 60_000);
     proc.on('error', (e) => {
       clearTimeout(timer);
       reject(new Error(`cannot start ${rigelBin}: ${e.message} (set RIGEL_BIN)`));
@@ -133,20 +149,44 @@ export async function startServer(opts: ServerOptions): Promise<RigelServer> {
       }
     });
   });
-  const server = new RigelServer(url.split('?')[0]!, root, opts.token, proc);
-  proc.stderr!.on('data', (d: Buffer) => (server.log += d.toString()));
+  return { proc, url, log };
+}
+
+/** Waits until the server answers its API (it prints its URL once listening; this is the check). */
+async function waitListening(server: RigelServer): Promise<void> {
+  await baseExpect
+    .poll(
+      async () => {
+        try {
+          await server.get('/api/revision');
+          return true;
+        } catch {
+          return false;
+        }
+      },
+      { timeout: 30_000, intervals: [50, 100, 250] },
+    )
+    .toBe(true);
+}
+
+/** Starts `rigel serve` on the demo character in a temp root with copies of the examples. */
+export async function startServer(opts: ServerOptions): Promise<RigelServer> {
+  const root = mkdtempSync(join(tmpdir(), 'rigel-e2e-'));
+  // The examples as the definitions reference them (biped's <geo> is ../tests/data/gltf/...).
+  mkdirSync(join(root, 'examples'), { recursive: true });
+  mkdirSync(join(root, 'tests/data/gltf'), { recursive: true });
+  mkdirSync(join(root, 'rigs'), { recursive: true });
+  copyFileSync(join(repoDir, 'examples/biped.rig.xml'), join(root, 'examples/biped.rig.xml'));
+  copyFileSync(character, join(root, 'tests/data/gltf/rigify_human_metarig.glb'));
+
+  const args = ['serve', character, '--port', '0', '--json', '--root', root, '--web', join(webDir, 'dist')];
+  if (opts.ephemeral) args.push('--setup-ephemeral');
+  if (opts.token) args.push('--token', opts.token);
+  const { proc, url, log } = await spawnServer(args);
+  const server = new RigelServer(url.split('?')[0]!, root, opts.token, proc, args);
   server.log = log;
-  // Listening: the first answer of the API.
-  const deadline = Date.now() + 10_000;
-  for (;;) {
-    try {
-      await server.get('/api/revision');
-      break;
-    } catch (e) {
-      if (Date.now() > deadline) throw e;
-      await new Promise((r) => setTimeout(r, 100));
-    }
-  }
+  proc.stderr!.on('data', (d: Buffer) => (server.log += d.toString()));
+  await waitListening(server);
   return server;
 }
 
@@ -181,7 +221,8 @@ export const test = base.extend<
     page.on('console', (m) => console.push(`${m.type()}: ${m.text()}`));
     page.on('pageerror', (e) => console.push(`pageerror: ${e.message}`));
     await page.goto(server.pageUrl());
-    await page.waitForFunction(() => (window as any).rigel?.isReady?.() === true, null, { timeout: 30_000 });
+    await page.waitForFunction(() => (window as any).rigel?.isReady?.() === true, null, { timeout: 60_000 });
+    await settle(page, server);
     await use(page);
     await testInfo.attach('console.log', { body: console.join('\n'), contentType: 'text/plain' });
   },
@@ -234,8 +275,30 @@ export function poseDifference(a: Map<string, number[]>, b: Map<string, number[]
   return a.size === b.size ? worst : Infinity;
 }
 
-/** Clicks a control where the app says it is on screen (Shift to add). */
-export async function clickControl(page: Page, name: string, shift = false): Promise<void> {
+/**
+ * Waits until the page has caught up with the server: no request, refresh,
+ * gesture or build in flight, and the newest revision the server has is one
+ * the page has seen. What is on screen is then what the server holds, so a
+ * click lands where the page says a control is.
+ */
+export async function settle(page: Page, server: RigelServer): Promise<void> {
+  const revision = (await server.get<{ revision: number }>('/api/revision')).revision;
+  await expect
+    .poll(
+      () =>
+        page.evaluate((r) => {
+          const w = window as any;
+          return w.rigel.settled() && w.rigel.app.knownRevision >= r;
+        }, revision),
+      { message: `the page settles at revision ${revision} or later` },
+    )
+    .toBe(true);
+}
+
+/** Clicks a control where the app says it is on screen (Shift to add), once the page has settled. */
+export async function clickControl(page: Page, name: string, shift = false, server?: RigelServer): Promise<void> {
+  if (server) await settle(page, server);
+  else await expect.poll(() => page.evaluate(() => (window as any).rigel.settled())).toBe(true);
   const at = await page.evaluate((n) => (window as any).rigel.project(n), name);
   expect(at, `${name} should be visible and pickable in the viewport`).not.toBeNull();
   if (shift) await page.keyboard.down('Shift');
@@ -257,7 +320,8 @@ export async function expectSelection(page: Page, server: RigelServer, names: st
  * Drags the gizmo's translate arrow of `axis` by `pixels` along the arrow on
  * screen, in `steps` mouse moves, and waits for the gesture to be released.
  */
-export async function dragGizmo(page: Page, axis: 'x' | 'y' | 'z', pixels: number, steps = 12, stepDelayMs = 0): Promise<void> {
+export async function dragGizmo(page: Page, axis: 'x' | 'y' | 'z', pixels: number, steps = 12): Promise<void> {
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.settled())).toBe(true);
   await expect.poll(() => page.evaluate((a) => (window as any).rigel.gizmoHandle(a) !== null, axis)).toBe(true);
   const gestures = await page.evaluate(() => (window as any).rigel.app.drag.stats.gestures as number);
   const hnd = await page.evaluate((a) => (window as any).rigel.gizmoHandle(a), axis);
@@ -265,7 +329,6 @@ export async function dragGizmo(page: Page, axis: 'x' | 'y' | 'z', pixels: numbe
   await page.mouse.down();
   for (let i = 1; i <= steps; i++) {
     await page.mouse.move(hnd.x + (hnd.dx * pixels * i) / steps, hnd.y + (hnd.dy * pixels * i) / steps);
-    if (stepDelayMs) await page.waitForTimeout(stepDelayMs);
   }
   await page.mouse.up();
   await expect

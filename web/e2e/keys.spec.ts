@@ -58,13 +58,16 @@ test('set keys on two frames and play between them', async ({ app: page, server,
   const seen: number[][] = [];
   await page.keyboard.press('Space');
   await expect(page.getByTestId('play')).toHaveClass(/active/);
-  const deadline = Date.now() + 15_000;
-  while (Date.now() < deadline) {
-    seen.push(await page.evaluate((u) => (window as any).rigel.viewport.worldPosition(u), uuid));
-    const played = (await page.evaluate(() => (window as any).rigel.timeline.playedFrames)) as number[];
-    if (played.includes(8)) break;
-    await page.waitForTimeout(50);
-  }
+  // Sample the shown pose until the timeline has played frame 8.
+  await expect
+    .poll(
+      async () => {
+        seen.push(await page.evaluate((u) => (window as any).rigel.viewport.worldPosition(u), uuid));
+        return ((await page.evaluate(() => (window as any).rigel.timeline.playedFrames)) as number[]).includes(8);
+      },
+      { timeout: 60_000, message: 'playing reaches frame 8' },
+    )
+    .toBe(true);
   await shots.take('playing');
   await page.keyboard.press('Space');
   await expect(page.getByTestId('play')).not.toHaveClass(/active/);

@@ -119,7 +119,7 @@ const cases: ModeCase[] = [
 // One scene for every mode: each drag is checked against the pose just
 // before it, then undone (and the undo checked to restore it exactly).
 test('drag with the gizmo in each mode: forward, pseudo-inverse, inverse, suspended, magnet, body', async ({ app: page, server, shots }) => {
-  test.setTimeout(180_000);
+  test.setTimeout(360_000);
   const uuids = await server.uuids();
   for (const c of cases) {
     await test.step(`${c.mode} on ${c.control}`, async () => {
@@ -152,7 +152,7 @@ test('shift-click adds a control; dragging moves the whole selection; another ta
   // A second tab on the same scene, following through GET /api/revision.
   const other = await context.newPage();
   await other.goto(server.pageUrl());
-  await other.waitForFunction(() => (window as any).rigel?.isReady?.() === true, null, { timeout: 30_000 });
+  await other.waitForFunction(() => (window as any).rigel?.isReady?.() === true, null, { timeout: 60_000 });
   await page.bringToFront();
   await setMode(page, server, 'forward');
   await clickControl(page, 'hand.L_ctrl');

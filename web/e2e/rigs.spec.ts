@@ -3,7 +3,7 @@
 
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { expect, test } from './fixtures';
+import { expect, settle, test } from './fixtures';
 
 // The biped drives the joints itself: no ephemeral controls on this character.
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
@@ -65,7 +65,8 @@ test('Rig Manager: add, step, out of date, update, remove', async ({ app: page, 
     .replace('<param name="aimDistance" value="0.4"/>', '<param name="aimDistance" value="0.5"/>');
   expect(newer).not.toEqual(xml);
   writeFileSync(file, newer);
-  await expect(row).toHaveClass(/out-of-date/, { timeout: 8000 });
+  // Noticed by the Rig Manager's periodic refetch (a file changes no revision).
+  await expect(row).toHaveClass(/out-of-date/);
   await expect(page.getByTestId('rig-warning')).toBeVisible();
   await expect(page.getByTestId('rig-warning')).toContainText('1.1');
   await expect(page.getByTestId('rig-update')).toHaveClass(/danger/);
@@ -112,4 +113,53 @@ test('Rig Manager: a missing definition is reported in the status bar', async ({
   await page.getByTestId('rig-add-path').fill('../../etc/passwd');
   await page.getByTestId('rig-add').click();
   await expect(page.getByTestId('status-text')).toContainText('400');
+});
+
+// The page drops a removed rig's nodes even when an older refresh comes back
+// after the removal's (the nodes answer of a refresh that started before the
+// Remove is held until the Remove's own refresh could have been applied).
+test('Rig Manager: a removed rig leaves no control behind, whatever order refreshes come back in', async ({ app: page, server }) => {
+  await page.getByTestId('rig-add-path').fill('examples/biped.rig.xml');
+  await page.getByTestId('rig-add').click();
+  await expect(page.getByTestId('rig-hero')).toBeVisible();
+  const heroControls = () => page.evaluate(() => (window as any).rigel.app.nodes.controls.filter((c: any) => c.rig === 'hero').length);
+  await expect.poll(heroControls).toBeGreaterThan(10);
+  await settle(page, server);
+
+  // The next GET /api/nodes is answered now (with the rig) but delivered late.
+  let release!: () => void;
+  const released = new Promise<void>((r) => (release = r));
+  let held = false;
+  let heldSeen!: () => void;
+  const heldArrived = new Promise<void>((r) => (heldSeen = r));
+  await page.route('**/api/nodes', async (route) => {
+    if (held) return route.continue();
+    held = true;
+    const answer = await route.fetch();
+    heldSeen();
+    await released;
+    await route.fulfill({ response: answer });
+  });
+  // A refresh (stepping refreshes everything) whose nodes answer is held...
+  await page.getByTestId('step-back').click();
+  await heldArrived;
+  // ...then Remove, whose refresh the page may run (or queue) meanwhile.
+  await page.getByTestId('rig-remove').click();
+  await expect.poll(async () => (await server.get('/api/rigs')).rigs).toEqual([]);
+  // Let the held answer go once nothing else is left to come back: the
+  // Remove's refresh applied (a page that runs refreshes side by side) or
+  // queued behind the held one (a page that runs them one at a time).
+  await page.waitForFunction(() => {
+    const app = (window as any).rigel.app;
+    const applied = app.rigs.length === 0 && app.nodes.controls.every((c: any) => c.rig !== 'hero');
+    const queued = app.api.pending === 1 && app.api.pendingWrites === 0;
+    return applied || queued;
+  });
+  release();
+  await settle(page, server);
+  expect(await heroControls()).toBe(0);
+  await expect(page.getByTestId('rig-list')).toContainText('No rig');
+  const shown = await page.evaluate(() => [...(window as any).rigel.viewport.controlNames().values()].filter((n: string) => n.startsWith('hero_')).length);
+  expect(shown, 'the viewport draws no control of the removed rig').toBe(0);
+  await page.unroute('**/api/nodes');
 });

@@ -22,6 +22,10 @@ export interface SceneInfo {
   undo: string | null;
   redo: string | null;
   selection: string[];
+  /** The served folder (absolute): request paths are relative to it. */
+  root?: string;
+  /** The character file the scene was opened from (absolute), or null. */
+  character?: string | null;
   /** Keying scope per ephemeral rig. */
   keyScopes?: Record<string, string>;
 }
@@ -139,11 +143,14 @@ export class ApiError extends Error {
     this.name = 'ApiError';
   }
 
-  /** The text the status bar shows: route, status, message and field. */
-  describe(): string {
+  /**
+   * The text the status bar shows: route, status, message and field, with
+   * the message in the user's words (`rename`, e.g. names.ts's userText).
+   */
+  describe(rename: (text: string) => string = (t) => t): string {
     const field = this.field ? ` (field ${this.field})` : '';
     const status = this.status > 0 ? ` ${this.status}` : '';
-    return `${this.route}${status}: ${this.message}${field}`;
+    return `${this.route}${status}: ${rename(this.message)}${field}`;
   }
 }
 
@@ -152,16 +159,33 @@ export interface ApiEvents {
   error(err: ApiError): void;
   /** A revision this tab caused (the answer of a POST). */
   ownRevision(revision: number): void;
+  /** A request reached the server (true) or could not (false: network error). */
+  connection(up: boolean, err?: ApiError): void;
+}
+
+export interface RequestOptions {
+  /** Not counted in `pending` (the revision poller, periodic refetches). */
+  background?: boolean;
+  /** Statuses the caller handles itself: rejected, but not reported as errors. */
+  expected?: number[];
 }
 
 /**
- * The client. GETs and POSTs are plain fetches; POSTs carry the token of the
- * page's `?token=` as a bearer token. `pendingWrites` counts POSTs in flight
- * so that the revision poller never mistakes this tab's own change (whose
- * answer has not arrived yet) for another tab's.
+ * The client. GETs and POSTs are plain fetches; every POST carries
+ * `Content-Type: application/json` (the server refuses writes without it)
+ * and the token of the page's `?token=` as a bearer token. `pendingWrites`
+ * counts POSTs in flight so that the revision poller never mistakes this
+ * tab's own change (whose answer has not arrived yet) for another tab's;
+ * `pending` counts every request but the background ones (for tests: the
+ * page is settled when it is 0).
+ *
+ * A request that gets no answer at all (network error: the server is gone)
+ * is reported through `connection(false)`, not as an error: the app shows
+ * one "connection lost" state, not one error per request.
  */
 export class Api {
   pendingWrites = 0;
+  pending = 0;
 
   constructor(
     private readonly base: string,
@@ -169,14 +193,14 @@ export class Api {
     private readonly events: ApiEvents,
   ) {}
 
-  async get<T>(path: string): Promise<T> {
-    return this.request<T>('GET', path, undefined);
+  async get<T>(path: string, options: RequestOptions = {}): Promise<T> {
+    return this.request<T>('GET', path, undefined, options);
   }
 
-  async post<T>(path: string, body: unknown = {}): Promise<T> {
+  async post<T>(path: string, body: unknown = {}, options: RequestOptions = {}): Promise<T> {
     this.pendingWrites++;
     try {
-      const answer = await this.request<T>('POST', path, body);
+      const answer = await this.request<T>('POST', path, body, options);
       const revision = (answer as { revision?: unknown } | null)?.revision;
       if (typeof revision === 'number') this.events.ownRevision(revision);
       return answer;
@@ -188,40 +212,52 @@ export class Api {
   /** The scene as binary glTF. */
   async glb(): Promise<ArrayBuffer> {
     const route = 'GET /api/character.glb';
-    let res: Response;
+    this.pending++;
     try {
-      res = await fetch(this.base + '/api/character.glb', { cache: 'no-store' });
-    } catch (e) {
-      throw this.fail(new ApiError(route, 0, `network error: ${String(e)}`, null));
+      let res: Response;
+      try {
+        res = await fetch(this.base + '/api/character.glb', { cache: 'no-store' });
+      } catch (e) {
+        throw this.lost(new ApiError(route, 0, `network error: ${String(e)}`, null));
+      }
+      this.events.connection(true);
+      if (!res.ok) throw this.fail(await this.errorOf(route, res), {});
+      return await res.arrayBuffer();
+    } finally {
+      this.pending--;
     }
-    if (!res.ok) throw this.fail(await this.errorOf(route, res));
-    return res.arrayBuffer();
   }
 
-  private async request<T>(method: 'GET' | 'POST', path: string, body: unknown): Promise<T> {
+  private async request<T>(method: 'GET' | 'POST', path: string, body: unknown, options: RequestOptions): Promise<T> {
     const route = `${method} ${path.split('?')[0]}`;
     const headers: Record<string, string> = {};
     if (method === 'POST') {
       headers['Content-Type'] = 'application/json';
       if (this.token) headers['Authorization'] = `Bearer ${this.token}`;
     }
-    let res: Response;
+    if (!options.background) this.pending++;
     try {
-      res = await fetch(this.base + path, {
-        method,
-        headers,
-        body: method === 'POST' ? JSON.stringify(body ?? {}) : undefined,
-        cache: 'no-store',
-      });
-    } catch (e) {
-      throw this.fail(new ApiError(route, 0, `network error: ${String(e)}`, null));
-    }
-    if (!res.ok) throw this.fail(await this.errorOf(route, res));
-    const text = await res.text();
-    try {
-      return (text.length ? JSON.parse(text) : {}) as T;
-    } catch {
-      throw this.fail(new ApiError(route, res.status, `answer is not JSON: ${text.slice(0, 120)}`, null));
+      let res: Response;
+      try {
+        res = await fetch(this.base + path, {
+          method,
+          headers,
+          body: method === 'POST' ? JSON.stringify(body ?? {}) : undefined,
+          cache: 'no-store',
+        });
+      } catch (e) {
+        throw this.lost(new ApiError(route, 0, `network error: ${String(e)}`, null));
+      }
+      this.events.connection(true);
+      if (!res.ok) throw this.fail(await this.errorOf(route, res), options);
+      const text = await res.text();
+      try {
+        return (text.length ? JSON.parse(text) : {}) as T;
+      } catch {
+        throw this.fail(new ApiError(route, res.status, `answer is not JSON: ${text.slice(0, 120)}`, null), options);
+      }
+    } finally {
+      if (!options.background) this.pending--;
     }
   }
 
@@ -237,8 +273,13 @@ export class Api {
     }
   }
 
-  private fail(err: ApiError): ApiError {
-    this.events.error(err);
+  private fail(err: ApiError, options: RequestOptions): ApiError {
+    if (!options.expected?.includes(err.status)) this.events.error(err);
+    return err;
+  }
+
+  private lost(err: ApiError): ApiError {
+    this.events.connection(false, err);
     return err;
   }
 }

@@ -30,6 +30,45 @@ export interface DragStats {
   gestures: number;
 }
 
+/**
+ * Runs an async job one at a time: a call while it runs is answered by the
+ * one run that starts after it (every caller sees a run that began after
+ * its call), so overlapping refreshes never apply an older answer last.
+ */
+class Coalesced {
+  private running: Promise<void> | null = null;
+  private next: Promise<void> | null = null;
+
+  constructor(private readonly job: () => Promise<void>) {}
+
+  run(): Promise<void> {
+    if (!this.running) {
+      this.running = this.job().finally(() => {
+        this.running = null;
+      });
+      return this.running;
+    }
+    if (!this.next) {
+      this.next = this.running
+        .catch(() => undefined)
+        .then(() => {
+          this.next = null;
+          return this.run();
+        });
+    }
+    return this.next;
+  }
+
+  get busy(): boolean {
+    return this.running !== null || this.next !== null;
+  }
+}
+
+/** Poll periods: while connected, and the backoff while the server is gone. */
+const kPollMs = 250;
+const kRetryFirstMs = 500;
+const kRetryMaxMs = 4000;
+
 export class App {
   scene: SceneInfo | null = null;
   nodes: NodesAnswer | null = null;
@@ -44,11 +83,21 @@ export class App {
   readonly ready: Promise<void>;
   isReady = false;
   readonly drag = new DragGesture(this);
+  /** True while the server does not answer (the poller retries with a backoff). */
+  offline = false;
+  /** Poll attempts that got no answer, and when each was made (for tests). */
+  readonly retries: number[] = [];
 
   private nodesSignature = '';
   private poseRevision = -1;
   private readonly listeners = new Map<string, Listener[]>();
   private resolveReady!: () => void;
+  private forceReload = false;
+  private readonly refresher = new Coalesced(() => this.refreshEverything());
+  // Every fetch takes a number when it starts; an answer older than the one
+  // shown (a fetch that started earlier and came back later) is dropped.
+  private seq = 0;
+  private readonly shown = { scene: 0, nodes: 0, rigs: 0, keys: 0 };
 
   constructor(
     readonly api: Api,
@@ -78,46 +127,75 @@ export class App {
     if (revision > this.knownRevision) this.knownRevision = revision;
   }
 
+  /**
+   * True when nothing is in flight: no request but the background ones, no
+   * refresh running or queued, no gesture, and the server answering (what
+   * the end-to-end tests wait for before reading the screen).
+   */
+  settled(): boolean {
+    return this.isReady && this.api.pending === 0 && !this.refresher.busy && !this.drag.active && !this.offline;
+  }
+
   async start(): Promise<void> {
-    await this.refreshScene();
-    await this.reloadCharacter(true);
+    await this.refreshAll(true);
     this.viewport.frameAll();
-    await Promise.all([this.refreshRigs(), this.refreshKeys()]);
     this.isReady = true;
     this.resolveReady();
-    this.status.info(`Loaded ${this.scene?.path ?? 'scene'}: ${this.nodes?.controls.length ?? 0} controls`);
+    this.status.info(`Loaded ${this.scene?.path || 'scene'}: ${this.nodes?.controls.length ?? 0} controls`);
     this.startPolling();
+  }
+
+  /** A user action succeeded: an error still shown is about an earlier one. */
+  succeeded(): void {
+    this.status.clearError();
   }
 
   // -------------------------------------------------------------- refreshes
 
   async refreshScene(): Promise<void> {
+    const n = ++this.seq;
     const s = await this.api.get<SceneInfo>('/api/scene');
+    if (n < this.shown.scene) return;
+    this.shown.scene = n;
     this.scene = s;
     this.noteRevision(s.revision);
     this.viewport.setSelection(s.selection);
     this.emit('scene');
   }
 
-  /** Nodes, and the glTF when the node set or a shape changed (or `force`). */
-  async reloadCharacter(force = false): Promise<void> {
+  /** The scene changed here (an answer of a POST): older fetches of it are stale. */
+  private sceneChanged(): void {
+    this.shown.scene = ++this.seq;
+    this.emit('scene');
+  }
+
+  /**
+   * Nodes, and the glTF when the node set or a shape changed (or `force`):
+   * the node list is replaced by the server's, never merged, so the nodes
+   * of a removed rig go with it.
+   */
+  private async reloadCharacter(force = false): Promise<void> {
+    const n = ++this.seq;
     const nodes = await this.api.get<NodesAnswer>('/api/nodes');
+    if (n < this.shown.nodes) return;
     const signature = JSON.stringify({ n: nodes.nodes, c: nodes.controls });
     if (force || signature !== this.nodesSignature) {
       const glb = await this.api.glb();
+      if (n < this.shown.nodes) return;
       await this.viewport.load(glb, nodes);
-      this.nodes = nodes;
       this.nodesSignature = signature;
       this.names.clear();
       this.byName.clear();
-      for (const n of nodes.nodes) {
-        this.names.set(n.uuid, n.name);
-        this.byName.set(n.name, n.uuid);
+      for (const x of nodes.nodes) {
+        this.names.set(x.uuid, x.name);
+        this.byName.set(x.name, x.uuid);
       }
       this.poseRevision = -1;
       if (this.scene) this.viewport.setSelection(this.scene.selection);
-      this.emit('nodes');
     }
+    this.shown.nodes = n;
+    this.nodes = nodes;
+    this.emit('nodes');
     await this.refreshPose();
   }
 
@@ -136,8 +214,11 @@ export class App {
     this.viewport.applyPose(pose.nodes);
   }
 
-  async refreshRigs(): Promise<void> {
-    const r = await this.api.get<{ rigs: RigInfo[] }>('/api/rigs');
+  async refreshRigs(background = false): Promise<void> {
+    const n = ++this.seq;
+    const r = await this.api.get<{ rigs: RigInfo[] }>('/api/rigs', { background });
+    if (n < this.shown.rigs) return;
+    this.shown.rigs = n;
     this.rigs = r.rigs ?? [];
     const edit = this.rigs.filter((x) => x.editMode).map((x) => x.name);
     this.viewport.setLabel(edit.length ? `Rig Edit Mode: ${edit.join(', ')}` : '');
@@ -145,24 +226,38 @@ export class App {
   }
 
   async refreshKeys(): Promise<void> {
+    const n = ++this.seq;
     const sel = this.scene?.selection ?? [];
-    if (sel.length) {
-      this.keys = await this.api.get<KeysAnswer>(`/api/keys?controls=${sel.map(encodeURIComponent).join(',')}`);
-      this.scope = this.keys.scope ?? '';
+    let keys: KeysAnswer | null = null;
+    if (sel.length) keys = await this.api.get<KeysAnswer>(`/api/keys?controls=${sel.map(encodeURIComponent).join(',')}`);
+    if (n < this.shown.keys) return;
+    this.shown.keys = n;
+    this.keys = keys;
+    if (keys) {
+      this.scope = keys.scope ?? '';
     } else {
       // Nothing selected: the scopes of the characters (one line per rig).
-      this.keys = null;
       const scopes = this.scene?.keyScopes ?? {};
       const names = Object.keys(scopes);
-      this.scope = names.length === 1 ? scopes[names[0]!]! : names.map((n) => `${n}: ${scopes[n]}`).join(', ');
+      this.scope = names.length === 1 ? scopes[names[0]!]! : names.map((x) => `${x}: ${scopes[x]}`).join(', ');
     }
     this.emit('keys');
   }
 
-  /** Everything: after undo/redo, rig edits and changes made elsewhere. */
-  async refreshAll(): Promise<void> {
+  /**
+   * Everything: after undo/redo, rig edits and changes made elsewhere. One
+   * refresh runs at a time; calls during one share the next.
+   */
+  refreshAll(force = false): Promise<void> {
+    this.forceReload = this.forceReload || force;
+    return this.refresher.run();
+  }
+
+  private async refreshEverything(): Promise<void> {
+    const force = this.forceReload;
+    this.forceReload = false;
     await this.refreshScene();
-    await this.reloadCharacter();
+    await this.reloadCharacter(force);
     await Promise.all([this.refreshRigs(), this.refreshKeys()]);
   }
 
@@ -172,7 +267,8 @@ export class App {
     const a = await this.api.post<{ revision: number; selection: string[] }>('/api/select', { controls: uuids, add });
     if (this.scene) this.scene.selection = a.selection;
     this.viewport.setSelection(a.selection);
-    this.emit('scene');
+    this.sceneChanged();
+    this.succeeded();
     await this.refreshKeys();
   }
 
@@ -198,13 +294,15 @@ export class App {
   async setMode(mode: string): Promise<void> {
     const a = await this.api.post<{ revision: number; mode: string }>('/api/mode', { mode });
     if (this.scene) this.scene.mode = a.mode ?? mode;
-    this.emit('scene');
+    this.sceneChanged();
+    this.succeeded();
   }
 
   async setAutoKey(on: boolean): Promise<void> {
     const a = await this.api.post<{ autoKey?: boolean }>('/api/options', { autoKey: on });
     if (this.scene) this.scene.autoKey = typeof a.autoKey === 'boolean' ? a.autoKey : on;
-    this.emit('scene');
+    this.sceneChanged();
+    this.succeeded();
   }
 
   async setFrame(frame: number): Promise<void> {
@@ -213,7 +311,8 @@ export class App {
       this.scene.frame = a.frame;
       this.scene.time = a.time;
     }
-    this.emit('scene');
+    this.sceneChanged();
+    this.succeeded();
     await this.refreshPose();
   }
 
@@ -223,38 +322,87 @@ export class App {
       return;
     }
     const a = await this.api.post<{ revision: number; frames: number[] }>('/api/key', remove ? { delete: true } : {});
+    this.succeeded();
     this.status.info(`${remove ? 'Deleted key' : 'Keyed'} at frame ${this.scene?.frame ?? ''}; keys: ${(a.frames ?? []).join(', ') || 'none'}`);
     await Promise.all([this.refreshKeys(), this.refreshScene()]);
   }
 
+  /**
+   * Undo (or redo). With nothing to undo (the scene says so, or the server
+   * answers 409 because another tab took it first) the bar says so quietly:
+   * that is a state, not an error.
+   */
   async undo(redo: boolean): Promise<void> {
     if (this.drag.active) return;
-    const a = await this.api.post<{ revision: number; label: string }>(redo ? '/api/redo' : '/api/undo', {});
+    const what = redo ? 'redo' : 'undo';
+    if (this.scene && !(redo ? this.scene.canRedo : this.scene.canUndo)) {
+      this.status.info(`Nothing to ${what}`);
+      return;
+    }
+    let a: { revision: number; label: string };
+    try {
+      a = await this.api.post<{ revision: number; label: string }>(`/api/${what}`, {}, { expected: [409] });
+    } catch (e) {
+      if (!(e instanceof ApiError) || e.status !== 409) throw e;
+      this.status.info(`Nothing to ${what}`);
+      await this.refreshScene();
+      return;
+    }
+    this.succeeded();
     this.status.info(`${redo ? 'Redo' : 'Undo'}: ${a.label ?? ''}`);
     await this.refreshAll();
   }
 
   // ------------------------------------------------------------- revisions
 
+  /** Any request reached the server (up) or got no answer (down). */
+  connection(up: boolean, err?: ApiError): void {
+    if (up === !this.offline) return;
+    this.offline = !up;
+    this.status.offline(!up, err ? err.route : '');
+  }
+
+  /**
+   * Follows the revision: every 250 ms while the server answers; once it
+   * does not, one "connection lost" state and retries backing off from 0.5 s
+   * to 4 s, and when it answers again a full refresh (it may be a new server
+   * whose revisions start again).
+   */
   private startPolling(): void {
-    let busy = false;
+    let retryMs = kRetryFirstMs;
+    let wasOffline = false;
     const tick = async (): Promise<void> => {
-      if (busy || this.api.pendingWrites > 0 || this.drag.active) return;
-      busy = true;
+      let next = kPollMs;
       try {
-        const r = await this.api.get<{ revision: number }>('/api/revision');
-        // A POST may have started while the GET was out: its revision is ours.
-        if (r.revision > this.knownRevision && this.api.pendingWrites === 0 && !this.drag.active) {
-          this.knownRevision = r.revision;
-          await this.refreshAll();
+        if (this.offline || wasOffline || (this.api.pendingWrites === 0 && !this.drag.active)) {
+          const r = await this.api.get<{ revision: number }>('/api/revision', { background: true });
+          retryMs = kRetryFirstMs;
+          if (wasOffline) {
+            wasOffline = false;
+            this.knownRevision = r.revision;
+            this.poseRevision = -1;
+            await this.refreshAll(true);
+          } else if (r.revision > this.knownRevision && this.api.pendingWrites === 0 && !this.drag.active) {
+            // A POST may have started while the GET was out: its revision is ours.
+            this.knownRevision = r.revision;
+            await this.refreshAll();
+          }
         }
-      } catch {
-        // reported by the client
+      } catch (e) {
+        if (this.offline) {
+          wasOffline = true;
+          this.retries.push(Date.now());
+          if (this.retries.length > 100) this.retries.shift();
+          next = retryMs;
+          retryMs = Math.min(retryMs * 2, kRetryMaxMs);
+        } else if (!(e instanceof ApiError)) {
+          this.status.caught(e);
+        }
       } finally {
-        busy = false;
+        window.setTimeout(() => run(tick()), next);
       }
     };
-    window.setInterval(() => run(tick()), 250);
+    window.setTimeout(() => run(tick()), kPollMs);
   }
 }
 
@@ -271,12 +419,14 @@ export class DragGesture {
   private pump: Promise<void> | null = null;
   private failed = false;
   private roundTrips: number[] = [];
+  private answersAtStart = 0;
 
   constructor(private readonly app: App) {}
 
   start(): void {
     this.active = true;
     this.failed = false;
+    this.answersAtStart = this.stats.answers;
     this.roundTrips = [];
     this.stats.gestures++;
   }
@@ -313,6 +463,7 @@ export class DragGesture {
 
   async end(): Promise<void> {
     if (!this.active) return;
+    const answersAtStart = this.answersAtStart;
     while (this.pump) await this.pump;
     try {
       await this.app.api.post('/api/release', {});
@@ -320,6 +471,7 @@ export class DragGesture {
       this.active = false;
       this.pending = null;
     }
+    if (!this.failed && this.stats.answers > answersAtStart) this.app.succeeded();
     await Promise.all([this.app.refreshPose(), this.app.refreshKeys(), this.app.refreshScene()]);
   }
 }

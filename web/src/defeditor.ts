@@ -7,12 +7,18 @@
 // Only what hangs from the Rig node is part of the definition (as in the
 // seed: a node does nothing until it is attached). Every change is validated
 // (POST /api/definition/validate) and, with "Live build" on, built into the
-// scene (POST /api/definition/build); "Save" writes the file
-// (POST /api/definition/save).
+// scene (POST /api/definition/build); the panel shows the build's outcome,
+// not only the validation's. "Save" writes the file (POST
+// /api/definition/save). "Open" loads the definition a rig of the scene was
+// built from (GET /api/definition), geometry (<geo>) and all; the geometry
+// of a new definition is the scene's character. Geometry files are kept
+// absolute here and written relative to the saved file's folder.
 
 import type { App } from './app';
+import { ApiError } from './api';
 import type { ComponentSchema, ParamSchema } from './api';
 import { h, fill, typingTarget } from './dom';
+import { dirname, isAbsolute, join, relative } from './paths';
 import { run } from './status';
 
 const kShapes = [
@@ -28,7 +34,45 @@ interface Guide {
   name: string;
   joint: string;
   translate: [number, number, number];
+  /** What the editor does not edit (rotate, scale), kept as it came. */
+  extra: Record<string, unknown>;
 }
+
+/** A <geo> line: a character file (absolute here, or relative to the saved file's folder). */
+interface GeoRef {
+  file: string;
+  name: string;
+}
+
+/** The `.rig.json` form of a component, as GET /api/definition gives it. */
+interface ComponentJson {
+  type?: string;
+  name?: string;
+  side?: string;
+  version?: string;
+  rigId?: string;
+  attach?: string;
+  guiLocation?: [number, number];
+  guides?: { name?: string; joint?: string; translate?: [number, number, number]; [k: string]: unknown }[];
+  controls?: { role: string; shape?: string; color?: string; size?: number }[];
+  params?: Record<string, unknown>;
+  children?: ComponentJson[];
+  [k: string]: unknown;
+}
+
+interface RigJson {
+  rig: {
+    name?: string;
+    version?: string;
+    guiLocation?: [number, number];
+    geometry?: { file: string; name?: string }[];
+    components?: ComponentJson[];
+    [k: string]: unknown;
+  };
+}
+
+/** The outcome shown under the graph: validation, then (live) the build's. */
+type BuildState = 'none' | 'pending' | 'built' | 'failed';
 
 interface ControlLook {
   shape: string;
@@ -53,6 +97,10 @@ interface GNode {
   /** Only the parameters set; the others take the schema's default. */
   params: Record<string, unknown>;
   controls: Record<string, ControlLook>;
+  /** Keys of the definition the editor does not edit (features), kept as they came. */
+  extra: Record<string, unknown>;
+  /** The Rig node's <geo> lines. */
+  geometry: GeoRef[];
 }
 
 export interface Problem {
@@ -83,6 +131,11 @@ export class DefinitionEditor {
   problems: Problem[] = [];
   /** Builds sent (live or by the button) and their outcome, for tests. */
   readonly builds: { ok: boolean; rig?: string; error?: string }[] = [];
+  private valid: boolean | null = null;
+  private buildState: BuildState = 'none';
+  private buildError = '';
+  /** True once the Rig node's geometry was set (by hand or by opening a definition). */
+  private geometrySet = false;
 
   private readonly palette: HTMLElement;
   private readonly graph: HTMLElement;
@@ -93,6 +146,7 @@ export class DefinitionEditor {
   private readonly live: HTMLInputElement;
   private readonly savePath: HTMLInputElement;
   private readonly jointList: HTMLDataListElement;
+  private readonly openSelect: HTMLSelectElement;
 
   constructor(
     el: HTMLElement,
@@ -111,6 +165,7 @@ export class DefinitionEditor {
     this.live = h('input', { type: 'checkbox', checked: true, testid: 'def-live' });
     this.savePath = h('input', { type: 'text', placeholder: 'rigs/my_rig.rig.xml', testid: 'def-save-path' });
     this.jointList = h('datalist', { id: 'joint-names' });
+    this.openSelect = h('select', { testid: 'def-open-rig', title: 'A rig of the scene' });
 
     this.graph.addEventListener('dragover', (e) => e.preventDefault());
     this.graph.addEventListener('drop', (e) => {
@@ -142,6 +197,19 @@ export class DefinitionEditor {
         {},
         h('h2', {}, 'Definition Editor'),
         h('button.small', { title: 'Start a new definition', testid: 'def-new', onclick: () => this.reset() }, 'New'),
+        this.openSelect,
+        h(
+          'button.small',
+          {
+            title: 'Open the definition the selected rig was built from',
+            testid: 'def-open',
+            onclick: () => {
+              if (this.openSelect.value) run(this.open(this.openSelect.value));
+              else this.app.status.info('Open: the scene has no rig');
+            },
+          },
+          'Open',
+        ),
       ),
       h('div.hint', {}, 'Click or drag a component type into the graph; drag from a node’s right port to another node to parent it. Delete removes the selected node or link.'),
       this.palette,
@@ -161,6 +229,8 @@ export class DefinitionEditor {
     this.graph.append(this.svg);
     this.svg.append(this.tempPath);
     app.on('nodes', () => this.fillJoints());
+    app.on('rigs', () => this.fillRigs());
+    app.on('scene', () => this.defaultGeometry());
     this.renderAll();
   }
 
@@ -186,6 +256,30 @@ export class DefinitionEditor {
     );
   }
 
+  private fillRigs(): void {
+    const names = this.app.rigs.map((r) => r.name);
+    const current = this.openSelect.value;
+    if (JSON.stringify(names) === JSON.stringify([...this.openSelect.options].map((o) => o.value))) return;
+    fill(
+      this.openSelect,
+      names.length ? names.map((n) => h('option', { value: n, selected: n === current }, n)) : h('option', { value: '' }, '(no rig)'),
+    );
+  }
+
+  /** A new definition's geometry: the character the scene was opened from. */
+  private defaultGeometry(): void {
+    const character = this.app.scene?.character;
+    const rig = this.nodes.get('rig')!;
+    if (this.geometrySet || !character || rig.geometry.length) return;
+    rig.geometry = [{ file: character, name: '' }];
+    if (this.selected === 'rig') this.renderDetails();
+  }
+
+  /** True when no build or validation is waiting or running (for tests). */
+  idle(): boolean {
+    return this.buildTimer === null && this.building === null;
+  }
+
   private fillJoints(): void {
     const joints = (this.app.nodes?.nodes ?? []).filter((n) => n.type === 'joint').map((n) => n.name);
     fill(
@@ -199,7 +293,7 @@ export class DefinitionEditor {
   private newRigNode(): GNode {
     return {
       id: 'rig', kind: 'rig', x: 16, y: 110, parent: null, name: 'rig', version: '1.0', type: '', side: 'C',
-      rigId: '', attach: '', guides: [], params: {}, controls: {},
+      rigId: '', attach: '', guides: [], params: {}, controls: {}, extra: {}, geometry: [],
     };
   }
 
@@ -210,7 +304,80 @@ export class DefinitionEditor {
     this.selected = 'rig';
     this.selectedLink = null;
     this.problems = [];
+    this.valid = null;
+    this.buildState = 'none';
+    this.geometrySet = false;
+    this.defaultGeometry();
     this.renderAll();
+    this.renderProblems();
+  }
+
+  /** Opens the definition rig `name` of the scene was built from. */
+  async open(name: string): Promise<void> {
+    const a = await this.app.api.get<{ rig: string; path: string; definition: RigJson }>(`/api/definition?rig=${encodeURIComponent(name)}`);
+    // The definition's relative files are relative to its folder.
+    const root = this.app.scene?.root ?? '';
+    const file = a.path ? (isAbsolute(a.path) || !root ? a.path : join(root, a.path)) : '';
+    this.load(a.definition, file ? dirname(file) : root);
+    if (file && root && file.startsWith(`${root.replace(/\/$/, '')}/`)) this.savePath.value = relative(root, file);
+    this.app.status.info(`Opened the definition of ${a.rig}${a.path ? ` (${a.path})` : ''}`);
+  }
+
+  /** Replaces the graph with a `.rig.json` definition whose relative files are relative to `folder`. */
+  load(def: RigJson, folder: string): void {
+    const r = def.rig ?? {};
+    this.nodes.clear();
+    this.order = [];
+    const rig = this.newRigNode();
+    const { name, version, guiLocation, geometry, components, ...rest } = r;
+    rig.name = name ?? 'rig';
+    rig.version = version ?? '1.0';
+    if (guiLocation) [rig.x, rig.y] = guiLocation;
+    rig.extra = rest;
+    rig.geometry = (geometry ?? []).map((g) => ({ file: folder && !isAbsolute(g.file) ? join(folder, g.file) : g.file, name: g.name ?? '' }));
+    this.geometrySet = true;
+    this.nodes.set('rig', rig);
+    this.order.push('rig');
+    // Components without a guiLocation are laid out as a tree, depth to the right.
+    let row = 0;
+    const add = (c: ComponentJson, parent: string, depth: number): void => {
+      const { type, name: cname, side, version: cversion, rigId, attach, guiLocation: at, guides, controls, params, children, ...more } = c;
+      const id = `n${this.nextId++}`;
+      const schema = this.schemas.get(type ?? '');
+      const node: GNode = {
+        id,
+        kind: 'component',
+        x: at ? at[0] : 190 + (depth - 1) * 172,
+        y: at ? at[1] : 20 + row * 70,
+        parent,
+        name: cname ?? type ?? id,
+        version: cversion ?? '1.0',
+        type: type ?? '',
+        side: side === 'L' || side === 'R' ? side : 'C',
+        rigId: rigId ?? uuid4(),
+        attach: attach ?? '',
+        guides: (guides ?? []).map((g, i) => {
+          const { name: gname, joint, translate, ...gmore } = g;
+          return { name: gname ?? schema?.guides.names[i] ?? '', joint: joint ?? '', translate: translate ?? [0, 0, 0], extra: gmore };
+        }),
+        params: { ...(params ?? {}) },
+        controls: Object.fromEntries((controls ?? []).map((x) => [x.role, { shape: x.shape ?? '', color: x.color ?? '', size: x.size ?? null }])),
+        extra: more,
+        geometry: [],
+      };
+      row++;
+      this.nodes.set(id, node);
+      this.order.push(id);
+      for (const k of children ?? []) add(k, id, depth + 1);
+    };
+    for (const c of components ?? []) add(c, 'rig', 1);
+    this.selected = 'rig';
+    this.selectedLink = null;
+    this.problems = [];
+    this.valid = null;
+    this.buildState = 'none';
+    this.renderAll();
+    this.renderProblems();
   }
 
   /** Adds a component node (unattached); returns its id. */
@@ -225,7 +392,7 @@ export class DefinitionEditor {
     const sameType = [...this.nodes.values()].filter((n) => n.type === type).length;
     const guides: Guide[] = [];
     const n = Math.max(schema.guides.min, schema.guides.names.length);
-    for (let i = 0; i < n; i++) guides.push({ name: schema.guides.names[i] ?? '', joint: '', translate: [0, 0, 0] });
+    for (let i = 0; i < n; i++) guides.push({ name: schema.guides.names[i] ?? '', joint: '', translate: [0, 0, 0], extra: {} });
     const node: GNode = {
       id,
       kind: 'component',
@@ -241,6 +408,8 @@ export class DefinitionEditor {
       guides,
       params: {},
       controls: {},
+      extra: {},
+      geometry: [],
     };
     this.nodes.set(id, node);
     this.order.push(id);
@@ -346,7 +515,7 @@ export class DefinitionEditor {
           if (g.name) o.name = g.name;
           if (g.joint.trim()) o.joint = g.joint.trim();
           if (g.translate.some((v) => v !== 0)) o.translate = g.translate;
-          return o;
+          return { ...o, ...g.extra };
         });
       }
       const controls = Object.entries(n.controls)
@@ -360,18 +529,43 @@ export class DefinitionEditor {
         });
       if (controls.length) c.controls = controls;
       if (Object.keys(n.params).length) c.params = { ...n.params };
+      Object.assign(c, n.extra);
       const kids = this.children(n.id);
       if (kids.length) c.children = kids.map(comp);
       return c;
     };
-    return {
-      rig: {
-        name: rig.name,
-        version: rig.version,
-        guiLocation: [round(rig.x), round(rig.y)],
-        components: this.children('rig').map(comp),
-      },
+    const out: Record<string, unknown> = {
+      name: rig.name,
+      version: rig.version,
+      guiLocation: [round(rig.x), round(rig.y)],
     };
+    const geometry = rig.geometry
+      .filter((g) => g.file.trim())
+      .map((g) => {
+        const o: Record<string, unknown> = { file: this.geometryFile(g.file.trim()) };
+        if (g.name.trim()) o.name = g.name.trim();
+        return o;
+      });
+    if (geometry.length) out.geometry = geometry;
+    Object.assign(out, rig.extra);
+    out.components = this.children('rig').map(comp);
+    return { rig: out };
+  }
+
+  /**
+   * A geometry file as the saved definition names it: relative to the
+   * folder of the file it is saved to (an absolute path is moved there; a
+   * relative one is already relative to it).
+   */
+  private geometryFile(file: string): string {
+    const root = this.app.scene?.root;
+    if (!isAbsolute(file) || !root) return file;
+    return relative(dirname(join(root, this.saveTarget())), file);
+  }
+
+  /** The path Save writes to (relative to the server root). */
+  private saveTarget(): string {
+    return this.savePath.value.trim() || `${this.nodes.get('rig')!.name}.rig.xml`;
   }
 
   // ----------------------------------------------------------- server work
@@ -392,7 +586,8 @@ export class DefinitionEditor {
   async validate(): Promise<boolean> {
     const a = await this.app.api.post<{ ok: boolean; problems: Problem[] }>('/api/definition/validate', { definition: this.definition() });
     this.problems = a.problems ?? [];
-    this.renderProblems(a.ok);
+    this.valid = a.ok;
+    this.renderProblems();
     return a.ok;
   }
 
@@ -409,8 +604,11 @@ export class DefinitionEditor {
           this.app.status.info('Attach a component to the Rig node to build');
           return;
         }
+        this.buildState = 'pending';
         const ok = await this.validate();
         if (!ok) {
+          this.buildState = 'none';
+          this.renderProblems();
           this.builds.push({ ok: false, error: 'invalid' });
           this.app.status.error(`Definition not built: ${this.problems.length} problem${this.problems.length === 1 ? '' : 's'} (${this.problems[0]?.message ?? ''})`);
           return;
@@ -422,10 +620,18 @@ export class DefinitionEditor {
             { definition: this.definition() },
           );
           this.builds.push({ ok: true, rig: a.rig });
+          this.buildState = 'built';
+          this.renderProblems();
+          this.app.succeeded();
           const count = a.components ? `${a.components.length} components` : `${a.rebuilt?.length ?? 0} rebuilt`;
           this.app.status.info(`Built ${a.rig} (${count})`);
         } catch (e) {
-          this.builds.push({ ok: false, error: e instanceof Error ? e.message : String(e) });
+          const message = e instanceof Error ? e.message : String(e);
+          this.builds.push({ ok: false, error: message });
+          // Valid is not enough: the panel says the build failed, and why.
+          this.buildState = 'failed';
+          this.buildError = this.app.status.rename(e instanceof ApiError ? e.message : message);
+          this.renderProblems();
           throw e;
         }
         await this.app.refreshAll();
@@ -438,8 +644,9 @@ export class DefinitionEditor {
 
   async save(): Promise<void> {
     const rig = this.nodes.get('rig')!;
-    const path = this.savePath.value.trim() || `${rig.name}.rig.xml`;
+    const path = this.saveTarget();
     const a = await this.app.api.post<{ path: string; version: string }>('/api/definition/save', { definition: this.definition(), path });
+    this.app.succeeded();
     if (a.version) rig.version = a.version;
     // The answer's path is absolute; the field keeps the root-relative one a request takes.
     this.savePath.value = path;
@@ -454,15 +661,32 @@ export class DefinitionEditor {
     this.renderDetails();
   }
 
-  private renderProblems(ok: boolean): void {
-    if (ok || !this.problems.length) {
-      fill(this.problemsEl, ok ? h('div.ok', {}, '✔ valid') : null);
+  private renderProblems(): void {
+    this.problemsEl.dataset.state = this.valid === false ? 'invalid' : this.buildState === 'failed' ? 'build-failed' : this.valid ? 'valid' : 'none';
+    if (this.valid === false && this.problems.length) {
+      fill(
+        this.problemsEl,
+        this.problems.map((p) => h('div.problem', {}, h('b', {}, p.where || 'definition'), ': ', this.app.status.rename(p.message))),
+      );
       return;
     }
-    fill(
-      this.problemsEl,
-      this.problems.map((p) => h('div.problem', {}, h('b', {}, p.where || 'definition'), ': ', p.message)),
-    );
+    if (!this.valid) {
+      fill(this.problemsEl);
+      return;
+    }
+    switch (this.buildState) {
+      case 'failed':
+        fill(this.problemsEl, h('div.problem', { testid: 'def-build-error' }, h('b', {}, 'build failed'), ': ', this.buildError));
+        break;
+      case 'pending':
+        fill(this.problemsEl, h('div.ok', {}, 'valid; building…'));
+        break;
+      case 'built':
+        fill(this.problemsEl, h('div.ok', {}, '✔ valid and built'));
+        break;
+      default:
+        fill(this.problemsEl, h('div.ok', {}, '✔ valid'));
+    }
   }
 
   private portPos(n: GNode, port: 'in' | 'out'): [number, number] {
@@ -629,6 +853,43 @@ export class DefinitionEditor {
         h('h3', {}, 'Rig'),
         text('Name', n.name, (v) => (n.name = v.trim()), 'def-rig-name'),
         text('Version', n.version, (v) => (n.version = v.trim()), 'def-rig-version'),
+        h('h4', {}, 'Geometry'),
+        h('div.hint', {}, 'The character files the rig is built on (<geo>); saved relative to the definition’s folder.'),
+        n.geometry.map((g, i) => {
+          const file = h('input', { type: 'text', value: g.file, placeholder: 'character file', testid: `def-geo-file-${i}` });
+          file.addEventListener('change', () => {
+            g.file = file.value.trim();
+            this.geometrySet = true;
+            edit();
+          });
+          const mesh = h('input', { type: 'text', value: g.name, placeholder: 'mesh (optional)', testid: `def-geo-name-${i}` });
+          mesh.addEventListener('change', () => {
+            g.name = mesh.value.trim();
+            this.geometrySet = true;
+            edit();
+          });
+          return h('div.guide-row', {}, file, mesh);
+        }),
+        h(
+          'div.button-row',
+          {},
+          h('button.small', {
+            testid: 'def-geo-add',
+            onclick: () => {
+              n.geometry.push({ file: '', name: '' });
+              this.geometrySet = true;
+              edit(true);
+            },
+          }, '+ geometry'),
+          h('button.small', {
+            disabled: !n.geometry.length, testid: 'def-geo-remove',
+            onclick: () => {
+              n.geometry.pop();
+              this.geometrySet = true;
+              edit(true);
+            },
+          }, '− geometry'),
+        ),
         h('div.hint', {}, `${this.children('rig').length} root component(s). Saving over a file with other content bumps the version.`),
       );
       return;
@@ -697,7 +958,7 @@ export class DefinitionEditor {
           disabled: !canAdd, testid: 'def-guide-add',
           onclick: () => {
             const i = n.guides.length;
-            n.guides.push({ name: schema?.guides.names[i] ?? '', joint: '', translate: [0, 0, 0] });
+            n.guides.push({ name: schema?.guides.names[i] ?? '', joint: '', translate: [0, 0, 0], extra: {} });
             edit(true);
           },
         }, '+ guide'),

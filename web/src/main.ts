@@ -3,6 +3,7 @@
 // find where controls are on screen and to read the frame rate.
 
 import { Api } from './api';
+import { userText } from './names';
 import type { Vec3 } from './api';
 import { App, kModeKeys } from './app';
 import { DefinitionEditor } from './defeditor';
@@ -21,6 +22,8 @@ function byId(id: string): HTMLElement {
 
 const statusBar = new StatusBar(byId('statusbar'));
 setStatusBar(statusBar);
+// Messages name channels and nodes as the page does (names.ts).
+statusBar.rename = (text) => userText(text, (u) => app?.names.get(u));
 window.addEventListener('error', (e) => statusBar.error(`script error: ${e.message}`));
 window.addEventListener('unhandledrejection', (e) => statusBar.caught(e.reason));
 
@@ -29,6 +32,7 @@ let app: App | null = null;
 const api = new Api('', token, {
   error: (err) => statusBar.error(err.describe()),
   ownRevision: (r) => app?.noteRevision(r),
+  connection: (up, err) => app?.connection(up, err),
 });
 
 const viewport = new Viewport(byId('viewport'), {
@@ -77,8 +81,8 @@ function renderToolbar(): void {
   }
   undoBtn.disabled = !s?.canUndo;
   redoBtn.disabled = !s?.canRedo;
-  undoBtn.title = s?.canUndo ? `Undo ${s.undo ?? ''} (Ctrl+Z)` : 'Nothing to undo';
-  redoBtn.title = s?.canRedo ? `Redo ${s.redo ?? ''} (Ctrl+Shift+Z)` : 'Nothing to redo';
+  undoBtn.title = s?.canUndo ? `Undo ${statusBar.rename(s.undo ?? '')} (Ctrl+Z)` : 'Nothing to undo';
+  redoBtn.title = s?.canRedo ? `Redo ${statusBar.rename(s.redo ?? '')} (Ctrl+Shift+Z)` : 'Nothing to redo';
   const label = kModeKeys.find((m) => m[0] === s?.mode)?.[2] ?? s?.mode ?? '—';
   const sel = s?.selection ?? [];
   const names = sel.map((u) => theApp.names.get(u) ?? u);
@@ -116,6 +120,10 @@ fill(
   h('button', { dataset: { tab: 'def' }, testid: 'tab-def', onclick: () => showTab('def') }, 'Definition Editor'),
 );
 showTab('rigs');
+rigManager.openDefinition = (rig) => {
+  showTab('def');
+  run(editor.open(rig));
+};
 
 // ------------------------------------------------------------------ keyboard
 
@@ -187,6 +195,8 @@ window.addEventListener('keydown', (e) => {
 interface RigelHook {
   ready: Promise<void>;
   isReady: () => boolean;
+  /** True when no request, refresh, gesture or definition build is in flight. */
+  settled: () => boolean;
   app: App;
   viewport: Viewport;
   timeline: Timeline;
@@ -211,6 +221,7 @@ const uuidOf = (name: string): string | null => theApp.byName.get(name) ?? (theA
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
+  settled: () => theApp.settled() && editor.idle() && !timeline.busy(),
   app: theApp,
   viewport,
   timeline,

@@ -23,6 +23,8 @@ export class RigManager {
   private readonly addPath: HTMLInputElement;
   private readonly addEdit: HTMLInputElement;
   visible = true;
+  /** Opens a rig's definition in the definition editor (set by main.ts). */
+  openDefinition: (rig: string) => void = () => undefined;
 
   constructor(
     el: HTMLElement,
@@ -55,8 +57,8 @@ export class RigManager {
     );
     app.on('rigs', () => this.render());
     window.setInterval(() => {
-      if (this.visible && this.app.isReady && !this.app.drag.active && document.visibilityState === 'visible') {
-        run(this.app.refreshRigs());
+      if (this.visible && this.app.isReady && !this.app.offline && !this.app.drag.active && document.visibilityState === 'visible') {
+        run(this.app.refreshRigs(true));
       }
     }, 2000);
     this.render();
@@ -156,6 +158,11 @@ export class RigManager {
         'div.button-row',
         {},
         h('button.danger-outline', { testid: 'rig-remove', onclick: () => run(this.remove(r.name)) }, 'Remove'),
+        h(
+          'button',
+          { testid: 'rig-open-definition', title: 'Open the definition this rig was built from in the definition editor', onclick: () => this.openDefinition(r.name) },
+          'Edit definition',
+        ),
         r.editMode
           ? [
               defOut,
@@ -211,6 +218,7 @@ export class RigManager {
       editMode: this.addEdit.checked,
     });
     this.selected = a.rig;
+    this.app.succeeded();
     this.app.status.info(`Added rig ${a.rig} v${a.version} (${a.components?.length ?? 0} components)`);
     await this.app.refreshAll();
   }
@@ -219,12 +227,14 @@ export class RigManager {
     const body: Record<string, unknown> = { rig, keepKeys };
     if (force) body.force = true;
     const a = await this.app.api.post<{ revision: number; from: string; to: string; rebuilt: string[] }>('/api/rigs/update', body);
+    this.app.succeeded();
     this.app.status.info(`Updated ${rig} ${a.from} → ${a.to}; rebuilt: ${(a.rebuilt ?? []).join(', ') || 'nothing'}`);
     await this.app.refreshAll();
   }
 
   async remove(rig: string): Promise<void> {
     await this.app.api.post('/api/rigs/remove', { rig });
+    this.app.succeeded();
     this.app.status.info(`Removed rig ${rig}`);
     await this.app.refreshAll();
   }
@@ -233,6 +243,7 @@ export class RigManager {
     const body: Record<string, unknown> = { rig };
     if (out) body.definitionOut = out;
     await this.app.api.post('/api/rigs/edit', body);
+    this.app.succeeded();
     this.app.status.info(`Committed rig edit mode of ${rig}`);
     await this.app.refreshAll();
   }
@@ -241,18 +252,21 @@ export class RigManager {
     const body: Record<string, unknown> = { rig, feature, enabled };
     if (switchName) body.switch = switchName;
     await this.app.api.post('/api/rigs/feature', body);
+    this.app.succeeded();
     this.app.status.info(`${rig}: feature ${feature}${switchName ? '/' + switchName : ''} ${enabled ? 'on' : 'off'}`);
     await this.app.refreshAll();
   }
 
   async setEditMode(rig: string, on: boolean): Promise<void> {
     await this.app.api.post('/api/rigs/edit-mode', { rig, on });
+    this.app.succeeded();
     this.app.status.info(on ? `${rig} is in rig edit mode: move its controls, then commit` : `${rig} left rig edit mode`);
     await this.app.refreshAll();
   }
 
   async step(rig: string, body: { to?: number; by?: number }): Promise<void> {
     const a = await this.app.api.post<StepAnswer>('/api/rigs/step', { rig, ...body });
+    this.app.succeeded();
     this.app.status.info(`${rig}: step ${a.position}/${a.steps}${a.step ? ` (${a.step})` : ''}`);
     await this.app.refreshAll();
   }

@@ -60,6 +60,11 @@ export class Timeline {
     app.on('keys', () => this.render());
   }
 
+  /** True while a move to a frame is in flight or playing. */
+  busy(): boolean {
+    return this.scrubbing !== null || this.playing;
+  }
+
   private range(): [number, number] {
     const r = this.app.scene?.range;
     if (r && r.length === 2 && r[1] > r[0]) return [Math.round(r[0]), Math.round(r[1])];
