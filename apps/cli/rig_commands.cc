@@ -183,11 +183,24 @@ int run_rigs(const RigsArgs& args) {
   for (const Json& r : list) {
     std::cout << r["name"].get<std::string>() << " " << r["version"].get<std::string>() << "  "
               << r["definition"].get<std::string>();
-    if (r["outOfDate"].get<bool>()) std::cout << "  (definition on disk: " << r["definitionVersion"].get<std::string>() << ")";
+    if (!r["definitionFound"].get<bool>())
+      std::cout << "  (definition missing: " << r["definitionProblem"].get<std::string>() << ")";
+    else if (r["outOfDate"].get<bool>())
+      std::cout << "  (out of date: definition on disk " << r["definitionVersion"].get<std::string>() << ")";
     std::cout << "\n";
-    for (const Json& c : r["components"])
+    for (const Json& c : r["components"]) {
       std::cout << "  " << c["name"].get<std::string>() << " (" << c["type"].get<std::string>() << " "
-                << c["version"].get<std::string>() << ")  " << c["rigId"].get<std::string>() << "\n";
+                << c["version"].get<std::string>() << ")  " << c["rigId"].get<std::string>();
+      if (c["state"] == "changed")
+        std::cout << "  out of date: definition has " << c["definitionVersion"].get<std::string>();
+      else if (c["state"] == "removed")
+        std::cout << "  out of date: not in the definition";
+      std::cout << "\n";
+    }
+    for (const Json& c : r["added"])
+      std::cout << "  " << c["name"].get<std::string>() << " (" << c["type"].get<std::string>() << " "
+                << c["definitionVersion"].get<std::string>() << ")  " << c["rigId"].get<std::string>()
+                << "  out of date: in the definition, not built\n";
   }
   return 0;
 }

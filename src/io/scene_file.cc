@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 
@@ -31,6 +33,31 @@ using graph::ValueType;
 using math::Mat4;
 using math::Quat;
 using math::Vec3;
+
+// ---- file paths ------------------------------------------------------------
+
+struct PathAttributes {
+  std::mutex mutex;
+  std::set<std::pair<std::string, std::string>, std::less<>> declared;
+};
+PathAttributes& path_attributes() {
+  static PathAttributes p;
+  return p;
+}
+
+// Rewrites the declared path attributes of every node of a scene's JSON.
+template <typename F>
+void rewrite_paths(Json& root, F&& rewrite) {
+  if (!root.is_object() || !root.contains("nodes") || !root["nodes"].is_array()) return;
+  for (Json& n : root["nodes"]) {
+    if (!n.is_object() || !n.contains("type") || !n["type"].is_string() || !n.contains("attrs") || !n["attrs"].is_object())
+      continue;
+    const std::string type = n["type"].get<std::string>();
+    for (auto it = n["attrs"].begin(); it != n["attrs"].end(); ++it)
+      if (it.value().is_string() && !it.value().get_ref<const std::string&>().empty() && is_path_attribute(type, it.key()))
+        it.value() = rewrite(it.value().get<std::string>());
+  }
+}
 
 // ---- encoding --------------------------------------------------------------
 
@@ -350,6 +377,38 @@ class ErrorLocator : public nlohmann::json_sax<Json> {
 
 }  // namespace
 
+void declare_path_attribute(std::string_view node_type, std::string_view attr) {
+  PathAttributes& p = path_attributes();
+  std::lock_guard lock(p.mutex);
+  p.declared.emplace(std::string(node_type), std::string(attr));
+}
+
+bool is_path_attribute(std::string_view node_type, std::string_view attr) {
+  PathAttributes& p = path_attributes();
+  std::lock_guard lock(p.mutex);
+  return p.declared.count(std::pair<std::string, std::string>(node_type, attr)) > 0;
+}
+
+std::string path_relative_to(const std::string& path, const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (ec) return path;
+  const fs::path base = fs::weakly_canonical(fs::absolute(folder.empty() ? fs::path(".") : folder, ec), ec);
+  if (ec) return target.string();
+  const fs::path relative = target.lexically_relative(base);
+  return relative.empty() ? target.string() : relative.generic_string();
+}
+
+std::string path_from(const std::string& stored, const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p(stored);
+  if (p.is_relative()) p = fs::absolute(folder.empty() ? fs::path(".") : folder, ec) / p;
+  const fs::path resolved = fs::weakly_canonical(p, ec);
+  return ec ? p.lexically_normal().string() : resolved.string();
+}
+
 nlohmann::ordered_json attribute_to_json(const graph::Value& value, const graph::AttrSpec& spec) {
   return encode_value(value, spec);
 }
@@ -358,8 +417,10 @@ Result<graph::Value> attribute_from_json(const nlohmann::ordered_json& json, con
   return decode_value(json, spec);
 }
 
-Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source,
-                                                  std::shared_ptr<const graph::Registry> registry) {
+namespace {
+Result<std::unique_ptr<scene::Scene>> parse_scene_in(std::string_view text, const std::string& source,
+                                                     std::shared_ptr<const graph::Registry> registry,
+                                                     const std::filesystem::path* folder) {
   Json root;
   try {
     root = Json::parse(text.begin(), text.end());
@@ -380,7 +441,14 @@ Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const s
     return error(ErrorCode::kParseError,
                  source + ":" + line_column(text, locator.byte == 0 ? 0 : locator.byte - 1) + ": " + what);
   }
+  if (folder) rewrite_paths(root, [&](const std::string& p) { return path_from(p, *folder); });
   return Loader(source, std::move(registry)).load(root);
+}
+}  // namespace
+
+Result<std::unique_ptr<scene::Scene>> parse_scene(std::string_view text, const std::string& source,
+                                                  std::shared_ptr<const graph::Registry> registry) {
+  return parse_scene_in(text, source, std::move(registry), nullptr);
 }
 
 Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& path,
@@ -394,10 +462,12 @@ Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& pa
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) return error(ErrorCode::kIoError, path.string() + ": read failed");
-  return parse_scene(buffer.str(), path.string(), std::move(registry));
+  const std::filesystem::path folder = std::filesystem::absolute(path, ec).parent_path();
+  return parse_scene_in(buffer.str(), path.string(), std::move(registry), &folder);
 }
 
-std::string write_scene(scene::Scene& scene) {
+namespace {
+std::string write_scene_in(scene::Scene& scene, const std::filesystem::path* folder) {
   Graph& g = scene.graph();
   g.evaluate_all();
   Json root;
@@ -440,8 +510,12 @@ std::string write_scene(scene::Scene& scene) {
     connections.push_back(std::move(jc));
   }
   root["connections"] = std::move(connections);
+  if (folder) rewrite_paths(root, [&](const std::string& p) { return path_relative_to(p, *folder); });
   return diffable_json(root);
 }
+}  // namespace
+
+std::string write_scene(scene::Scene& scene) { return write_scene_in(scene, nullptr); }
 
 Status write_file_atomic(const std::filesystem::path& path, std::string_view content) {
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
@@ -484,7 +558,9 @@ Status write_file_atomic(const std::filesystem::path& path, std::string_view con
 }
 
 Status save_scene(scene::Scene& scene, const std::filesystem::path& path) {
-  return write_file_atomic(path, write_scene(scene));
+  std::error_code ec;
+  const std::filesystem::path folder = std::filesystem::absolute(path, ec).parent_path();
+  return write_file_atomic(path, write_scene_in(scene, &folder));
 }
 
 }  // namespace rigel::io

@@ -822,6 +822,94 @@ Status Build::set_feature(std::string_view feature, bool enabled, std::string_vi
 
 namespace {
 
+bool is_control(const graph::Graph& g, NodeId id) {
+  const graph::Node* n = g.node(id);
+  return n && n->type().name() == scene::kControlType;
+}
+
+// Puts a free channel of `control` at its rest value (inside a transaction).
+Status zero_channels(graph::Graph& g, NodeId control) {
+  auto free = [&](graph::AttrIndex a) { return !g.source(Plug{control, a, -1}).has_value(); };
+  Status s;
+  if (free(xform::kTranslate)) s = g.set_value(Plug{control, xform::kTranslate, -1}, Value(math::Vec3(math::Vec3::Zero())));
+  if (s && free(xform::kRotate)) s = g.set_value(Plug{control, xform::kRotate, -1}, Value(math::Vec3(math::Vec3::Zero())));
+  if (s && free(xform::kRotateQuaternion))
+    s = g.set_value(Plug{control, xform::kRotateQuaternion, -1}, Value(math::Quat(math::Quat::Identity())));
+  if (s && free(xform::kScale)) s = g.set_value(Plug{control, xform::kScale, -1}, Value(math::Vec3(math::Vec3::Ones())));
+  if (s && free(xform::kShear)) s = g.set_value(Plug{control, xform::kShear, -1}, Value(math::Vec3(math::Vec3::Zero())));
+  return s;
+}
+
+// The rest pose a rebuild builds on, whatever the scene's time: every
+// member of the components kept (and of the rig itself) loses its time
+// curves (animation), each such attribute taking its default, and every
+// control's free channels are zeroed. What
+// was there comes back afterwards, bit for bit (restore()).
+class RestPose {
+ public:
+  Status enter(graph::Graph& g, const std::vector<NodeId>& nodes) {
+    for (NodeId m : nodes) {
+      const graph::Node* n = g.node(m);
+      if (!n) continue;
+      std::vector<graph::Connection> inputs;
+      for (const graph::Connection& c : n->inputs()) {
+        // Time curves only: every other input is the build's own wiring (from
+        // the rig or the character's joints).
+        if (ops::anim::curve_kind(g, c.src.node) == ops::anim::CurveKind::kOther) continue;
+        inputs.push_back(c);
+      }
+      for (const graph::Connection& c : inputs) {
+        remember(g, m, c.dst.attr);
+        held_.push_back(c);
+        if (Status s = g.disconnect(c.src, c.dst); !s) return s;
+      }
+      for (const graph::Connection& c : inputs) {
+        const graph::AttrSpec& spec = n->type().attr(c.dst.attr);
+        Value rest = n->type().default_value(c.dst.attr);
+        if (std::holds_alternative<std::monostate>(rest)) rest = graph::zero_value(spec.type);
+        if (c.dst.element >= 0) {
+          const graph::AttrType scalar{spec.type.value, false};
+          if (Status s = g.set_value(Plug{m, c.dst.attr, c.dst.element}, graph::zero_value(scalar)); !s) return s;
+        } else if (Status s = g.set_value(Plug{m, c.dst.attr, -1}, rest); !s) {
+          return s;
+        }
+      }
+      if (is_control(g, m)) {
+        for (graph::AttrIndex a : {graph::AttrIndex{xform::kTranslate}, graph::AttrIndex{xform::kRotate},
+                                   graph::AttrIndex{xform::kRotateQuaternion}, graph::AttrIndex{xform::kScale},
+                                   graph::AttrIndex{xform::kShear}})
+          remember(g, m, a);
+        if (Status s = zero_channels(g, m); !s) return s;
+      }
+    }
+    return Status::ok();
+  }
+
+  // Puts back what enter() changed on nodes that still exist.
+  Status restore(graph::Graph& g) {
+    for (const auto& [plug, value] : values_) {
+      if (!g.node(plug.node) || g.source(plug)) continue;
+      if (Status s = g.set_value(plug, value); !s) return s;
+    }
+    for (const graph::Connection& c : held_) {
+      if (!g.node(c.src.node) || !g.node(c.dst.node) || g.source(c.dst)) continue;
+      if (Status s = g.connect(c.src, c.dst); !s) return s;
+    }
+    return Status::ok();
+  }
+
+ private:
+  void remember(const graph::Graph& g, NodeId node, graph::AttrIndex attr) {
+    const Plug p{node, attr, -1};
+    for (const auto& v : values_)
+      if (v.first == p) return;
+    values_.emplace_back(p, g.node(node)->value(attr));
+  }
+
+  std::vector<std::pair<Plug, Value>> values_;
+  std::vector<graph::Connection> held_;
+};
+
 // An input of a rebuilt control from outside the rig (an animation curve,
 // say), remembered by (rigId, role, index, attribute) to re-attach it to the
 // new control, never by name.
@@ -906,6 +994,9 @@ bool same_value(const Value& a, const Value& b) {
   return (std::get<math::Vec3>(a) - std::get<math::Vec3>(b)).cwiseAbs().maxCoeff() < 1e-10;
 }
 
+// A control whose world matrix is this close to where it was is in place.
+constexpr double kInPlace = 1e-9;
+
 // Writes keys on the new controls so each `keyed` control is where it was
 // at each of its key times (Build::KeepKeys::kWorld); parents first, so a
 // child reads its parent's converted pose.
@@ -927,6 +1018,14 @@ Status restore_world_keys(scene::Scene& scene, NodeId root, const std::vector<Ke
   for (const Item& item : items) {
     const KeyedControl& c = *item.control;
     const std::string name = g.node(item.node)->name();
+    // Where the kept keys already put the control where it was (its rest
+    // did not change), they stay as they are, bit for bit.
+    bool in_place = true;
+    for (std::size_t i = 0; i < c.times.size() && in_place; ++i) {
+      g.set_time(c.times[i]);
+      in_place = (scene.world_matrix(item.node) - c.worlds[i]).cwiseAbs().maxCoeff() <= kInPlace;
+    }
+    if (in_place) continue;
     std::vector<scene::Scene::LocalChannels> need;
     for (std::size_t i = 0; i < c.times.size() && s; ++i) {
       g.set_time(c.times[i]);
@@ -955,6 +1054,13 @@ Status restore_world_keys(scene::Scene& scene, NodeId root, const std::vector<Ke
       }
       bool keyed_attr = false;
       for (const graph::Connection& conn : n.inputs()) keyed_attr = keyed_attr || conn.dst.attr == attr;
+      // A channel that already holds what is needed at every time is left alone.
+      bool holds = true;
+      for (std::size_t i = 0; i < values.size() && holds; ++i) {
+        g.set_time(c.times[i]);
+        holds = same_value(g.evaluate(item.node, attr), values[i]);
+      }
+      if (holds) continue;
       bool constant = true;
       for (const Value& v : values) constant = constant && same_value(v, values[0]);
       if (!keyed_attr && constant) {
@@ -1090,6 +1196,16 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     if (link) s = g.disconnect(link->src, link->dst);
     if (!s) break;
   }
+  // Build on the rest pose, not on the pose at the scene's time.
+  RestPose rest;
+  if (s) {
+    std::vector<NodeId> still = meta_members(g, root);
+    for (const std::string& id : old_ids) {
+      if (dirty.count(id) || removed.count(id)) continue;
+      for (NodeId m : meta_members(g, find_component(g, root, id))) still.push_back(m);
+    }
+    s = rest.enter(g, still);
+  }
   // Destruct, newest first, the old steps of dirty and removed components.
   for (int i = static_cast<int>(old_plan.size()) - 1; i >= 0 && s; --i) {
     if (old_plan[i].component < 0) continue;
@@ -1127,6 +1243,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
       break;
     }
   }
+  if (s) s = rest.restore(g);
   if (s && !keyed.empty()) s = restore_world_keys(scene_, root, keyed);
   if (s) s = g.set_value(Plug{root, g.node(root)->type().attr_find("version"), -1}, Value(definition_.version));
   for (const Component* c : components_) {
@@ -1174,24 +1291,6 @@ std::string next_version(std::string_view version) {
 
 namespace {
 
-bool is_control(const graph::Graph& g, NodeId id) {
-  const graph::Node* n = g.node(id);
-  return n && n->type().name() == scene::kControlType;
-}
-
-// Puts a free channel of `control` at its rest value (inside a transaction).
-Status zero_channels(graph::Graph& g, NodeId control) {
-  auto free = [&](graph::AttrIndex a) { return !g.source(Plug{control, a, -1}).has_value(); };
-  Status s;
-  if (free(xform::kTranslate)) s = g.set_value(Plug{control, xform::kTranslate, -1}, Value(math::Vec3(math::Vec3::Zero())));
-  if (s && free(xform::kRotate)) s = g.set_value(Plug{control, xform::kRotate, -1}, Value(math::Vec3(math::Vec3::Zero())));
-  if (s && free(xform::kRotateQuaternion))
-    s = g.set_value(Plug{control, xform::kRotateQuaternion, -1}, Value(math::Quat(math::Quat::Identity())));
-  if (s && free(xform::kScale)) s = g.set_value(Plug{control, xform::kScale, -1}, Value(math::Vec3(math::Vec3::Ones())));
-  if (s && free(xform::kShear)) s = g.set_value(Plug{control, xform::kShear, -1}, Value(math::Vec3(math::Vec3::Zero())));
-  return s;
-}
-
 // A guide that stands at `world`: values, or the offset from its joint at
 // `joint_world` (rotation in XYZ degrees; shear is dropped).
 void place_guide(Guide& guide, const Mat4& world, const std::optional<Mat4>& joint_world) {
@@ -1209,6 +1308,9 @@ void place_guide(Guide& guide, const Mat4& world, const std::optional<Mat4>& joi
 }
 
 }  // namespace
+
+// A control stands at its guide when its rest is the guide's place within this.
+constexpr double kAtGuide = 1e-7;
 
 Result<Edits> Build::edits() {
   if (Status s = sync(); !s) return s;
@@ -1264,7 +1366,19 @@ Result<Edits> Build::edits() {
   std::map<std::pair<std::size_t, int>, const Made*> mover;
   for (const Made& c : controls) {
     if (math::is_near(c.now, c.rest, 1e-9)) continue;
-    if (c.guide < 0 || c.guide >= static_cast<int>(components_[c.component]->guides.size())) {
+    bool at_guide = c.guide >= 0 && c.guide < static_cast<int>(components_[c.component]->guides.size());
+    if (at_guide) {
+      // Only a control that stands at its guide stands for it.
+      const Guide& guide = components_[c.component]->guides[static_cast<std::size_t>(c.guide)];
+      auto jr = joint_rest.find({c.component, c.guide});
+      if (!guide.joint.empty() && jr == joint_rest.end()) {
+        at_guide = false;
+      } else {
+        const Mat4 place = guide.joint.empty() ? guide_values(guide) : Mat4(jr->second * guide_values(guide));
+        at_guide = math::is_near(c.rest, place, kAtGuide);
+      }
+    }
+    if (!at_guide) {
       out.ignored.push_back(g.node(c.node)->name());
       continue;
     }
@@ -1300,11 +1414,30 @@ Result<Edits> Build::edits() {
   return out;
 }
 
-Result<Edits> Build::commit_edits() {
+Result<Edits> Build::commit_edits(const std::string& definition_path, bool leave_edit_mode) {
   Result<Edits> e = edits();
-  if (!e || e->changed.empty()) return e;
-  Result<std::vector<std::string>> rebuilt = rebuild_changed(e->definition, Rebuild::kChanged);
-  if (!rebuilt) return rebuilt.status();
+  if (!e) return e;
+  graph::Graph& g = scene_.graph();
+  const Definition before = definition_;
+  graph::Transaction tx(g, "commit rig edits " + definition_.name);
+  Status s;
+  if (!e->changed.empty()) {
+    Result<std::vector<std::string>> rebuilt = rebuild_changed(e->definition, Rebuild::kChanged);
+    if (!rebuilt) s = rebuilt.status();
+    if (s && !definition_path.empty()) {
+      definition_.source = definition_path;
+      const NodeId root = this->root();
+      s = g.set_value(Plug{root, g.node(root)->type().attr_find("definitionPath"), -1}, Value(definition_path));
+    }
+  }
+  if (s && leave_edit_mode) s = set_edit_mode(false);
+  if (!s) {
+    tx.rollback();
+    definition_ = before;
+    (void)replan();
+    (void)sync();
+    return s;
+  }
   return e;
 }
 

@@ -128,6 +128,7 @@ std::vector<ComponentSchema> make_schemas() {
                    "the reverseFoot node's roll, bank, twists and toeTap."},
                   {"toeFk", "circle", "yellow", 0.1, "FK control of the ball joint (with a parent limb)."}};
     c.hooks = {"ankle", "ball", "toe"};
+    c.fixed_guides = 2;  // the ankle and ball joints: the reverse foot turns them in place
     s.push_back(std::move(c));
   }
   {
@@ -157,6 +158,7 @@ std::vector<ComponentSchema> make_schemas() {
                 p_enum("axis", "y", {"x", "y", "z"}, "The bone's axis (glTF from Blender: y).")};
     c.guides = {2, 2, {"start", "end"}, "The joints the twist runs between."};
     c.hooks = {"start", "end"};
+    c.fixed_guides = -1;  // no controls
     s.push_back(std::move(c));
   }
   {
@@ -206,6 +208,7 @@ std::vector<ComponentSchema> make_schemas() {
     c.guides = {0, 1, {}, "The root joint of the hierarchy to rig (none: the whole character)."};
     c.controls = {{"joint", "sphere", "yellow", 0.05, "One control per joint."}};
     c.hooks = {"guide[i]"};
+    c.fixed_guides = -1;  // the controls hold the joints' pose
     s.push_back(std::move(c));
   }
   return s;

@@ -64,23 +64,54 @@ class JsonPositions {
     std::size_t offset;
   };
 
-  explicit JsonPositions(std::string_view text) : text_(text) { scan(); }
+  explicit JsonPositions(std::string_view text) : text_(text) {
+    values_.push_back(std::string_view::npos);  // the root, id 0
+    keys_.push_back(std::string_view::npos);
+    scan();
+  }
 
-  std::size_t value(const std::string& pointer) const { return find(values_, pointer); }
-  std::size_t key(const std::string& pointer) const { return find(keys_, pointer); }
+  std::size_t value(const std::string& pointer) const { return at_id(values_, pointer); }
+  std::size_t key(const std::string& pointer) const { return at_id(keys_, pointer); }
   const std::vector<Duplicate>& duplicates() const { return duplicates_; }
 
  private:
+  // Values are kept as a tree (id -> parent id and token), not by their
+  // whole pointer text: deep nesting costs memory in proportion to the
+  // values, not to their depth.
   struct Frame {
     bool object;
-    std::string path;
+    std::size_t id;
     std::size_t index = 0;
     std::set<std::string> keys;
   };
 
-  static std::size_t find(const std::unordered_map<std::string, std::size_t>& map, const std::string& pointer) {
-    const auto it = map.find(pointer);
-    return it == map.end() ? std::string_view::npos : it->second;
+  std::size_t child_id(std::size_t parent, const std::string& token) {
+    std::string k = std::to_string(parent);
+    k += '/';
+    k += token;
+    const auto [it, fresh] = children_.emplace(std::move(k), values_.size());
+    if (fresh) {
+      values_.push_back(std::string_view::npos);
+      keys_.push_back(std::string_view::npos);
+    }
+    return it->second;
+  }
+
+  // The offset recorded in `table` for the value at `pointer`, or npos.
+  std::size_t at_id(const std::vector<std::size_t>& table, const std::string& pointer) const {
+    std::size_t id = 0;
+    std::size_t i = 0;
+    while (i < pointer.size()) {
+      const std::size_t next = std::min(pointer.find('/', i + 1), pointer.size());
+      std::string k = std::to_string(id);
+      k += '/';
+      k.append(pointer, i + 1, next - i - 1);
+      const auto it = children_.find(k);
+      if (it == children_.end()) return std::string_view::npos;
+      id = it->second;
+      i = next;
+    }
+    return table[id];
   }
 
   char at(std::size_t i) const { return i < text_.size() ? text_[i] : '\0'; }
@@ -133,16 +164,16 @@ class JsonPositions {
   }
 
   // The member key at `i` of the object on top of `stack`: records it and
-  // returns the path of its value; `i` moves to the value.
-  std::string read_key(std::size_t& i, Frame& frame) {
+  // returns the id of its value; `i` moves to the value.
+  std::size_t read_key(std::size_t& i, Frame& frame) {
     const std::size_t key_offset = i;
     const std::string key = read_string(i);
     i = ws(i);
     i = ws(i + 1);  // ':'
-    std::string path = frame.path + "/" + pointer_token(key);
+    const std::size_t id = child_id(frame.id, pointer_token(key));
     if (!frame.keys.insert(key).second) duplicates_.push_back({key, key_offset});
-    keys_[path] = key_offset;
-    return path;
+    keys_[id] = key_offset;
+    return id;
   }
 
   void scan() {
@@ -150,7 +181,7 @@ class JsonPositions {
     if (text_.substr(0, 3) == "\xEF\xBB\xBF") i = 3;  // nlohmann-json skips a UTF-8 byte order mark too
     i = ws(i);
     std::vector<Frame> stack;
-    std::string path;
+    std::size_t path = 0;
     bool expect_value = true;
     while (i <= text_.size()) {
       if (expect_value) {
@@ -166,7 +197,7 @@ class JsonPositions {
           } else if (c == '{') {
             path = read_key(i, stack.back());
           } else {
-            path = stack.back().path + "/0";
+            path = child_id(stack.back().id, "0");
           }
           continue;
         }
@@ -184,7 +215,7 @@ class JsonPositions {
       if (at(i) == ',') {
         i = ws(i + 1);
         ++top.index;
-        path = top.object ? read_key(i, top) : top.path + "/" + std::to_string(top.index);
+        path = top.object ? read_key(i, top) : child_id(top.id, std::to_string(top.index));
         expect_value = true;
       } else {
         ++i;  // '}' or ']'
@@ -195,9 +226,28 @@ class JsonPositions {
   }
 
   std::string_view text_;
-  std::unordered_map<std::string, std::size_t> values_, keys_;
+  std::vector<std::size_t> values_, keys_;  // by id
+  std::unordered_map<std::string, std::size_t> children_;  // "PARENT_ID/TOKEN" -> id
   std::vector<Duplicate> duplicates_;
 };
+
+// The offset of the first '[' or '{' past kMaxTextDepth levels, or npos
+// (strings skipped; the text need not be valid JSON).
+std::size_t too_deep(std::string_view text) {
+  std::size_t depth = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"') {
+      for (++i; i < text.size() && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxTextDepth) return i;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return std::string_view::npos;
+}
 
 std::string list_text(std::initializer_list<const char*> names) {
   std::string out;
@@ -334,7 +384,7 @@ class JsonReader {
       d.geometry.push_back(std::move(geo));
     });
     for_each(j, path, "features", [&](const Json& f, const std::string& p) { read_feature(f, p, d.features); });
-    for_each(j, path, "components", [&](const Json& c, const std::string& p) { read_component(c, p, d.components); });
+    for_each(j, path, "components", [&](const Json& c, const std::string& p) { read_component(c, p, d.components, 1); });
   }
 
   void read_feature(const Json& j, const std::string& path, std::vector<Feature>& out) {
@@ -356,7 +406,11 @@ class JsonReader {
     out.push_back(std::move(f));
   }
 
-  void read_component(const Json& j, const std::string& path, std::vector<Component>& out) {
+  void read_component(const Json& j, const std::string& path, std::vector<Component>& out, std::size_t depth) {
+    if (depth > kMaxComponentDepth) {
+      error(value_at(path), "components nest deeper than " + std::to_string(kMaxComponentDepth) + " levels (the limit)");
+      return;
+    }
     if (!expect(j, path, j.is_object(), "a component", "an object")) return;
     Component c;
     c.where = value_at(path);
@@ -412,7 +466,7 @@ class JsonReader {
       }
     }
     for_each(j, path, "features", [&](const Json& f, const std::string& p) { read_feature(f, p, c.features); });
-    for_each(j, path, "children", [&](const Json& ch, const std::string& p) { read_component(ch, p, c.children); });
+    for_each(j, path, "children", [&](const Json& ch, const std::string& p) { read_component(ch, p, c.children, depth + 1); });
     out.push_back(std::move(c));
   }
 
@@ -541,6 +595,13 @@ std::string scalar_text(const Json& j) {
 
 ParseResult parse_json(std::string_view text, const std::string& source, const SchemaRegistry& schemas, bool* fatal) {
   ParseResult result;
+  if (const std::size_t deep = too_deep(text); deep != std::string_view::npos) {
+    result.errors.push_back({source, LineIndex(text).at(deep),
+                             "JSON arrays and objects nest deeper than " + std::to_string(kMaxTextDepth) +
+                                 " levels (the limit)"});
+    *fatal = true;
+    return result;
+  }
   Json root;
   try {
     root = Json::parse(text);

@@ -8,6 +8,8 @@
 #include <pugixml.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <initializer_list>
 #include <utility>
 
@@ -22,6 +24,217 @@ std::string list_text(std::initializer_list<const char*> names) {
   std::string out;
   for (const char* n : names) out += (out.empty() ? "" : ", ") + std::string(n);
   return out;
+}
+
+// ---- well-formedness -------------------------------------------------------------
+//
+// pugixml is a forgiving parser: it accepts "--" inside comments, an XML
+// declaration anywhere, '<' and undefined entity references in attribute
+// values, references to characters XML does not allow, control characters
+// and bad UTF-8, and it reports an unclosed element at the end of the file.
+// This pass over the raw text refuses what XML 1.0 refuses (and a DOCTYPE:
+// rig definitions declare no entities), names the open tag an end tag does
+// not match or that is never closed, and bounds the nesting (kMaxTextDepth)
+// before pugixml builds anything.
+
+struct XmlProblem {
+  std::size_t offset;
+  std::string message;
+};
+
+bool is_name_start(unsigned char c) { return std::isalpha(c) || c == '_' || c == ':' || c >= 0x80; }
+bool is_name_char(unsigned char c) { return is_name_start(c) || std::isdigit(c) || c == '-' || c == '.'; }
+
+// XML 1.0's Char production.
+bool is_xml_char(std::uint32_t cp) {
+  return cp == 0x9 || cp == 0xA || cp == 0xD || (cp >= 0x20 && cp <= 0xD7FF) || (cp >= 0xE000 && cp <= 0xFFFD) ||
+         (cp >= 0x10000 && cp <= 0x10FFFF);
+}
+
+std::string code_point_text(std::uint32_t cp) {
+  char buffer[16];
+  std::snprintf(buffer, sizeof buffer, "U+%04X", static_cast<unsigned>(cp));
+  return buffer;
+}
+
+// Every character is valid UTF-8 and one XML allows.
+std::optional<XmlProblem> check_characters(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::uint32_t cp = c;
+    std::size_t n = 1;
+    if (c >= 0x80) {
+      n = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+      if (n == 0 || i + n > text.size()) return XmlProblem{i, "invalid UTF-8"};
+      cp = c & (n == 2 ? 0x1F : n == 3 ? 0x0F : 0x07);
+      for (std::size_t k = 1; k < n; ++k) {
+        const auto d = static_cast<unsigned char>(text[i + k]);
+        if ((d & 0xC0) != 0x80) return XmlProblem{i, "invalid UTF-8"};
+        cp = (cp << 6) | (d & 0x3F);
+      }
+      if ((n == 3 && cp < 0x800) || (n == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
+        return XmlProblem{i, "invalid UTF-8 (an overlong or out-of-range sequence)"};
+    }
+    if (!is_xml_char(cp)) return XmlProblem{i, "character " + code_point_text(cp) + " is not allowed in XML"};
+    i += n;
+  }
+  return std::nullopt;
+}
+
+// The reference at text[i] == '&' (in character data or an attribute value):
+// a predefined entity or a character reference to a character XML allows.
+std::optional<XmlProblem> check_reference(std::string_view text, std::size_t i, std::size_t& end) {
+  const std::size_t semi = text.find(';', i);
+  const std::size_t stop = text.find_first_of("<&\"' \t\r\n>", i + 1);
+  if (semi == std::string_view::npos || (stop != std::string_view::npos && stop < semi))
+    return XmlProblem{i, "'&' must start a reference (&amp; &lt; &gt; &quot; &apos; &#N; &#xN;)"};
+  const std::string_view ref = text.substr(i + 1, semi - i - 1);
+  end = semi + 1;
+  if (ref == "lt" || ref == "gt" || ref == "amp" || ref == "quot" || ref == "apos") return std::nullopt;
+  if (ref.size() >= 2 && ref[0] == '#') {
+    const bool hex = ref[1] == 'x';
+    const std::string_view digits = ref.substr(hex ? 2 : 1);
+    std::uint64_t cp = 0;
+    bool ok = !digits.empty() && digits.size() <= 8;
+    for (char d : digits) {
+      if (!ok) break;
+      const int v = std::isdigit(static_cast<unsigned char>(d)) ? d - '0'
+                    : hex && std::isxdigit(static_cast<unsigned char>(d)) ? (std::tolower(static_cast<unsigned char>(d)) - 'a' + 10)
+                                                                          : -1;
+      ok = v >= 0;
+      cp = cp * (hex ? 16 : 10) + static_cast<std::uint64_t>(v < 0 ? 0 : v);
+    }
+    if (!ok) return XmlProblem{i, "bad character reference '&" + std::string(ref) + ";'"};
+    if (cp > 0x10FFFF || !is_xml_char(static_cast<std::uint32_t>(cp)))
+      return XmlProblem{i, "'&" + std::string(ref) + ";' refers to a character XML does not allow"};
+    return std::nullopt;
+  }
+  return XmlProblem{i, "undefined entity '&" + std::string(ref) + ";' (rig definitions declare none)"};
+}
+
+std::optional<XmlProblem> check_well_formed(std::string_view text) {
+  if (auto p = check_characters(text)) return p;
+  std::size_t i = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+  const std::size_t start = i;
+  struct Open {
+    std::string_view name;
+    std::size_t offset;
+  };
+  std::vector<Open> open;
+  while (i < text.size()) {
+    const char c = text[i];
+    if (c == '&') {
+      std::size_t end = i + 1;
+      if (auto p = check_reference(text, i, end)) return p;
+      i = end;
+      continue;
+    }
+    if (c == ']' && text.substr(i, 3) == "]]>") return XmlProblem{i, "']]>' is not allowed in text"};
+    if (c != '<') {
+      ++i;
+      continue;
+    }
+    const std::string_view rest = text.substr(i);
+    if (rest.substr(0, 4) == "<!--") {
+      const std::size_t dashes = text.find("--", i + 4);
+      if (dashes == std::string_view::npos) return XmlProblem{i, "the comment is not closed (no '-->')"};
+      if (dashes + 2 >= text.size() || text[dashes + 2] != '>')
+        return XmlProblem{dashes, "'--' is not allowed inside a comment"};
+      i = dashes + 3;
+      continue;
+    }
+    if (rest.substr(0, 9) == "<![CDATA[") {
+      const std::size_t end = text.find("]]>", i + 9);
+      if (end == std::string_view::npos) return XmlProblem{i, "the CDATA section is not closed (no ']]>')"};
+      if (open.empty()) return XmlProblem{i, "a CDATA section outside the root element"};
+      i = end + 3;
+      continue;
+    }
+    if (rest.substr(0, 2) == "<!") {
+      if (rest.substr(0, 9) == "<!DOCTYPE")
+        return XmlProblem{i, "a DOCTYPE is not supported in rig definitions"};
+      return XmlProblem{i, "unknown markup '<!'"};
+    }
+    if (rest.substr(0, 2) == "<?") {
+      const std::size_t end = text.find("?>", i + 2);
+      if (end == std::string_view::npos) return XmlProblem{i, "the processing instruction is not closed (no '?>')"};
+      std::size_t k = i + 2;
+      while (k < end && is_name_char(static_cast<unsigned char>(text[k]))) ++k;
+      std::string target(text.substr(i + 2, k - i - 2));
+      for (char& ch : target) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (target.empty()) return XmlProblem{i, "a processing instruction needs a target name"};
+      if (target == "xml" && i != start)
+        return XmlProblem{i, "the XML declaration must come first in the file"};
+      i = end + 2;
+      continue;
+    }
+    if (rest.substr(0, 2) == "</") {
+      std::size_t k = i + 2;
+      while (k < text.size() && is_name_char(static_cast<unsigned char>(text[k]))) ++k;
+      const std::string_view name = text.substr(i + 2, k - i - 2);
+      while (k < text.size() && is_space(text[k])) ++k;
+      if (name.empty() || k >= text.size() || text[k] != '>') return XmlProblem{i, "malformed end tag"};
+      if (open.empty()) return XmlProblem{i, "</" + std::string(name) + "> closes no element"};
+      if (open.back().name != name)
+        return XmlProblem{i + 2, "Start-end tags mismatch"};
+      open.pop_back();
+      i = k + 1;
+      continue;
+    }
+    // A start tag.
+    std::size_t k = i + 1;
+    if (k >= text.size() || !is_name_start(static_cast<unsigned char>(text[k])))
+      return XmlProblem{i, "'<' must start a tag (write &lt; for the character)"};
+    while (k < text.size() && is_name_char(static_cast<unsigned char>(text[k]))) ++k;
+    const std::string_view name = text.substr(i + 1, k - i - 1);
+    bool closed = false;
+    for (;;) {
+      const std::size_t before_space = k;
+      while (k < text.size() && is_space(text[k])) ++k;
+      if (k >= text.size()) return XmlProblem{i, "<" + std::string(name) + "> is not closed (no '>')"};
+      if (text[k] == '>') {
+        ++k;
+        break;
+      }
+      if (text.substr(k, 2) == "/>") {
+        k += 2;
+        closed = true;
+        break;
+      }
+      if (k == before_space) return XmlProblem{k, "attributes must be separated by white space"};
+      if (!is_name_start(static_cast<unsigned char>(text[k]))) return XmlProblem{k, "expected an attribute name"};
+      const std::size_t attr = k;
+      while (k < text.size() && is_name_char(static_cast<unsigned char>(text[k]))) ++k;
+      while (k < text.size() && is_space(text[k])) ++k;
+      if (k >= text.size() || text[k] != '=') return XmlProblem{attr, "an attribute needs '=' and a quoted value"};
+      ++k;
+      while (k < text.size() && is_space(text[k])) ++k;
+      if (k >= text.size() || (text[k] != '"' && text[k] != '\''))
+        return XmlProblem{attr, "an attribute value must be quoted"};
+      const char quote = text[k++];
+      while (k < text.size() && text[k] != quote) {
+        if (text[k] == '<') return XmlProblem{k, "'<' is not allowed in an attribute value (write &lt;)"};
+        if (text[k] == '&') {
+          std::size_t end = k + 1;
+          if (auto p = check_reference(text, k, end)) return p;
+          k = end;
+          continue;
+        }
+        ++k;
+      }
+      if (k >= text.size()) return XmlProblem{attr, "the attribute value is not closed"};
+      ++k;
+    }
+    if (!closed) {
+      if (open.size() >= kMaxTextDepth)
+        return XmlProblem{i, "elements nest deeper than " + std::to_string(kMaxTextDepth) + " levels (the limit)"};
+      open.push_back(Open{name, i});
+    }
+    i = k;
+  }
+  if (!open.empty()) return XmlProblem{open.back().offset, "<" + std::string(open.back().name) + "> is not closed"};
+  return std::nullopt;
 }
 
 class XmlReader {
@@ -210,7 +423,7 @@ class XmlReader {
       } else if (name == "feature") {
         d.features.push_back(read_feature(c));
       } else if (name == "component") {
-        d.components.push_back(read_component(c));
+        d.components.push_back(read_component(c, 1));
       } else {
         unknown_element(n, c, {"geo", "feature", "component"});
       }
@@ -249,9 +462,10 @@ class XmlReader {
     return f;
   }
 
-  Component read_component(pugi::xml_node n) {
+  Component read_component(pugi::xml_node n, std::size_t depth) {
     Component c;
     c.where = at(n);
+
     const auto attrs = check_attrs(n, {"type", "name", "side", "version", "rigId", "attach", "guiLocation"});
     c.type = n.attribute("type").value();
     c.name = n.attribute("name").value();
@@ -277,7 +491,10 @@ class XmlReader {
       } else if (name == "feature") {
         c.features.push_back(read_feature(e));
       } else if (name == "component") {
-        c.children.push_back(read_component(e));
+        if (depth + 1 > kMaxComponentDepth)
+          error(at(e), "components nest deeper than " + std::to_string(kMaxComponentDepth) + " levels (the limit)");
+        else
+          c.children.push_back(read_component(e, depth + 1));
       } else {
         unknown_element(n, e, {"guide", "control", "param", "feature", "component"});
       }
@@ -437,6 +654,14 @@ class XmlWriter {
 
 ParseResult parse_xml(std::string_view text, const std::string& source, const SchemaRegistry& schemas, bool* fatal) {
   ParseResult result;
+  {
+    const LineIndex lines(text);
+    if (std::optional<XmlProblem> p = check_well_formed(text)) {
+      result.errors.push_back({source, lines.at(p->offset), "XML syntax error: " + p->message});
+      *fatal = true;
+      return result;
+    }
+  }
   pugi::xml_document doc;
   const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!parsed) {

@@ -2,6 +2,8 @@
 
 #include "rigel/rig/manager.h"
 
+#include <functional>
+#include <set>
 #include <sstream>
 
 #include "definition_io_internal.h"
@@ -72,40 +74,133 @@ Result<Definition> read_definition(const fs::path& path, const SchemaRegistry& s
     for (std::size_t i = 0; i < problems.size(); ++i) o << (i ? "\n" : "") << problems[i].str();
     return error(ErrorCode::kInvalidArgument, o.str());
   }
-  parsed.definition.source = path.string();
+  // Absolute: the scene keeps it relative to its own file (io/scene_file.h).
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec);
+  parsed.definition.source = ec ? path.string() : absolute.lexically_normal().string();
   return std::move(parsed.definition);
+}
+
+const char* component_state_name(ComponentState::Kind kind) {
+  switch (kind) {
+    case ComponentState::Kind::kCurrent: return "current";
+    case ComponentState::Kind::kChanged: return "changed";
+    case ComponentState::Kind::kRemoved: return "removed";
+    case ComponentState::Kind::kAdded: return "added";
+  }
+  return "current";
+}
+
+namespace {
+
+// Compares the built rig `root` with `def` (or, without one, lists the
+// built components only).
+void compare(const graph::Graph& g, NodeId root, const Definition* def, RigState& out) {
+  std::set<std::string> built;
+  for (NodeId c : rig_components(g, root)) {
+    ComponentState st;
+    st.rig_id = meta_string(g, c, "rigId");
+    st.name = meta_string(g, c, "componentName");
+    st.type = meta_string(g, c, "metaType");
+    st.version = meta_string(g, c, "version");
+    built.insert(st.rig_id);
+    if (def) {
+      if (const Component* d = def->find_by_rig_id(st.rig_id)) {
+        st.definition_version = d->version;
+        if (compare_versions(st.version, d->version) != 0) st.kind = ComponentState::Kind::kChanged;
+      } else {
+        st.kind = ComponentState::Kind::kRemoved;
+      }
+    }
+    out.components.push_back(std::move(st));
+  }
+  if (!def) return;
+  std::function<void(const Component&)> walk = [&](const Component& c) {
+    if (!built.count(c.rig_id)) {
+      ComponentState st;
+      st.rig_id = c.rig_id;
+      st.name = full_name(c);
+      st.type = c.type;
+      st.definition_version = c.version;
+      st.kind = ComponentState::Kind::kAdded;
+      out.components.push_back(std::move(st));
+    }
+    for (const Component& child : c.children) walk(child);
+  };
+  for (const Component& c : def->components) walk(c);
+  out.out_of_date = compare_versions(out.version, def->version) != 0;
+  for (const ComponentState& c : out.components) out.out_of_date = out.out_of_date || c.out_of_date();
+}
+
+}  // namespace
+
+Result<RigState> rig_state(const graph::Graph& g, std::string_view rig_name, const SchemaRegistry& schemas) {
+  const NodeId root = find_rig(g, rig_name);
+  if (!root.is_valid()) return error(ErrorCode::kNotFound, "no rig '" + std::string(rig_name) + "'");
+  RigState out;
+  out.rig = meta_string(g, root, "rigName");
+  out.version = meta_string(g, root, "version");
+  out.definition = meta_string(g, root, "definitionPath");
+  if (out.definition.empty()) {
+    out.problem = "no definition path";
+    compare(g, root, nullptr, out);
+    return out;
+  }
+  Result<Definition> def = read_definition(out.definition, schemas);
+  if (!def) {
+    const std::string& m = def.status().message();
+    out.problem = m.substr(0, m.find('\n'));
+    compare(g, root, nullptr, out);
+    return out;
+  }
+  out.definition_found = true;
+  out.definition_version = def->version;
+  compare(g, root, &*def, out);
+  return out;
 }
 
 Json rigs_report(const graph::Graph& g) {
   Json list = Json::array();
   for (NodeId root : list_rigs(g)) {
-    const std::string path = meta_string(g, root, "definitionPath");
-    const std::string version = meta_string(g, root, "version");
-    // The Rig Manager's red button: the definition on disk has another version.
-    Json on_disk = nullptr;
-    std::error_code ec;
-    if (!path.empty() && fs::exists(path, ec)) {
-      ParseResult p = load_definition(path);
-      if (p.ok()) on_disk = p.definition.version;
-    }
+    const std::string name = meta_string(g, root, "rigName");
+    Result<RigState> state = rig_state(g, name);
+    if (!state) continue;
+    auto version_or_null = [](const std::string& v) { return v.empty() ? Json(nullptr) : Json(v); };
     Json comps = Json::array();
-    for (NodeId c : rig_components(g, root)) {
-      NodeId parent = meta_parent(g, c);
-      comps.push_back(Json{{"name", meta_string(g, c, "componentName")},
-                           {"type", meta_string(g, c, "metaType")},
-                           {"version", meta_string(g, c, "version")},
-                           {"rigId", meta_string(g, c, "rigId")},
+    Json added = Json::array();
+    for (const ComponentState& c : state->components) {
+      if (c.kind == ComponentState::Kind::kAdded) {
+        added.push_back(Json{{"name", c.name},
+                             {"type", c.type},
+                             {"definitionVersion", c.definition_version},
+                             {"rigId", c.rig_id},
+                             {"state", component_state_name(c.kind)},
+                             {"outOfDate", true}});
+        continue;
+      }
+      const NodeId meta = find_component(g, root, c.rig_id);
+      const NodeId parent = meta_parent(g, meta);
+      comps.push_back(Json{{"name", c.name},
+                           {"type", c.type},
+                           {"version", c.version},
+                           {"rigId", c.rig_id},
                            {"parent", parent == root ? "" : meta_string(g, parent, "componentName")},
-                           {"nodes", meta_members(g, c).size()}});
+                           {"nodes", meta_members(g, meta).size()},
+                           {"definitionVersion", version_or_null(c.definition_version)},
+                           {"state", component_state_name(c.kind)},
+                           {"outOfDate", c.out_of_date()}});
     }
-    list.push_back(Json{{"name", meta_string(g, root, "rigName")},
-                        {"version", version},
-                        {"definition", path},
-                        {"definitionVersion", on_disk},
-                        {"outOfDate", on_disk.is_string() && on_disk.get<std::string>() != version},
+    list.push_back(Json{{"name", state->rig},
+                        {"version", state->version},
+                        {"definition", state->definition},
+                        {"definitionFound", state->definition_found},
+                        {"definitionProblem", state->definition_found ? Json(nullptr) : Json(state->problem)},
+                        {"definitionVersion", version_or_null(state->definition_version)},
+                        {"outOfDate", state->out_of_date},
                         {"editMode", meta_int(g, root, "editMode") != 0},
                         {"buildPosition", meta_int(g, root, "buildPosition")},
-                        {"components", comps}});
+                        {"components", comps},
+                        {"added", added}});
   }
   return list;
 }
@@ -146,13 +241,28 @@ Result<UpdateReport> update_rig(scene::Scene& scene, std::string_view rig_name, 
   if (report.definition.empty())
     return error(ErrorCode::kNotFound, report.rig + ": no definition path; give one");
   auto def = read_definition(report.definition, factory.schemas());
-  if (!def) return def.status();
+  if (!def) return def.status().with_context("rig " + report.rig + ": definition");
   report.from = meta_string(g, root, "version");
   report.to = def->version;
   if (def->name != report.rig)
     return error(ErrorCode::kInvalidArgument,
                  report.definition + ": defines rig '" + def->name + "', not '" + report.rig + "'");
-  if (compare_versions(report.from, report.to) == 0 && !force) return report;
+  // Up to date: the rig's version and every component's agree, and the
+  // definition has the same components.
+  bool same = compare_versions(report.from, report.to) == 0;
+  std::set<std::string> built;
+  for (NodeId c : rig_components(g, root)) {
+    const std::string id = meta_string(g, c, "rigId");
+    built.insert(id);
+    const Component* d = def->find_by_rig_id(id);
+    same = same && d && compare_versions(meta_string(g, c, "version"), d->version) == 0;
+  }
+  std::function<void(const Component&)> walk = [&](const Component& c) {
+    same = same && built.count(c.rig_id) > 0;
+    for (const Component& child : c.children) walk(child);
+  };
+  for (const Component& c : def->components) walk(c);
+  if (same && !force) return report;
   auto build = Build::reopen(scene, report.rig, factory);
   if (!build) return build.status();
   const Definition kept = *def;

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <charconv>
 
+#include "rigel/io/scene_file.h"
 #include "rigel/ops/registry.h"
 #include "rigel/scene/transform_types.h"
 
@@ -107,6 +108,8 @@ Status register_rig_types(graph::Registry& registry) {
                 message_attr("metaChildren"),
                 message_attr("members")};
   if (Status s = registry.add(std::move(root)); !s) return s;
+  // The definition's path is kept relative to the scene file (io/scene_file.h).
+  io::declare_path_attribute(kMetaRootType, "definitionPath");
 
   graph::NodeTypeSpec component;
   component.name = kMetaComponentType;

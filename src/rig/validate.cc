@@ -73,11 +73,16 @@ class Validator {
     return out + ")";
   }
 
-  void index(const Component& c, const Component* parent) {
+  void index(const Component& c, const Component* parent, std::size_t depth = 1) {
     const int parent_index = parent ? index_of_.at(parent) : -1;
     index_of_[&c] = static_cast<int>(nodes_.size());
     nodes_.push_back({&c, parent_index, -1, schemas_.find(c.type)});
-    for (const Component& child : c.children) index(child, &c);
+    if (depth == kMaxComponentDepth && !c.children.empty()) {
+      error(c.children.front().where,
+            "components nest deeper than " + std::to_string(kMaxComponentDepth) + " levels (the limit)");
+      return;
+    }
+    for (const Component& child : c.children) index(child, &c, depth + 1);
   }
 
   void check_rig() {
@@ -234,6 +239,12 @@ class Validator {
     std::map<std::string, SourceLocation> seen;
     for (std::size_t i = 0; i < c.guides.size(); ++i) {
       const Guide& guide = c.guides[i];
+      const bool offset = guide.translate != math::Vec3::Zero() || guide.rotate != math::Vec3::Zero() ||
+                          guide.scale != math::Vec3::Ones();
+      if (offset && !guide.joint.empty() && (s.fixed_guides < 0 || static_cast<int>(i) < s.fixed_guides))
+        error(guide.where, who + ": guide " + std::to_string(i) + " (" + guide.joint +
+                               ") takes no offset (translate, rotate, scale): " + s.type +
+                               (s.fixed_guides < 0 ? " places nothing off its joints" : " turns this joint in place"));
       if (guide.name.empty()) continue;
       if (!g.names.empty() && i < g.names.size() && guide.name != g.names[i]) {
         error(guide.where, who + ": guide " + std::to_string(i) + " is named '" + guide.name + "', but " + s.type +

@@ -49,6 +49,21 @@ Status save_scene(scene::Scene& scene, const std::filesystem::path& path);
 nlohmann::ordered_json attribute_to_json(const graph::Value& value, const graph::AttrSpec& spec);
 Result<graph::Value> attribute_from_json(const nlohmann::ordered_json& json, const graph::AttrSpec& spec);
 
+// File paths inside scenes. A string attribute declared here holds the path
+// of another file (a rig's metaRoot.definitionPath). save_scene() writes it
+// relative to the scene file's folder and load_scene() reads it back as an
+// absolute path (symbolic links resolved), so the current directory plays
+// no part and a scene saved elsewhere names the same file. In memory such a
+// path is absolute (a relative one is taken from the current directory);
+// write_scene() and parse_scene(), which know no file, leave it as it is.
+// The layer that owns the node type declares it (rig::register_rig_types).
+void declare_path_attribute(std::string_view node_type, std::string_view attr);
+bool is_path_attribute(std::string_view node_type, std::string_view attr);
+// `path` as a scene file in folder `folder` stores it (relative when it can
+// be), and back.
+std::string path_relative_to(const std::string& path, const std::filesystem::path& folder);
+std::string path_from(const std::string& stored, const std::filesystem::path& folder);
+
 // Writes `content` to `path` atomically (used by every rigel writer).
 Status write_file_atomic(const std::filesystem::path& path, std::string_view content);
 

@@ -145,9 +145,11 @@ class Build {
   // step; on failure nothing changes.
   Status set_edit_mode(bool on);
   // The definition with each guide moved as its controls were moved: a
-  // control made at guide i (tagged guide=i) that stands at W instead of its
-  // rest R moves guide i's location G to W * R^-1 * G, so the rebuilt rig
-  // stands where the edited one does. A guide with a joint keeps it and
+  // control made at guide i (tagged guide=i) whose rest R is the guide's
+  // place G (within 1e-7) and that stands at W moves guide i to W, so the
+  // rebuilt rig stands where the edited one does. A control made elsewhere
+  // for a guide (a pole, a limb's switch, an eye's aim, a foot's ground
+  // control) stands for no guide: moved, it is listed in Edits::ignored. A guide with a joint keeps it and
   // takes the move as its offset in the joint's space; other guides take it
   // as their values. Changed components and the rig get next_version().
   // Controls of classes that are not editable() are left out.
@@ -157,9 +159,12 @@ class Build {
   // moved differently (naming them).
   Result<Edits> edits();
   // edits(), then rebuild_changed() with it: the moved components are built
-  // again at their new guides, controls zeroed. One undo step. The caller
-  // saves the definition (Edits::definition) where it belongs.
-  Result<Edits> commit_edits();
+  // again at their new guides, controls zeroed. When guides moved and
+  // `definition_path` is given, the rig records it as its definition path
+  // (where the caller saves Edits::definition), so the rig is up to date with
+  // that file. `leave_edit_mode`: then the rig is built again for animation
+  // (set_edit_mode(false)). One undo step; on failure nothing changes.
+  Result<Edits> commit_edits(const std::string& definition_path = {}, bool leave_edit_mode = false);
 
  private:
   Build(scene::Scene& scene, Definition definition, const ComponentFactory& factory, BuildOptions options);

@@ -20,6 +20,14 @@
 namespace rigel::rig {
 
 enum class Syntax { kXml, kJson };
+
+// Nesting limits (docs/RIG.md): components nest at most kMaxComponentDepth
+// levels (a root component is level 1), and the text itself, XML elements
+// or JSON arrays and objects, at most kMaxTextDepth levels. Deeper input is
+// refused where it passes the limit (file:line:column), before anything is
+// built, so no reader, check or build recurses without bound.
+inline constexpr std::size_t kMaxComponentDepth = 256;
+inline constexpr std::size_t kMaxTextDepth = 1024;
 // From the file name: ".rig.xml"/".xml" -> XML, ".rig.json"/".json" -> JSON.
 std::optional<Syntax> syntax_of(const std::filesystem::path& path);
 

@@ -25,11 +25,47 @@ namespace rigel::rig {
 // lists every problem as "file:line:column: message", one per line.
 Result<Definition> read_definition(const std::filesystem::path& path, const SchemaRegistry& schemas = builtin_schemas());
 
+// How a built rig stands against its definition on disk (the Rig Manager's
+// red button, and what update_rig rebuilds): the rig's version and every
+// component's, matched by rigId. A component is out of date when the
+// definition gives it another version (kChanged), no longer has it
+// (kRemoved), or has a component the scene has not built (kAdded).
+struct ComponentState {
+  enum class Kind { kCurrent, kChanged, kRemoved, kAdded };
+  std::string rig_id, name, type;
+  std::string version;             // built ("" for kAdded)
+  std::string definition_version;  // on disk ("" for kRemoved, or no definition)
+  Kind kind = Kind::kCurrent;
+  bool out_of_date() const { return kind != Kind::kCurrent; }
+};
+const char* component_state_name(ComponentState::Kind kind);  // "current", "changed", "removed", "added"
+struct RigState {
+  std::string rig, version;
+  std::string definition;  // the absolute path the rig keeps ("" when none)
+  // The definition could be read and checked; otherwise `problem` says why
+  // ("no definition path", "PATH: cannot be read (missing, or no permission)",
+  // the first validation error) and nothing below compares.
+  bool definition_found = false;
+  std::string problem;
+  std::string definition_version;
+  std::vector<ComponentState> components;  // built ones in build order, then added ones
+  // The rig's version differs or any component is out of date.
+  bool out_of_date = false;
+};
+// kNotFound when the scene has no rig `rig_name`.
+Result<RigState> rig_state(const graph::Graph& graph, std::string_view rig_name,
+                           const SchemaRegistry& schemas = builtin_schemas());
+
 // The rigs of a scene, what `rigel rigs --json` prints under "rigs": per rig
-// its name, version, definition path, the version of the definition on
-// disk (null when it cannot be read), outOfDate (the two differ: the Rig
-// Manager's red button), editMode, buildPosition and steps, and its
-// components (name, type, version, rigId, parent component, node count).
+// its name, version, definition path (absolute), definitionFound and
+// definitionProblem (null when found), the version of the definition on
+// disk (null when it cannot be read), outOfDate (RigState::out_of_date: the
+// Rig Manager's red button), editMode, buildPosition, its components (name,
+// type, version, rigId, parent component, node count, definitionVersion
+// (null when the definition has none), state ("current", "changed",
+// "removed") and outOfDate) and `added`: the components the definition has
+// and the scene has not built (name, type, definitionVersion, rigId, state
+// "added", outOfDate true).
 nlohmann::ordered_json rigs_report(const graph::Graph& graph);
 
 // A component type's schema as `rigel components --json` prints it: type,
@@ -52,8 +88,12 @@ Result<AddedRig> add_rig(scene::Scene& scene, const std::filesystem::path& path,
 
 // Updates rig `rig_name` from its definition (its own definitionPath, or
 // `definition_path` when not empty): components whose version differs are
-// rebuilt (all with `force`), keys kept as `keep` says. `updated` is false
-// when the versions already agreed and nothing was forced.
+// rebuilt, with what hangs from them, components added are built and
+// components removed are destructed (every component with `force`), keys
+// kept as `keep` says. The rebuilt components are built on the rest pose
+// (Build::rebuild_changed), whatever the scene's time. `updated` is false
+// when the rig's and every component's version already agreed and nothing
+// was forced. A definition that cannot be read fails naming its path.
 struct UpdateReport {
   std::string rig, from, to, definition;
   bool updated = false;

@@ -66,6 +66,11 @@ struct ComponentSchema {
   std::vector<std::string> hooks;
   bool root_only = false;    // may only be a root (global)
   bool needs_parent = false;  // may not be a root
+  // Guide offsets (translate, rotate, scale on a guide with a joint) place
+  // a control off its joint. The first `fixed_guides` guides (-1: every
+  // one) take none, because the type makes no control there or its control
+  // must stand at the joint; validate() refuses an offset on them.
+  int fixed_guides = 0;
 
   const ParamSpec* param(std::string_view name) const;
   const ControlSpec* control(std::string_view role) const;

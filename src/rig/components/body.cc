@@ -581,7 +581,10 @@ class Simple : public ComponentClass {
                    if (Status s = ctx.publish_hook(i, *hook); !s) return s;
                    continue;
                  }
-                 Result<NodeId> c = ctx.create_control("main", i, i, world, ctx.attach_node());
+                 // At the guide (the node's place, or off it by the guide's offset).
+                 Result<Mat4> place = ctx.guide_world(i);
+                 if (!place) return place.status();
+                 Result<NodeId> c = ctx.create_control("main", i, i, *place, ctx.attach_node());
                  if (!c) return c.status();
                  if (Status s = ctx.publish_hook(i, *c); !s) return s;
                }

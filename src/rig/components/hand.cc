@@ -233,16 +233,20 @@ class HandComponent : public ComponentClass {
              [](BuildContext& ctx) -> Status {
                Result<Hand> hand = read_hand(ctx);
                if (!hand) return hand.status();
-               scene::Scene& scene = ctx.scene();
-               Result<NodeId> control =
-                   ctx.create_control("hand", -1, 0, scene.world_matrix(hand->joint), ctx.attach_node());
+               // Controls at their guides (a joint, or off it by the guide's offset);
+               // each drives its joint keeping that offset.
+               Result<Mat4> hand_place = ctx.guide_world(0);
+               if (!hand_place) return hand_place.status();
+               Result<NodeId> control = ctx.create_control("hand", -1, 0, *hand_place, ctx.attach_node());
                if (!control) return control.status();
                if (Status s = ctx.publish_hook(0, *control); !s) return s;
                for (const Finger& f : hand->fingers) {
                  NodeId parent = *control;
                  for (std::size_t j = 0; j < f.joints.size(); ++j) {
-                   Result<NodeId> c = ctx.create_control("finger", f.first_control + static_cast<int>(j), f.guides[j],
-                                                         scene.world_matrix(f.joints[j]), parent);
+                   Result<Mat4> place = ctx.guide_world(f.guides[j]);
+                   if (!place) return place.status();
+                   Result<NodeId> c =
+                       ctx.create_control("finger", f.first_control + static_cast<int>(j), f.guides[j], *place, parent);
                    if (!c) return c.status();
                    parent = *c;
                  }

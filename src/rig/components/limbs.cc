@@ -55,6 +55,38 @@ Result<std::vector<NodeId>> chain_joints(BuildContext& ctx) {
   return joints;
 }
 
+// Guide offsets (docs/RIG.md): a guide with a joint and a translate, rotate
+// or scale places its control off the joint. The control stands at the
+// guide (joint * offset); a group under it at the joint's own place (role
+// `fkJoint`/`ikEnd`, made only for an offset guide) is what drives the
+// joint, so the joint keeps its rest while the control is zeroed.
+bool has_offset(const Guide& g) {
+  return g.translate != Vec3::Zero() || g.rotate != Vec3::Zero() || g.scale != Vec3::Ones();
+}
+
+// The node of `role` whose index tag is `index` (invalid when none).
+NodeId node_at(BuildContext& ctx, std::string_view role, int index) {
+  for (NodeId n : ctx.nodes(role)) {
+    const std::string* tag = ctx.graph().node(n)->tag_find(kTagIndex);
+    if (tag && *tag == std::to_string(index)) return n;
+    if (!tag && index < 0) return n;
+  }
+  return {};
+}
+
+// The control of guide `i` at the guide's place, and, for an offset guide, a
+// group `joint_role` under it at `joint`'s place (the node that drives it).
+// Returns the driving node (the group, else the control).
+Result<NodeId> control_at_guide(BuildContext& ctx, std::string_view role, int index, int i, NodeId joint,
+                                NodeId parent, std::string_view joint_role) {
+  Result<Mat4> place = ctx.guide_world(i);
+  if (!place) return place.status();
+  Result<NodeId> c = ctx.create_control(role, index, i, *place, parent);
+  if (!c) return c;
+  if (!has_offset(ctx.component().guides[static_cast<std::size_t>(i)])) return c;
+  return ctx.create_group(joint_role, index, ctx.scene().world_matrix(joint), *c);
+}
+
 // The direction from the start-end line toward `mid` (unit), or, for a
 // straight chain, `fallback` made perpendicular to the line (then world x).
 Vec3 bend_direction(const Vec3& start, const Vec3& mid, const Vec3& end, const Vec3& fallback) {
@@ -226,7 +258,7 @@ class IkChain : public ComponentClass {
                if (!joints) return joints.status();
                const int n = ctx.guide_count();
                const Mat4 end = ctx.scene().world_matrix(joints->back());
-               Result<NodeId> control = ctx.create_control("ik", -1, n - 1, end, ctx.attach_node());
+               Result<NodeId> control = control_at_guide(ctx, "ik", -1, n - 1, joints->back(), ctx.attach_node(), "ikEnd");
                if (!control) return control.status();
                if (*solver != "twoBone") return Status::ok();
                const Vec3 a = position_of(ctx.scene().world_matrix((*joints)[0]));
@@ -242,7 +274,7 @@ class IkChain : public ComponentClass {
                if (!solver) return solver.status();
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
                if (!joints) return joints.status();
-               const NodeId target = ctx.node("ik");
+               const NodeId target = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
                if (*solver == "twoBone") return make_two_bone(ctx, *joints, target, ctx.node("pole")).status();
                Result<NodeId> space = make_ik_space(ctx, joints->front());
                if (!space) return space.status();
@@ -263,7 +295,8 @@ class IkChain : public ComponentClass {
              [](BuildContext& ctx) -> Status {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
                if (!joints) return joints.status();
-               Result<NodeId> node = make_switch(ctx, *joints, {}, ctx.node("ikSolver"), ctx.node("ik"), 1.0);
+               const NodeId end = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
+               Result<NodeId> node = make_switch(ctx, *joints, {}, ctx.node("ikSolver"), end, 1.0);
                if (!node) return node.status();
                return drive_joints(ctx, *joints, *node);
              }},
@@ -284,9 +317,9 @@ class Limb : public ComponentClass {
                if (!joints) return joints.status();
                NodeId parent = ctx.attach_node();
                for (int i = 0; i < 3; ++i) {
-                 Result<NodeId> c = ctx.create_control("fk", i, i, ctx.scene().world_matrix((*joints)[i]), parent);
+                 Result<NodeId> c = control_at_guide(ctx, "fk", i, i, (*joints)[i], parent, "fkJoint");
                  if (!c) return c.status();
-                 parent = *c;
+                 parent = node_at(ctx, "fk", i);
                }
                return Status::ok();
              }},
@@ -295,8 +328,8 @@ class Limb : public ComponentClass {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
                if (!joints) return joints.status();
                const Mat4 end = ctx.scene().world_matrix((*joints)[2]);
-               Result<NodeId> control = ctx.create_control("ik", -1, 2, end, ctx.attach_node());
-               if (!control) return control.status();
+               Result<NodeId> target = control_at_guide(ctx, "ik", -1, 2, (*joints)[2], ctx.attach_node(), "ikEnd");
+               if (!target) return target.status();
                const Vec3 a = position_of(ctx.scene().world_matrix((*joints)[0]));
                const Vec3 m = position_of(ctx.scene().world_matrix((*joints)[1]));
                // Straight limbs: knees forward, elbows back (glTF: +z is the character's front).
@@ -306,7 +339,7 @@ class Limb : public ComponentClass {
                    m + bend_direction(a, m, position_of(end), front) * ctx.param_double("poleDistance");
                Result<NodeId> pole = ctx.create_control("pole", -1, 1, pole_world, ctx.attach_node());
                if (!pole) return pole.status();
-               return make_two_bone(ctx, *joints, *control, *pole).status();
+               return make_two_bone(ctx, *joints, *target, *pole).status();
              }},
         Step{"stretch", "stretch", "",
              [](BuildContext& ctx) -> Status {
@@ -333,7 +366,13 @@ class Limb : public ComponentClass {
                Result<NodeId> control = ctx.create_control("switch", -1, 2, place, ctx.attach_node());
                if (!control) return control.status();
                const double fk_ik = solver.is_valid() && ctx.param_string("defaultMode") == "ik" ? 1.0 : 0.0;
-               return make_switch(ctx, *joints, ctx.nodes("fk"), solver, ctx.node("ik"), fk_ik).status();
+               std::vector<NodeId> fk;
+               for (int i = 0; i < 3; ++i) {
+                 const NodeId at_joint = node_at(ctx, "fkJoint", i);
+                 fk.push_back(at_joint.is_valid() ? at_joint : node_at(ctx, "fk", i));
+               }
+               const NodeId ik_end = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
+               return make_switch(ctx, *joints, fk, solver, ik_end, fk_ik).status();
              }},
         Step{"drive", "", "",
              [](BuildContext& ctx) -> Status {
@@ -411,6 +450,10 @@ class Twist : public ComponentClass {
 
 struct LimbNodes {
   NodeId fk[3], ik, pole, solver, blend;
+  // From each control to the joint it drives: identity, or the
+  // offsetParentMatrix of its fkJoint / ikEnd group (an offset guide).
+  Mat4 fk_to_joint[3] = {Mat4::Identity(), Mat4::Identity(), Mat4::Identity()};
+  Mat4 ik_to_joint = Mat4::Identity();
 };
 
 Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
@@ -429,6 +472,14 @@ Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
   for (auto [role, into] : {std::pair<const char*, NodeId*>{"ik", &out.ik}, {"pole", &out.pole},
                             {"ikSolver", &out.solver}, {"fkIkSwitch", &out.blend}})
     if (Status s = find(role, 0, *into); !s) return s;
+  for (NodeId m : meta_members(g, meta)) {
+    const std::string* role = g.node(m)->tag_find(kTagRole);
+    if (!role || (*role != "fkJoint" && *role != "ikEnd")) continue;
+    const Mat4 to_joint = std::get<Mat4>(g.node(m)->value(xform::kOffsetParentMatrix));
+    const std::string* index = g.node(m)->tag_find(kTagIndex);
+    if (*role == "ikEnd") out.ik_to_joint = to_joint;
+    else if (index && (*index == "0" || *index == "1" || *index == "2")) out.fk_to_joint[std::stoi(*index)] = to_joint;
+  }
   return out;
 }
 
@@ -471,7 +522,7 @@ Status match_fk_to_ik(scene::Scene& scene, NodeId limb_meta) {
     ik_worlds[2] = ops::util::ik_end_world(ik_worlds[2], std::get<Mat4>(g.evaluate(nodes->blend, sw::kIkEndMatrix)));
   graph::Transaction tx(g, "match FK to IK");
   for (int i = 0; i < 3; ++i) {
-    if (Status s = set_world(scene, nodes->fk[i], ik_worlds[i]); !s) {
+    if (Status s = set_world(scene, nodes->fk[i], ik_worlds[i] * math::affine_inverse(nodes->fk_to_joint[i])); !s) {
       tx.rollback();
       return s;
     }
@@ -484,12 +535,12 @@ Status match_ik_to_fk(scene::Scene& scene, NodeId limb_meta) {
   Result<LimbNodes> nodes = limb_nodes(g, limb_meta);
   if (!nodes) return nodes.status();
   Mat4 fk[3];
-  for (int i = 0; i < 3; ++i) fk[i] = scene.world_matrix(nodes->fk[i]);
+  for (int i = 0; i < 3; ++i) fk[i] = scene.world_matrix(nodes->fk[i]) * nodes->fk_to_joint[i];
   const std::vector<Mat4> ik_worlds =
       std::get<std::vector<Mat4>>(g.evaluate(nodes->solver, ik::ik_attr::kOutWorldMatrices));
   const Mat4 pole_world = scene.world_matrix(nodes->pole);
   graph::Transaction tx(g, "match IK to FK");
-  Status s = set_world(scene, nodes->ik, fk[2]);
+  Status s = set_world(scene, nodes->ik, fk[2] * math::affine_inverse(nodes->ik_to_joint));
   const Vec3 a = position_of(fk[0]), m = position_of(fk[1]), e = position_of(fk[2]);
   Vec3 line = e - a;
   const Vec3 to_mid = m - a;
