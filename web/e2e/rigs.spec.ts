@@ -70,6 +70,11 @@ test('Rig Manager: add, step, out of date, update, remove', async ({ app: page, 
   await expect(page.getByTestId('rig-warning')).toBeVisible();
   await expect(page.getByTestId('rig-warning')).toContainText('1.1');
   await expect(page.getByTestId('rig-update')).toHaveClass(/danger/);
+  // Per component: the eyes changed (v1.1 on disk), the hip did not.
+  await expect(page.getByTestId('rig-component-eyes')).toHaveAttribute('data-state', 'changed');
+  await expect(page.getByTestId('rig-component-eyes')).toContainText('→ v1.1');
+  await expect(page.getByTestId('rig-component-hip')).toHaveAttribute('data-state', 'current');
+  await expect(page.getByTestId('rig-warning')).toContainText('changed: eyes');
   const warnColor = await row.evaluate((el) => getComputedStyle(el).borderTopColor);
   expect(warnColor).toBe('rgb(255, 92, 92)');
   await shots.take('out-of-date');
@@ -83,6 +88,7 @@ test('Rig Manager: add, step, out of date, update, remove', async ({ app: page, 
   const updated = (await server.get('/api/rigs')).rigs[0];
   expect(updated.version).toBe('1.1');
   expect(updated.outOfDate).toBe(false);
+  await expect(page.getByTestId('rig-component-eyes')).toHaveAttribute('data-state', 'current');
   await shots.take('updated');
 
   // Rig edit mode on the built rig, and back out of it.

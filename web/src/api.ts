@@ -80,6 +80,11 @@ export interface RigComponentInfo {
   rigId: string;
   parent?: string;
   nodes?: number;
+  /** The component's version in the definition on disk (null: not in it, or no definition). */
+  definitionVersion?: string | null;
+  /** current, changed (its definition differs), removed (gone from the definition), added. */
+  state?: 'current' | 'changed' | 'removed' | 'added';
+  outOfDate?: boolean;
 }
 
 export interface RigInfo {
@@ -94,6 +99,11 @@ export interface RigInfo {
   /** Features the rig's build steps name (seed 003), with their state. */
   features?: RigFeature[];
   components: RigComponentInfo[];
+  /** Components the definition has and the rig has not built yet. */
+  added?: RigComponentInfo[];
+  /** False when the definition file cannot be read; `definitionProblem` says why. */
+  definitionFound?: boolean;
+  definitionProblem?: string | null;
 }
 
 export interface RigFeature {

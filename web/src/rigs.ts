@@ -117,13 +117,21 @@ export class RigManager {
     force.addEventListener('change', () => (this.force = force.checked));
     const defOut = h('input', { type: 'text', value: this.definitionOut, placeholder: 'write the definition to (optional)', testid: 'rig-edit-out' });
     defOut.addEventListener('input', () => (this.definitionOut = defOut.value));
+    const stale = r.components.filter((c) => c.outOfDate);
+    const added = r.added ?? [];
+    const which = [
+      stale.length ? `changed: ${stale.map((c) => c.name).join(', ')}` : '',
+      added.length ? `new: ${added.map((c) => c.name).join(', ')}` : '',
+    ].filter(Boolean).join('; ');
     const warning = r.outOfDate
       ? h(
           'div.warning',
           { testid: 'rig-warning' },
-          `⚠ ${r.name} is out of date: the rig is v${r.version}, its definition ${r.definition} is v${r.definitionVersion ?? '?'}. Update to rebuild the changed components.`,
+          `⚠ ${r.name} is out of date: the rig is v${r.version}, its definition ${r.definition} is v${r.definitionVersion ?? '?'}${which ? ` (${which})` : ''}. Update to rebuild the changed components.`,
         )
-      : null;
+      : r.definitionFound === false
+        ? h('div.warning', { testid: 'rig-definition-missing' }, `⚠ ${r.name}: its definition cannot be read: ${r.definitionProblem ?? r.definition}`)
+        : null;
     const update = h(
       'button',
       {
@@ -202,7 +210,30 @@ export class RigManager {
       h(
         'ul.components',
         {},
-        r.components.map((c) => h('li', {}, h('b', {}, c.name), ` ${c.type} v${c.version}`, c.parent ? h('span.dim', {}, ` ← ${c.parent}`) : null)),
+        r.components.map((c) => {
+          const li = h(
+            'li',
+            { testid: `rig-component-${c.name}`, dataset: { state: c.state ?? 'current' } },
+            c.outOfDate ? h('span.warn-icon', { title: 'out of date' }, '⚠ ') : null,
+            h('b', {}, c.name),
+            ` ${c.type} v${c.version}`,
+            c.state === 'changed' ? ` → v${c.definitionVersion ?? '?'} (changed)` : c.state === 'removed' ? ' (not in the definition: Update removes it)' : '',
+            c.parent ? h('span.dim', {}, ` ← ${c.parent}`) : null,
+          );
+          li.classList.toggle('out-of-date', !!c.outOfDate);
+          return li;
+        }),
+        added.map((c) => {
+          const li = h(
+            'li',
+            { testid: `rig-component-${c.name}`, dataset: { state: 'added' } },
+            h('span.warn-icon', { title: 'not built yet' }, '⚠ '),
+            h('b', {}, c.name),
+            ` ${c.type} v${c.definitionVersion ?? c.version ?? '?'} (new in the definition: Update builds it)`,
+          );
+          li.classList.add('out-of-date');
+          return li;
+        }),
       ),
     );
   }
