@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -49,6 +50,9 @@ using math::Vec3;
 constexpr double kGeomTolerance = 1e-9;
 // Shear below this is rounding, not shear.
 constexpr double kShearTolerance = 1e-9;
+// Shear left out of the file is reported (a note) above this: below, it is
+// beyond what 32-bit floats in a viewer show.
+constexpr double kVisibleShear = 1e-4;
 // A baked channel is constant when every sample is within this of the first
 // (relative to its size, at least 1); a constant channel is left out when it
 // is this close to the node's static value.
@@ -347,6 +351,7 @@ struct ExportNode {
   math::Decomposed rest;     // local (world when detached) at the export time
   Mat4 rest_matrix = Mat4::Identity();
   bool has_shear = false;
+  bool under_shear = false;  // the parent's glTF frame lost shear (rest_pose): direct keys would not place it
   int mesh = -1;  // index into Exporter::meshes_
   bool animated = false;
 };
@@ -465,9 +470,12 @@ class Exporter {
     }
     std::vector<Mat4> local(skeleton_.size()), world(skeleton_.size());
     if (Status s = skeleton_.evaluate(scene_, local, world); !s) return s;
-    for (ExportNode& n : nodes_) {
-      n.rest_matrix = n.detached ? world[n.skeleton] : local[n.skeleton];
-      n.rest = math::decompose(n.rest_matrix);
+    Placement placement(nodes_.size());
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      ExportNode& n = nodes_[i];
+      n.rest = place(i, local, world, placement);
+      n.under_shear = n.parent >= 0 && placement.displaced[static_cast<std::size_t>(n.parent)];
+      n.rest_matrix = math::trs_matrix(n.rest.translate, n.rest.rotation, n.rest.scale);
       // A rotated matrix decomposes to scales a rounding away from 1: write
       // those as 1 (and leave them out of the file).
       for (int k = 0; k < 3; ++k)
@@ -475,8 +483,67 @@ class Exporter {
       n.rest.rotation.normalize();
       if (n.rest.rotation.w() < 0) n.rest.rotation.coeffs() *= -1.0;
       n.has_shear = n.rest.shear.cwiseAbs().maxCoeff() > kShearTolerance;
+      if (n.rest.shear.cwiseAbs().maxCoeff() > kVisibleShear)
+        report_.notes.push_back(name(n.id) + ": its shear (up to " + number(n.rest.shear.cwiseAbs().maxCoeff()) +
+                                ") is left out, since glTF nodes hold translation, rotation and scale only; "
+                                "nodes keep their positions, and mesh points and skinned vertices their place");
     }
+    compensate_shear(world, placement);
     return check_skinned_placement(world);
+  }
+
+  // glTF nodes hold translation, rotation and scale only (the validator
+  // refuses a `matrix` that is not TRS), so shear cannot be written. Each
+  // node's glTF transform is the TRS part of what puts it at its world
+  // matrix under its parent's glTF world matrix: every node keeps its world
+  // position, and a frame loses the shear it has or inherits. `written`
+  // holds the glTF world matrix of the nodes whose frame differs from their
+  // world matrix (`displaced`).
+  struct Placement {
+    explicit Placement(std::size_t n) : written(n, Mat4::Identity()), displaced(n, 0) {}
+    std::vector<Mat4> written;
+    std::vector<char> displaced;
+  };
+
+  // Node i's glTF transform (nodes in parent-first order).
+  math::Decomposed place(std::size_t i, std::span<const Mat4> local, std::span<const Mat4> world, Placement& p) const {
+    const ExportNode& n = nodes_[i];
+    const bool under_displaced = n.parent >= 0 && p.displaced[static_cast<std::size_t>(n.parent)];
+    const Mat4 wanted = under_displaced ? Mat4(p.written[static_cast<std::size_t>(n.parent)].inverse() * world[n.skeleton])
+                        : n.detached    ? world[n.skeleton]
+                                        : local[n.skeleton];
+    const math::Decomposed d = math::decompose(wanted);
+    p.displaced[i] = d.shear.cwiseAbs().maxCoeff() > kShearTolerance;
+    if (p.displaced[i]) {
+      const Mat4 parent = n.parent >= 0 && !n.detached
+                              ? (under_displaced ? p.written[static_cast<std::size_t>(n.parent)] : world[nodes_[static_cast<std::size_t>(n.parent)].skeleton])
+                              : Mat4(Mat4::Identity());
+      p.written[i] = parent * math::trs_matrix(d.translate, d.rotation, d.scale);
+    }
+    return d;
+  }
+
+  // What shear dropped at the export time moves back into the data: a
+  // displaced mesh's points (and normals, morph deltas) get the difference
+  // between its world matrix and its glTF one; a displaced joint's inverse
+  // bind matrices the same, so skinned vertices land where rigel puts them.
+  void compensate_shear(std::span<const Mat4> world, const Placement& p) {
+    for (MeshExport& m : meshes_) {
+      if (m.cluster.is_valid() || !p.displaced[m.node]) continue;
+      const Mat4 c = p.written[m.node].inverse() * world[nodes_[m.node].skeleton];
+      const Eigen::Matrix3d linear = c.topLeftCorner<3, 3>();
+      const Eigen::Matrix3d normal = linear.inverse().transpose();
+      for (Vec3& v : m.points) v = linear * v + c.topRightCorner<3, 1>();
+      for (Vec3& v : m.normals) v = (normal * v).normalized();
+      for (auto& target : m.targets)
+        for (Vec3& v : target) v = linear * v;
+    }
+    for (SkinExport& s : skins_) {
+      for (std::size_t k = 0; k < s.joints.size(); ++k) {
+        const auto j = static_cast<std::size_t>(s.joints[k]);
+        if (p.displaced[j]) s.inverse_bind[k] = p.written[j].inverse() * world[nodes_[j].skeleton] * s.inverse_bind[k];
+      }
+    }
   }
 
   // glTF draws a skinned mesh in world space; rigel's skinCluster writes
@@ -826,6 +893,10 @@ class Exporter {
           bake_because(why);
           continue;
         }
+        if (en.under_shear) {
+          bake_because(n.name() + " is animated below a sheared node, whose shear glTF cannot carry");
+          continue;
+        }
         DirectTrack t;
         t.node = i;
         t.path = path;
@@ -1063,6 +1134,40 @@ class Exporter {
     return {first, std::max(first, std::ceil(hi * fps - 1e-9))};
   }
 
+  // Every key time of the scene's time curves, sorted, once each.
+  std::vector<double> key_times() const {
+    std::vector<double> keys;
+    for (NodeId id : g_.nodes()) {
+      const std::string& type = type_of(g_, id);
+      if (type != anim::kAnimCurveType && type != anim::kAnimCurveVec3Type && type != anim::kAnimCurveQuatType) continue;
+      const auto& times = std::get<std::vector<double>>(g_.node(id)->value(0));  // keyTimes, first in both layouts
+      for (double t : times)
+        if (std::isfinite(t)) keys.push_back(t);
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
+  }
+
+  // A bake samples the frames asked for and every key time between the
+  // first and the last of them: a key between two frames (a glTF clip's
+  // times are seconds) keeps its value. Times that 32-bit floats cannot tell
+  // apart are written once (the earlier).
+  static void add_key_times(std::vector<double>& times, const std::vector<double>& keys) {
+    if (times.empty()) return;
+    const double first = times.front(), last = times.back();
+    const auto begin = std::lower_bound(keys.begin(), keys.end(), first);
+    const auto end = std::upper_bound(keys.begin(), keys.end(), last);
+    if (begin == end) return;
+    std::vector<double> merged;
+    merged.reserve(times.size() + static_cast<std::size_t>(end - begin));
+    std::merge(times.begin(), times.end(), begin, end, std::back_inserter(merged));
+    merged.erase(std::unique(merged.begin(), merged.end(),
+                             [](double x, double y) { return static_cast<float>(x) == static_cast<float>(y); }),
+                 merged.end());
+    times = std::move(merged);
+  }
+
   struct BakeJob {
     std::string name;
     int clip = -1;  // make this clip active first; -1: leave it
@@ -1095,6 +1200,8 @@ class Exporter {
       report_.first_frame = first;
       report_.last_frame = last;
     }
+    const std::vector<double> keys = key_times();
+    for (BakeJob& job : jobs) add_key_times(job.times, keys);
     std::size_t total = 0, done = 0;
     for (const BakeJob& job : jobs) total += job.times.size();
 
@@ -1125,6 +1232,7 @@ class Exporter {
     std::vector<bool> sheared(count, false);
     std::vector<std::vector<double>> weights(meshes_.size());
     std::vector<Mat4> local(skeleton_.size()), world(skeleton_.size());
+    Placement placement(count);
     for (std::size_t f = 0; f < frames; ++f) {
       g_.set_time(job.times[f]);
       g_.evaluate_all();
@@ -1132,7 +1240,7 @@ class Exporter {
       if (Status s = check_skinned_placement(world); !s) return s;
       for (std::size_t i = 0; i < count; ++i) {
         const ExportNode& n = nodes_[i];
-        math::Decomposed d = math::decompose(n.detached ? world[n.skeleton] : local[n.skeleton]);
+        math::Decomposed d = place(i, local, world, placement);
         if (d.shear.cwiseAbs().maxCoeff() > kShearTolerance) sheared[i] = true;
         Quat q = d.rotation.normalized();
         const Quat& previous = f > 0 ? rotate[(f - 1) * count + i] : n.rest.rotation;
@@ -1229,11 +1337,7 @@ class Exporter {
       // to scene nodes whatever their names become.
       node.extras = tinygltf::Value(tinygltf::Value::Object{{"uuid", tinygltf::Value(g_.node(n.id)->uuid().str())}});
       node.children = n.children;
-      if (n.has_shear && !n.animated) {
-        node.matrix.assign(n.rest_matrix.data(), n.rest_matrix.data() + 16);  // column-major, as glTF
-      } else {
-        if (n.has_shear)
-          report_.notes.push_back(name(n.id) + ": shear is left out (glTF cannot animate a node given by a matrix)");
+      {  // TRS, never `matrix`: shear was dropped (rest_pose)
         if (n.rest.translate != Vec3::Zero()) node.translation = {n.rest.translate.x(), n.rest.translate.y(), n.rest.translate.z()};
         const Quat& q = n.rest.rotation;
         if (q.coeffs() != Quat::Identity().coeffs()) node.rotation = {q.x(), q.y(), q.z(), q.w()};

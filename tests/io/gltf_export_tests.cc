@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -238,6 +239,7 @@ class ChainExport : public ::testing::Test {
     path_ = dir_.path() / "chain.glb";
     const Status s = export_gltf(*scene_, path_, {}, &report_);
     ASSERT_TRUE(s.is_ok()) << s.message();
+    EXPECT_VALID_GLTF(path_);
     model_ = load_model(path_);
   }
   TempDir dir_;
@@ -370,6 +372,7 @@ TEST_F(ChainExport, world_matrices_from_the_file_match_the_scene_at_every_key) {
 TEST_F(ChainExport, gltf_and_glb_both_load_and_hold_the_same_model) {
   const fs::path gltf_path = dir_.path() / "chain.gltf";
   ASSERT_TRUE(export_gltf(*scene_, gltf_path).is_ok());
+  EXPECT_VALID_GLTF(gltf_path);
   const std::string text = read_text(gltf_path);
   const std::string binary = read_text(path_);
   EXPECT_EQ(text.substr(0, 1), "{") << ".gltf is JSON";
@@ -405,6 +408,7 @@ TEST(GltfExport, a_vertex_with_six_influences_gets_two_joint_sets) {
   TempDir dir;
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "six.gltf", {}, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "six.gltf");
   tinygltf::Model model = load_model(dir.path() / "six.gltf");
   // The six joints are six roots; glTF wants a skin's joints under one root.
   ASSERT_EQ(model.nodes.size(), 8u) << "six joints, the mesh, and the added common root";
@@ -440,6 +444,7 @@ TEST(GltfExport, cubic_spline_tracks_keep_their_tangents) {
   TempDir dir;
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "cubic.glb", {}, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "cubic.glb");
   EXPECT_FALSE(report.baked);
   tinygltf::Model model = load_model(dir.path() / "cubic.glb");
   const auto& a = model.animations.at(0);
@@ -479,6 +484,7 @@ TEST(GltfExport, blend_shapes_become_morph_targets_with_a_weights_channel) {
   TempDir dir;
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "face.glb", {}, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "face.glb");
   EXPECT_FALSE(report.baked) << report.bake_reason;
   tinygltf::Model model = load_model(dir.path() / "face.glb");
   const auto& mesh = model.meshes.at(0);
@@ -504,6 +510,7 @@ TEST(GltfExport, blend_shapes_become_morph_targets_with_a_weights_channel) {
   b.set(w1, "outTangentType", std::vector<std::int64_t>{});
   b.set(w1, "keyValues", std::vector<double>{0, 1});
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "face_auto.glb").is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "face_auto.glb");
   tinygltf::Model curved = load_model(dir.path() / "face_auto.glb");
   const auto& cs = curved.animations.at(0).samplers.at(0);
   const std::vector<double> times = accessor_values(curved, cs.input);
@@ -519,6 +526,7 @@ TEST(GltfExport, blend_shapes_become_morph_targets_with_a_weights_channel) {
   const auto step = static_cast<std::int64_t>(ops::anim::TangentType::kStep);
   b.set(w1, "outTangentType", std::vector<std::int64_t>{step, step});
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "face_step.glb").is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "face_step.glb");
   tinygltf::Model stepped = load_model(dir.path() / "face_step.glb");
   const auto& ss = stepped.animations.at(0).samplers.at(0);
   EXPECT_EQ(ss.interpolation, "STEP");
@@ -588,6 +596,7 @@ TEST(GltfExport, explicit_frames_bake_that_range) {
   options.frames = std::pair{1.0, 3.0};
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "walk.gltf", options, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "walk.gltf");
   EXPECT_TRUE(report.baked);
   EXPECT_NE(report.bake_reason.find("requested"), std::string::npos) << report.bake_reason;
   tinygltf::Model model = load_model(dir.path() / "walk.gltf");
@@ -603,6 +612,7 @@ TEST(GltfExport, requested_bake_of_direct_tracks_samples_every_frame) {
   options.bake = true;
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "baked.glb", options, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "baked.glb");
   EXPECT_TRUE(report.baked);
   tinygltf::Model model = load_model(dir.path() / "baked.glb");
   const auto& a = model.animations.at(0);
@@ -613,6 +623,61 @@ TEST(GltfExport, requested_bake_of_direct_tracks_samples_every_frame) {
   const std::vector<double> values = accessor_values(model, a.samplers[static_cast<std::size_t>(t->sampler)].output);
   ASSERT_EQ(times.size(), 25u) << "frames 0..24 at 24 fps: the keys' range";
   EXPECT_NEAR(values[12 * 3 + 1], 3.0, 1e-6) << "root's y half way at frame 12";
+}
+
+// A bake samples the union of the frames and the keys' own times: a key
+// between two frames (glTF clips keep seconds) keeps its value.
+TEST(GltfExport, baking_samples_every_key_between_frames_too) {
+  auto scene = new_scene();
+  Builder b(*scene);
+  b.node(scene::kJointType, "j", 1);
+  const NodeId curve = b.node(ops::anim::kAnimCurveVec3Type, "j_t", 2);
+  const NodeId spin = b.node(ops::anim::kAnimCurveVec3Type, "j_r", 3);
+  // Keys on no frame (24 fps), one a hair after frame 1, one on frame 12.
+  const std::vector<double> key_times = {0.0, 0.02, 1.0 / 24 + 1e-6, 0.1, 0.5};
+  const std::vector<Vec3> key_values = {{0, 0, 0}, {0, 1, 0}, {0, -0.5, 0}, {0, 0.25, 0}, {0, 2, 0}};
+  b.set(curve, "keyTimes", key_times);
+  b.set(curve, "keyValues", key_values);
+  b.connect("j_t.output", "j.translate");
+  b.set(spin, "keyTimes", std::vector<double>{0.0, 0.03, 0.5});  // Euler angles: the export bakes by itself
+  b.set(spin, "keyValues", std::vector<Vec3>{{0, 0, 0}, {0, 0, 40}, {0, 0, 0}});
+  b.connect("j_r.output", "j.rotate");
+  for (const bool requested : {false, true}) {
+    SCOPED_TRACE(requested ? "--frames 0:12" : "automatic bake");
+    TempDir dir;
+    GltfExportOptions options;
+    if (requested) options.frames = std::pair{0.0, 12.0};
+    GltfExportReport report;
+    ASSERT_TRUE(export_gltf(*scene, dir.path() / "keys.glb", options, &report).is_ok());
+    EXPECT_VALID_GLTF(dir.path() / "keys.glb");
+    ASSERT_TRUE(report.baked);
+    tinygltf::Model model = load_model(dir.path() / "keys.glb");
+    const auto& a = model.animations.at(0);
+    const auto* t = channel_find(a, 0, "translation");
+    ASSERT_NE(t, nullptr);
+    const std::vector<double> times = accessor_values(model, a.samplers[static_cast<std::size_t>(t->sampler)].input);
+    const std::vector<double> values = accessor_values(model, a.samplers[static_cast<std::size_t>(t->sampler)].output);
+    for (std::size_t k = 0; k < key_times.size(); ++k) {
+      auto at = std::find_if(times.begin(), times.end(), [&](double x) { return std::abs(x - key_times[k]) < 1e-7; });
+      ASSERT_NE(at, times.end()) << "a sample at key " << k << " (" << key_times[k] << " s)";
+      EXPECT_NEAR(values[3 * static_cast<std::size_t>(at - times.begin()) + 1], key_values[k].y(), 1e-6) << "key " << k;
+    }
+    EXPECT_NEAR(*std::max_element(times.begin(), times.end()), 0.5, 1e-7);
+    for (int f = 0; f <= 12; ++f)
+      EXPECT_NE(std::find_if(times.begin(), times.end(), [&](double x) { return std::abs(x - f / 24.0) < 1e-7; }), times.end())
+          << "and every frame, " << f;
+    EXPECT_TRUE(std::is_sorted(times.begin(), times.end()) &&
+                std::adjacent_find(times.begin(), times.end(), [](double x, double y) { return !(static_cast<float>(x) < static_cast<float>(y)); }) == times.end())
+        << "32-bit times increase";
+    const auto* r = channel_find(a, 0, "rotation");
+    ASSERT_NE(r, nullptr);
+    const std::vector<double> rt = accessor_values(model, a.samplers[static_cast<std::size_t>(r->sampler)].input);
+    const std::vector<double> rv = accessor_values(model, a.samplers[static_cast<std::size_t>(r->sampler)].output);
+    auto at = std::find_if(rt.begin(), rt.end(), [](double x) { return std::abs(x - 0.03) < 1e-7; });
+    ASSERT_NE(at, rt.end());
+    const std::size_t k = static_cast<std::size_t>(at - rt.begin());
+    EXPECT_NEAR(std::abs(rv[4 * k + 2]), std::sin(math::to_radians(20.0)), 1e-6) << "40 degrees about z at the key";
+  }
 }
 
 // ---- clips ----------------------------------------------------------------------
@@ -645,6 +710,7 @@ TEST(GltfExport, every_clip_becomes_an_animation_with_its_own_keys) {
   TempDir dir;
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "clips.glb", {}, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "clips.glb");
   EXPECT_FALSE(report.baked) << report.bake_reason;
   tinygltf::Model model = load_model(dir.path() / "clips.glb");
   const auto& hip = model.nodes.at(0);
@@ -680,6 +746,7 @@ TEST(GltfExport, baking_clips_plays_each_over_its_range_and_restores_the_scene) 
   options.bake = true;
   GltfExportReport report;
   ASSERT_TRUE(export_gltf(*scene, dir.path() / "clips.glb", options, &report).is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "clips.glb");
   EXPECT_TRUE(report.baked);
   EXPECT_EQ(g.time(), 0.25) << "the time is put back";
   EXPECT_EQ(std::get<std::int64_t>(g.node(g.find("clips"))->value(ops::anim::clips_attr::kActive)), 0)
@@ -721,6 +788,7 @@ TEST(GltfExport, a_failed_export_leaves_an_existing_file_untouched) {
 
   b.set(scene->graph().find("body"), "triangles", std::vector<std::int64_t>{0, 1, 2});
   ASSERT_TRUE(export_gltf(*scene, out).is_ok());
+  EXPECT_VALID_GLTF(out);
   EXPECT_EQ(read_text(out).substr(0, 4), "glTF") << "a successful export replaces the file";
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.glb"});
 }
@@ -773,6 +841,109 @@ TEST(GltfExport, a_joint_matrix_not_fed_by_a_joint_is_refused) {
 }
 
 // ---- round trips through rigel's importer ----------------------------------------
+
+// ---- shear: glTF nodes are TRS only --------------------------------------------
+
+// Skinned positions the way a glTF viewer computes them: sum of w * J * IBM * p.
+std::vector<Vec3> gltf_skinned_points(const tinygltf::Model& model, const std::vector<Eigen::Matrix4d>& world, int mesh_node) {
+  const tinygltf::Node& node = model.nodes.at(static_cast<std::size_t>(mesh_node));
+  const tinygltf::Primitive& prim = model.meshes.at(static_cast<std::size_t>(node.mesh)).primitives.at(0);
+  const tinygltf::Skin& skin = model.skins.at(static_cast<std::size_t>(node.skin));
+  const std::vector<double> p = accessor_values(model, prim.attributes.at("POSITION"));
+  const std::vector<double> j = accessor_values(model, prim.attributes.at("JOINTS_0"));
+  const std::vector<double> w = accessor_values(model, prim.attributes.at("WEIGHTS_0"));
+  const std::vector<double> ibm = accessor_values(model, skin.inverseBindMatrices);
+  std::vector<Vec3> out;
+  for (std::size_t v = 0; v < p.size() / 3; ++v) {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+    for (std::size_t k = 0; k < 4; ++k) {
+      const auto joint = static_cast<std::size_t>(j[4 * v + k]);
+      const Eigen::Matrix4d bind = Eigen::Map<const Eigen::Matrix4d>(std::vector<double>(ibm.begin() + 16 * joint, ibm.begin() + 16 * joint + 16).data());
+      m += w[4 * v + k] * world[static_cast<std::size_t>(skin.joints[joint])] * bind;
+    }
+    out.push_back((m * Eigen::Vector4d(p[3 * v], p[3 * v + 1], p[3 * v + 2], 1.0)).head<3>());
+  }
+  return out;
+}
+
+TEST(GltfExport, shear_is_never_written_as_a_matrix_and_what_hangs_below_keeps_its_place) {
+  auto scene = new_scene();
+  Builder b(*scene);
+  // A sheared transform with a joint chain and an unskinned mesh below it.
+  const NodeId sheared = b.node(scene::kTransformType, "sheared", 1);
+  const NodeId child = b.node(scene::kJointType, "child", 2, sheared);
+  const NodeId grand = b.node(scene::kJointType, "grand", 3, child);
+  const NodeId plate = b.node(scene::kMeshType, "plate", 4, sheared);
+  b.set(sheared, "translate", Vec3(1, 0, 0));
+  b.set(sheared, "rotate", Vec3(10, 20, 30));
+  b.set(sheared, "scale", Vec3(1, 2, 0.5));
+  b.set(sheared, "shear", Vec3(0.5, 0.25, -0.3));
+  b.set(child, "translate", Vec3(0, 1, 0));
+  b.set(child, "rotate", Vec3(0, 0, 30));
+  b.set(child, "shear", Vec3(0.1, 0, 0));
+  b.set(grand, "translate", Vec3(0, 1, 0.5));
+  b.set(plate, "points", std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  b.set(plate, "normals", std::vector<Vec3>(3, Vec3(0, 0, 1)));
+  b.set(plate, "triangles", std::vector<std::int64_t>{0, 1, 2});
+  // A sheared joint skinning a mesh.
+  const NodeId bone = b.node(scene::kJointType, "bone", 5);
+  const NodeId tipbone = b.node(scene::kJointType, "tipbone", 6, bone);
+  const NodeId body = b.node(scene::kMeshType, "body", 7);
+  const NodeId skin = b.node(ops::kSkinClusterType, "skin", 8);
+  b.set(bone, "translate", Vec3(0, 2, 0));
+  b.set(bone, "shear", Vec3(0, 0.4, 0));
+  b.set(tipbone, "translate", Vec3(0, 1, 0));
+  b.set(body, "triangles", std::vector<std::int64_t>{0, 1, 2});
+  b.set(skin, "bindPoints", std::vector<Vec3>{{0, 2, 0}, {1, 2.5, 0}, {0, 3, 1}});
+  b.set(skin, "bindPreMatrices", std::vector<Mat4>{translation(0, -2.5, 0), translation(0, -3, 0)});
+  b.set(skin, "influenceOffsets", std::vector<std::int64_t>{0, 1, 3, 4});
+  b.set(skin, "influenceJoints", std::vector<std::int64_t>{0, 0, 1, 1});
+  b.set(skin, "influenceWeights", std::vector<double>{1, 0.5, 0.5, 1});
+  b.connect("bone.worldMatrix", "skin.jointMatrices[0]");
+  b.connect("tipbone.worldMatrix", "skin.jointMatrices[1]");
+  b.connect("skin.outPoints", "body.points");
+  (void)body;
+  (void)skin;
+
+  TempDir dir;
+  const fs::path out = dir.path() / "sheared.glb";
+  GltfExportReport report;
+  ASSERT_TRUE(export_gltf(*scene, out, {}, &report).is_ok());
+  EXPECT_VALID_GLTF(out);
+  tinygltf::Model model = load_model(out);
+  const std::vector<Eigen::Matrix4d> world = gltf_world_at_key(model, nullptr, 0);  // fails on any `matrix`
+  // Every node keeps its world position (its frame loses the shear it has
+  // or inherits: a TRS node cannot hold it).
+  for (NodeId id : {sheared, child, grand, bone, tipbone}) {
+    const std::string& n = scene->graph().node(id)->name();
+    const Mat4 truth = scene->world_matrix(id);
+    const Eigen::Matrix4d& file = world[static_cast<std::size_t>(node_index(model, n))];
+    EXPECT_LT((file.topRightCorner<3, 1>() - truth.topRightCorner<3, 1>()).norm(), 1e-5) << n << " keeps its world position";
+  }
+  // The mesh under the sheared transform: its points land where rigel draws them.
+  {
+    const int node = node_index(model, "plate");
+    const auto& prim = model.meshes.at(static_cast<std::size_t>(model.nodes[static_cast<std::size_t>(node)].mesh)).primitives.at(0);
+    const std::vector<double> p = accessor_values(model, prim.attributes.at("POSITION"));
+    const auto& truth_points = std::get<std::vector<Vec3>>(scene->graph().evaluate(plate, scene::mesh_attr::kPoints));
+    for (std::size_t v = 0; v < 3; ++v) {
+      const Eigen::Vector4d in_file = world[static_cast<std::size_t>(node)] * Eigen::Vector4d(p[3 * v], p[3 * v + 1], p[3 * v + 2], 1);
+      const Vec3 truth = (scene->world_matrix(plate) * truth_points[v].homogeneous()).head<3>();
+      EXPECT_LT((in_file.head<3>() - truth).norm(), 1e-5) << "plate point " << v;
+    }
+  }
+  // The skinned mesh: glTF's skinning of the file equals rigel's skinned points.
+  {
+    const auto& truth_points = std::get<std::vector<Vec3>>(scene->graph().evaluate(body, scene::mesh_attr::kPoints));
+    const std::vector<Vec3> file_points = gltf_skinned_points(model, world, node_index(model, "body"));
+    ASSERT_EQ(file_points.size(), truth_points.size());
+    for (std::size_t v = 0; v < truth_points.size(); ++v)
+      EXPECT_LT((file_points[v] - truth_points[v]).norm(), 1e-5) << "skinned point " << v;
+  }
+  bool noted = false;
+  for (const std::string& note : report.notes) noted |= note.rfind("sheared: its shear", 0) == 0;
+  EXPECT_TRUE(noted) << "the report says the shear is left out";
+}
 
 fs::path gltf_data(const std::string& name) { return source_dir() / "tests" / "data" / "gltf" / name; }
 
@@ -827,6 +998,7 @@ TEST_P(RoundTrip, import_export_import_keeps_joints_weights_and_motion) {
   GltfExportReport report;
   const Status s = export_gltf(a, out, {}, &report);
   ASSERT_TRUE(s.is_ok()) << s.message();
+  EXPECT_VALID_GLTF(out);
   EXPECT_FALSE(report.baked) << "imported glTF animation is written back directly: " << report.bake_reason;
   Result<std::unique_ptr<Scene>> second = import_gltf(out);
   ASSERT_TRUE(second.is_ok()) << second.status().message();

@@ -4,6 +4,7 @@
 // two graphs (what "load(save(s)) is s" means).
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +13,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -45,6 +48,44 @@ inline std::string read_text(const fs::path& path) {
   buffer << in.rdbuf();
   return buffer.str();
 }
+
+// The Khronos glTF-Validator (tools/validate-gltf.mjs, npm gltf-validator
+// installed by `npm ci` in web/) on one file: "" when it finds no error, its
+// report of the errors otherwise, and nullopt when node or the package is
+// not installed (the caller says so and skips; it never passes silently).
+inline std::optional<std::string> gltf_validator_errors(const fs::path& path) {
+  const fs::path script = source_dir() / "tools" / "validate-gltf.mjs";
+  auto quoted = [](const std::string& text) {
+    std::string out = "'";
+    for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+  };
+  const std::string command = "node " + quoted(script.string()) + " " + quoted(path.string()) + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return std::nullopt;
+  std::string output;
+  char buffer[4096];
+  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (code == 0) return std::string();
+  if (code == 3 || code == 127) return std::nullopt;  // the package, or node itself, is missing
+  return output.empty() ? std::string("the validator failed (exit ") + std::to_string(code) + ")" : output;
+}
+
+// Fails the test when the validator finds an error in `path`; when the
+// validator is not installed, says so once per process and checks nothing.
+#define EXPECT_VALID_GLTF(path)                                                                               \
+  do {                                                                                                        \
+    const std::optional<std::string> errors_ = ::rigel::io::testing::gltf_validator_errors(path);             \
+    if (!errors_) {                                                                                           \
+      static bool said_ = false;                                                                              \
+      if (!said_) std::cerr << "note: the glTF validator is not installed (npm ci in web/); not validated\n"; \
+      said_ = true;                                                                                           \
+    } else {                                                                                                  \
+      EXPECT_EQ(*errors_, "") << "the Khronos glTF-Validator finds errors in " << (path);                     \
+    }                                                                                                         \
+  } while (0)
 
 inline void write_text(const fs::path& path, std::string_view text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -9,9 +9,16 @@
 //   becomes a glTF node with its name and `extras.uuid` (the rigel uuid),
 //   children in creation order. Its
 //   local transform (offsetParentMatrix * matrix, evaluated at the scene's
-//   current time) is written as translation / rotation / scale, or as
-//   `matrix` when it has shear (and is not animated: glTF animates TRS only;
-//   an animated sheared node loses its shear, listed in the report's notes).
+//   current time) is written as translation / rotation / scale, never as
+//   `matrix` (glTF allows only TRS matrices, and animates TRS only). Shear
+//   cannot be carried: each node's TRS is the one that puts it at its world
+//   position under its parent's glTF transform, so every node keeps its
+//   world position and a frame loses the shear it has or inherits; an
+//   unskinned mesh's points (normals, morph deltas) and a skin's inverse
+//   bind matrices take up the difference, so vertices land where rigel puts
+//   them (exact at the export time and, when baking, the same per frame).
+//   Shear above 1e-4 is listed in the report's notes; a node animated by
+//   direct keys below a sheared node makes the export bake.
 //   Non-transform nodes (curves, deformers, constraints, ...) are not
 //   written; their effect is, through animation.
 // - A `mesh` node with points and triangles gets a glTF mesh of one
@@ -62,8 +69,10 @@
 //   * baked (options.frames, options.bake, or automatically when something
 //     animated cannot be written directly: Euler rotation tracks, Maya
 //     curves on single channels, driven keys, constraints, IK, ...; the
-//     report says why): each frame from A to B at the scene's frame rate is
-//     evaluated and every node's local translation, rotation (sign kept
+//     report says why): each frame from A to B at the scene's frame rate,
+//     and every key time of the scene's time curves between them (so a key
+//     between frames keeps its value; times 32-bit floats cannot tell apart
+//     are written once), is evaluated and every node's local translation, rotation (sign kept
 //     continuous from frame to frame) and scale recorded, and every exported
 //     blendShape's weights; LINEAR channels are written for those that
 //     change over the range, or whose constant value differs from the
