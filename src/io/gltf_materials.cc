@@ -43,8 +43,12 @@ std::uint64_t pack(NodeId id) { return (std::uint64_t{id.generation} << 32) | id
 // A name the graph accepts (the importer's rule for node names).
 std::string node_name(const std::string& raw, const std::string& fallback) {
   if (raw.empty()) return fallback;
-  std::string name = raw.substr(0, 1000);
-  while (!name.empty() && (static_cast<unsigned char>(name.back()) & 0xC0) == 0x80 && name.size() == 1000) name.pop_back();
+  std::string name = raw;
+  if (constexpr std::size_t kLimit = 1000; name.size() > kLimit) {  // cut at a UTF-8 boundary
+    std::size_t cut = kLimit;
+    while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;
+    name.resize(cut);
+  }
   for (char& c : name) {
     const auto u = static_cast<unsigned char>(c);
     if (u < 0x21 || u == 0x7f || c == '[' || c == ']') c = '_';
@@ -645,20 +649,21 @@ Status LookWriter::write(NodeId mesh, int gltf_mesh) {
       notes_.push_back(mesh_name + ".uv1: left out, because glTF numbers uv sets from 0 and uv0 is not written");
     }
     if (const std::vector<double>* colors = per_point(la::kColors, 4)) {
-      bool opaque = true;
-      for (std::size_t v = 0; v < count; ++v) opaque &= (*colors)[4 * v + 3] == 1.0;
-      const std::size_t width = opaque ? 3 : 4;  // alpha 1 everywhere: RGB, as most files have it
-      std::vector<double> values;
-      values.reserve(width * count);
-      for (std::size_t v = 0; v < count; ++v)
-        for (std::size_t k = 0; k < width; ++k) values.push_back((*colors)[4 * v + k]);
+      std::vector<double> rgba = *colors;
       bool clamped = false;
-      for (double& c : values) {
+      for (double& c : rgba) {
         if (c >= 0.0 && c <= 1.0) continue;
         c = std::isfinite(c) ? std::clamp(c, 0.0, 1.0) : 1.0;
         clamped = true;
       }
       if (clamped) notes_.push_back(mesh_name + ".colors: values outside [0, 1] are clamped (glTF's range)");
+      bool opaque = true;
+      for (std::size_t v = 0; v < count; ++v) opaque &= rgba[4 * v + 3] == 1.0;
+      const std::size_t width = opaque ? 3 : 4;  // alpha 1 everywhere: RGB, as most files have it
+      std::vector<double> values;
+      values.reserve(width * count);
+      for (std::size_t v = 0; v < count; ++v)
+        for (std::size_t k = 0; k < width; ++k) values.push_back(rgba[4 * v + k]);
       Result<int> a = floats(values, opaque ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4, static_cast<int>(width), mesh_name + ".colors");
       if (!a) return a.status();
       prim.attributes["COLOR_0"] = *a;

@@ -605,6 +605,60 @@ TEST(MeshLookImport, image_files_are_read_only_inside_the_gltf_folder) {
   }
 }
 
+TEST(MeshLookExport, what_gltf_cannot_carry_is_left_out_with_a_note) {
+  TempDir dir;
+  const Synthetic s = synthetic(false);
+  auto imported = import_gltf(write_model(s.model, dir.path() / "quad.gltf"));
+  ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+  Graph& g = (*imported)->graph();
+  const NodeId mesh = only_node_of_type(g, scene::kMeshType);
+  // uv0 with 3 numbers for 4 points: left out, and so uv1 (glTF numbers sets
+  // from 0) and the material (it reads uv set 1).
+  ASSERT_TRUE(g.set_value(Plug{mesh, la::kUv0, -1}, std::vector<double>{0.0, 1.0, 2.0}).is_ok());
+  ASSERT_TRUE(g.set_value(Plug{mesh, la::kColors, -1}, std::vector<double>(16, 2.0)).is_ok());
+  const fs::path out = dir.path() / "out.glb";
+  GltfExportReport report;
+  ASSERT_TRUE(export_gltf(**imported, out, {}, &report).is_ok());
+  auto noted = [&](const std::string& text) {
+    for (const std::string& n : report.notes)
+      if (n.find(text) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(noted("quad.uv0: 3 numbers for 4 points (2 per point expected) are left out"));
+  EXPECT_TRUE(noted("quad.uv1: left out"));
+  EXPECT_TRUE(noted("reads uv set 1, which the mesh lacks"));
+  EXPECT_TRUE(noted("quad.colors: values outside [0, 1] are clamped"));
+  const tinygltf::Model model = read_model(out);
+  const tinygltf::Primitive& p = model.meshes[0].primitives[0];
+  EXPECT_FALSE(p.attributes.count("TEXCOORD_0"));
+  EXPECT_FALSE(p.attributes.count("TEXCOORD_1"));
+  EXPECT_EQ(p.material, -1);
+  expect_near_all(accessor_values(model, p.attributes.at("COLOR_0")), std::vector<double>(12, 1.0), 0.0, "clamped, RGB");
+  expect_valid(out);
+
+  // A texture whose image is not PNG or JPEG, and a broken base64 image.
+  ASSERT_TRUE(g.set_value(Plug{mesh, la::kUv0, -1}, s.uv0).is_ok());
+  const NodeId material = only_node_of_type(g, scene::kMaterialType);
+  ASSERT_TRUE(g.set_value(Plug{material, ma::kBaseColorTexCoord, -1}, std::int64_t{0}).is_ok());
+  ASSERT_TRUE(g.set_value(Plug{material, ma::kEmissiveTexCoord, -1}, std::int64_t{0}).is_ok());
+  const NodeId albedo = source_node(g, material, ma::kBaseColorTexture);
+  ASSERT_TRUE(g.set_value(Plug{albedo, ta::kMimeType, -1}, std::string("image/webp")).is_ok());
+  report = {};
+  ASSERT_TRUE(export_gltf(**imported, out, {}, &report).is_ok());
+  EXPECT_TRUE(noted("image/webp is left out")) << "the webp texture is dropped";
+  const tinygltf::Model model2 = read_model(out);
+  ASSERT_EQ(model2.materials.size(), 1u);
+  EXPECT_EQ(model2.meshes[0].primitives[0].material, 0) << "uv0 again: the material is written";
+  EXPECT_EQ(model2.materials[0].pbrMetallicRoughness.baseColorTexture.index, -1);
+  EXPECT_GE(model2.materials[0].normalTexture.index, 0);
+  expect_valid(out);
+  ASSERT_TRUE(g.set_value(Plug{albedo, ta::kImage, -1}, std::string("not*base64")).is_ok());
+  ASSERT_TRUE(g.set_value(Plug{albedo, ta::kMimeType, -1}, std::string("image/png")).is_ok());
+  const Status bad = export_gltf(**imported, out);
+  ASSERT_FALSE(bad.is_ok());
+  EXPECT_NE(bad.message().find(".image"), std::string::npos) << bad.message();
+}
+
 // ---- every bundled character ----
 
 TEST(MeshLookBundled, every_character_imports_and_exports_with_its_materials) {
