@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "rigel/graph/graph.h"
@@ -40,6 +41,36 @@ AttrIndex rotation_attr(const graph::Node& control) {
   return std::get<std::int64_t>(control.value(xform::kRotateMode)) == 1 ? xform::kRotateQuaternion : xform::kRotate;
 }
 
+
+// The key time of `curve` nearest `t` within key_time_tolerance(), if any.
+std::optional<double> curve_key_near(const Graph& graph, NodeId curve, double t) {
+  const double tolerance = key_time_tolerance(graph);
+  std::optional<double> best;
+  for (double k : ops::anim::curve_key_times(graph, curve))
+    if (std::abs(k - t) <= tolerance && (!best || std::abs(k - t) < std::abs(*best - t))) best = k;
+  return best;
+}
+
+// The time to edit channel `attr` of `control` at for time `t`: the key time
+// its curves hold within the tolerance of `t` (the same for every component
+// curve), else `t` itself.
+Result<double> channel_key_time(const Graph& graph, NodeId control, AttrIndex attr, double t) {
+  std::optional<double> found;
+  const graph::Node& n = *graph.node(control);
+  for (const graph::Connection& conn : n.inputs()) {
+    if (conn.dst.attr != attr) continue;
+    const std::optional<double> k = curve_key_near(graph, conn.src.node, t);
+    if (!k) continue;
+    if (found && std::abs(*found - *k) > ops::anim::kKeyTimeTolerance) {
+      return error(ErrorCode::kInvalidArgument,
+                   n.name() + "." + n.type().attr(attr).name + ": its component curves have keys near " +
+                       frame_text(graph) + " at different times (" + std::to_string(*found * graph.fps()) + " and " +
+                       std::to_string(*k * graph.fps()) + "); key the components at one time");
+    }
+    if (!found) found = k;
+  }
+  return found ? *found : t;
+}
 
 // Controls of a rig that no other control of it parents.
 std::vector<NodeId> root_controls(const Graph& graph, NodeId rig) {
@@ -203,8 +234,17 @@ std::vector<NodeId> keying_set(const Graph& graph, const std::vector<NodeId>& co
   return out;
 }
 
+double key_time_tolerance(const Graph& graph) {
+  const double fps = graph.fps();
+  const double frame = fps > 0 && std::isfinite(fps) ? kKeyFrameTolerance / fps : 0.0;
+  return std::max(frame, ops::anim::kKeyTimeTolerance);
+}
+
 Status write_channel(Graph& graph, NodeId control, AttrIndex attr, const Value& value, bool insert) {
-  return ops::anim::write_channel_key(graph, control, attr, value, graph.time(), insert);
+  if (!graph.node(control)) return error(ErrorCode::kNotFound, "key: no such node (stale handle)");
+  Result<double> t = channel_key_time(graph, control, attr, graph.time());
+  if (!t) return t.status();
+  return ops::anim::write_channel_key(graph, control, attr, value, *t, insert);
 }
 
 Status set_key(Graph& graph, const std::vector<NodeId>& controls) {
@@ -245,7 +285,9 @@ Status delete_key(Graph& graph, const std::vector<NodeId>& controls) {
       for (const auto& [src, dst] : curves) {
         bool removed = false;
         const Value keep = dst.component >= 0 ? Value(std::get<Vec3>(*current)[dst.component]) : *current;
-        Status s = ops::anim::delete_curve_key(graph, src.node, t, dst, keep, removed);
+        const std::optional<double> at = curve_key_near(graph, src.node, t);
+        if (!at) continue;
+        Status s = ops::anim::delete_curve_key(graph, src.node, *at, dst, keep, removed);
         if (!s) {
           tx.rollback();
           return s.with_context("delete key");
@@ -272,8 +314,9 @@ std::vector<double> key_times(const Graph& graph, const std::vector<NodeId>& con
   }
   std::sort(out.begin(), out.end());
   std::vector<double> unique;
+  const double tolerance = key_time_tolerance(graph);
   for (double t : out)
-    if (unique.empty() || t - unique.back() > ops::anim::kKeyTimeTolerance) unique.push_back(t);
+    if (unique.empty() || t - unique.back() > tolerance) unique.push_back(t);
   return unique;
 }
 
@@ -282,7 +325,7 @@ bool has_key_now(const Graph& graph, NodeId control) {
   const NodeId c = control_of(graph, control);
   if (!c.is_valid()) return false;
   for (const graph::Connection& conn : graph.node(c)->inputs()) {
-    if (ops::anim::curve_has_key_at(graph, conn.src.node, t)) return true;
+    if (curve_key_near(graph, conn.src.node, t)) return true;
   }
   return false;
 }

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <span>
+#include <string>
 #include <unordered_map>
 
 #include "rigel/ephemeral/keying.h"
@@ -42,6 +46,124 @@ Mat3 frame(const Vec3& x, const Vec3& z) {
   f.col(1) = zn.cross(xn);
   f.col(2) = zn;
   return f;
+}
+
+// The axis of `r` (a chain top's world rotation) most perpendicular to the
+// unit direction `u`: where a straight chain bends (x before y before z on
+// ties).
+Vec3 straight_pole(const Mat3& r, const Vec3& u) {
+  int best = 0;
+  for (int c = 1; c < 3; ++c)
+    if (std::abs(r.col(c).normalized().dot(u)) < std::abs(r.col(best).normalized().dot(u))) best = c;
+  return r.col(best).normalized();
+}
+
+// The unit vector perpendicular to unit `u` nearest `toward` (any
+// perpendicular when `toward` is along `u`).
+Vec3 perpendicular(const Vec3& u, const Vec3& toward) {
+  Vec3 w = toward - toward.dot(u) * u;
+  if (w.norm() <= 1e-9 * std::max(1.0, toward.norm())) w = u.unitOrthogonal();
+  return w.normalized();
+}
+
+// Lays joints 1..n of `p` (bone i from p[i] to p[i + 1], length len[i];
+// p[0] stays) on a circular arc in the plane of unit `u` (toward the
+// target) and unit `w` (perpendicular: the side the arc bulges to), every
+// joint turning by the same angle, chosen by bisection so that the chord
+// is `d` (straight when d is the chain's length or more).
+void lay_arc(std::span<Vec3> p, std::span<const double> len, const Vec3& u, const Vec3& w, double d) {
+  const std::size_t n = len.size();
+  auto planar = [&](double turn, std::size_t upto) {
+    Eigen::Vector2d q = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < upto; ++i) q += len[i] * Eigen::Vector2d(std::cos(turn * i), std::sin(turn * i));
+    return q;
+  };
+  double lo = 0, hi = 2 * std::numbers::pi / static_cast<double>(n);
+  if (planar(hi, n).norm() >= d) {
+    lo = hi;
+  } else {
+    for (int it = 0; it < 200 && hi - lo > 1e-17; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (planar(mid, n).norm() > d ? lo : hi) = mid;
+    }
+  }
+  const Eigen::Vector2d chord = planar(lo, n);
+  const Eigen::Vector2d c = chord.norm() > 0 ? Eigen::Vector2d(chord.normalized()) : Eigen::Vector2d(1, 0);
+  const Eigen::Vector2d side(-c.y(), c.x());
+  // The bulge toward +w.
+  const double sign = planar(lo, n / 2 > 0 ? n / 2 : 1).dot(side) < 0 ? -1.0 : 1.0;
+  for (std::size_t i = 1; i <= n; ++i) {
+    const Eigen::Vector2d q = planar(lo, i);
+    p[i] = p[0] + q.dot(c) * u + sign * q.dot(side) * w;
+  }
+}
+
+// Places joints i + 1 .. j of `p` (bone k from p[k] to p[k + 1], length
+// len[k]; p[i] stays) so that p[j] lands on `t` whenever the bones reach it
+// (as near as they get otherwise), exactly to rounding. The range splits at
+// its middle joint into two halves; the middle joint is placed by the
+// two-bone rule in the current bend plane (toward `pole` when straight),
+// each half turns rigidly about its start onto its new ends, and a half
+// whose end-to-end span must change for the target to be reached (stretched
+// toward its length, or folded toward its shortest span, each half in
+// proportion to its room) is solved the same way.
+void reach(std::span<Vec3> p, std::span<const double> len, int i, int j, const Vec3& t, const Vec3& pole) {
+  const int n = j - i;
+  if (n <= 0) return;
+  const Vec3 s = p[i];
+  const Vec3 tv = t - s;
+  const double d = tv.norm();
+  if (n == 1) {
+    if (d > 1e-300) p[j] = s + len[i] * tv / d;
+    return;
+  }
+  const int k = i + n / 2;
+  double la = 0, lb = 0, max_a = 0, max_b = 0;
+  for (int x = i; x < k; ++x) la += len[x], max_a = std::max(max_a, len[x]);
+  for (int x = k; x < j; ++x) lb += len[x], max_b = std::max(max_b, len[x]);
+  const double min_a = std::max(0.0, 2 * max_a - la), min_b = std::max(0.0, 2 * max_b - lb);
+  const double a = (p[k] - s).norm(), b = (p[j] - p[k]).norm();
+  double a2 = a, b2 = b;
+  if (d >= la + lb) {
+    a2 = la;
+    b2 = lb;
+  } else if (d > a + b) {
+    const double room = (la - a) + (lb - b);
+    const double f = room > 0 ? std::clamp((d - a - b) / room, 0.0, 1.0) : 0.0;
+    a2 = a + f * (la - a);
+    b2 = b + f * (lb - b);
+  } else if (d < std::abs(a - b)) {
+    if (a >= b) {
+      const double room = (a - min_a) + (lb - b);
+      const double f = room > 0 ? std::clamp((a - b - d) / room, 0.0, 1.0) : 0.0;
+      a2 = a - f * (a - min_a);
+      b2 = b + f * (lb - b);
+    } else {
+      const double room = (b - min_b) + (la - a);
+      const double f = room > 0 ? std::clamp((b - a - d) / room, 0.0, 1.0) : 0.0;
+      b2 = b - f * (b - min_b);
+      a2 = a + f * (la - a);
+    }
+  }
+  const double scale = std::max(la + lb, 1e-300);
+  Vec3 u = tv;
+  if (d <= 1e-12 * scale) u = p[j] - s;
+  if (u.norm() <= 1e-12 * scale) u = p[k] - s;
+  u = u.norm() > 1e-300 ? Vec3(u.normalized()) : perpendicular(pole, Vec3::UnitX());
+  Vec3 w = (p[k] - s) - (p[k] - s).dot(u) * u;
+  w = w.norm() > 1e-9 * scale ? Vec3(w.normalized()) : perpendicular(u, pole);
+  const double dc = std::clamp(d, std::abs(a2 - b2), a2 + b2);
+  const double cos_a = a2 > 0 && dc > 0 ? std::clamp((a2 * a2 + dc * dc - b2 * b2) / (2 * a2 * dc), -1.0, 1.0) : 1.0;
+  const double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
+  const Vec3 qk = s + a2 * (cos_a * u + sin_a * w);
+  const Vec3 old_k = p[k];
+  const Mat3 ra = swing(old_k - s, qk - s);
+  for (int x = i + 1; x <= k; ++x) p[x] = s + ra * (p[x] - s);
+  if (k - i >= 2 && a2 != a) reach(p, len, i, k, qk, pole);
+  const Vec3 new_k = p[k];
+  const Mat3 rb = swing(p[j] - old_k, t - new_k);
+  for (int x = k + 1; x <= j; ++x) p[x] = new_k + rb * (p[x] - old_k);
+  if (j - k >= 2 && b2 != b) reach(p, len, k, j, t, pole);
 }
 
 const Mat4& eval_mat(Graph& graph, NodeId id, graph::AttrIndex attr) { return std::get<Mat4>(graph.evaluate(id, attr)); }
@@ -99,7 +221,10 @@ struct Session::Index {
   };
   struct Ctrl {
     NodeId id;
-    int parent = -1;  // hierarchy parent, when it is an indexed control
+    int parent = -1;  // hierarchy parent, when it is an indexed control or a joint one drives
+    // The hierarchy parent is a joint that `parent` drives (a character
+    // rigged under another one's joint): it moves rigidly with `parent`.
+    bool parent_via_joint = false;
     std::vector<int> children;
     std::vector<Edge> out;
     int order = 0;  // position in Scene::hierarchy()
@@ -136,6 +261,7 @@ struct Session::Scratch {
   std::vector<Quat> motion;  // magnet: each driver's rotation this drag
   std::vector<Mat4> chain_world;
   std::vector<Vec3> positions, solved;
+  std::vector<double> lengths;
   std::vector<Quat> corrections;
   struct Write {
     int entry;
@@ -228,6 +354,20 @@ Status Session::index_ensure() {
     // Joints this control drives map to it (selecting a joint grabs its control).
     for (const graph::Connection& conn : graph.node(c.id)->outputs())
       if (conn.src.attr == xform::kTranslate) index->by_index.emplace(conn.dst.node.index, index->by_index[c.id.index]);
+  }
+  // A control whose parent is a joint driven by a control (the root of a
+  // second character rigged under the first one's joints) moves with that
+  // control: it is its parent for the plan, so it is carried once and kept
+  // in place when the plan leaves it out.
+  for (std::size_t k = 0; k < index->ctrls.size(); ++k) {
+    Index::Ctrl& c = index->ctrls[k];
+    if (c.parent >= 0) continue;
+    const NodeId p = graph.parent(c.id);
+    const int driver = p.is_valid() ? index->find(graph, p) : -1;
+    if (driver >= 0 && driver != static_cast<int>(k) && index->ctrls[driver].id != p) {
+      c.parent = driver;
+      c.parent_via_joint = true;
+    }
   }
   for (std::size_t k = 0; k < index->ctrls.size(); ++k)
     if (index->ctrls[k].parent >= 0) index->ctrls[index->ctrls[k].parent].children.push_back(static_cast<int>(k));
@@ -451,6 +591,7 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
         std::vector<int> members{k};
         int cur = k;
         NodeId stop;
+        bool shared_top = false;
         while (true) {
           if (options_.max_chain > 0 && static_cast<int>(members.size()) >= options_.max_chain) {
             if (ix.ctrls[cur].parent >= 0) stop = ix.ctrls[ix.ctrls[cur].parent].id;
@@ -470,6 +611,16 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
           // (a spine control that also carries the other arm and the head).
           if (e >= 0) {
             stop = ix.ctrls[up].id;
+            // A grabbed control above (not a branch): it is this chain's top
+            // as well. Its own chain puts it on its target first; this chain
+            // starts there and turns it to aim along, so that both reach
+            // their targets and the bones between keep their lengths. (A
+            // grabbed branch only carries the chain: turning it would swing
+            // its other children.)
+            if (entries[e].role == Role::kGrabbed && ix.ctrls[up].forward_out <= 1) {
+              members.push_back(up);
+              shared_top = true;
+            }
             break;
           }
           if (ix.ctrls[up].forward_out > 1) {
@@ -489,11 +640,12 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
         std::reverse(members.begin(), members.end());
         PlanChain chain;
         chain.anchor_control = stop;
+        chain.shared_top = shared_top;
         const int c = static_cast<int>(plan->chains.size());
-        for (int m : members) {
-          int e = sc.entry_of[m];
-          if (e < 0) e = add(m, Role::kChain, -1);
-          entries[e].chain = c;
+        for (std::size_t i = 0; i < members.size(); ++i) {
+          int e = sc.entry_of[members[i]];
+          if (e < 0) e = add(members[i], Role::kChain, -1);
+          if (!(shared_top && i == 0)) entries[e].chain = c;
           chain.entries.push_back(e);
         }
         plan->chains.push_back(std::move(chain));
@@ -527,13 +679,20 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
   }
 
   // Solve order: units (an entry, or a chain as a whole) after the entry
-  // they hang from. Every entry has at most one dependency.
+  // they hang from. Every entry has at most one dependency. A shared chain
+  // top (a grabbed control its own chain solves, which a chain below then
+  // turns) is final once every chain it tops is solved: what follows it
+  // waits for that, the chains it tops only for its own chain.
   const int nchains = static_cast<int>(plan->chains.size());
   std::vector<int> units;
   for (std::size_t e = 0; e < entries.size(); ++e)
     if (entries[e].chain < 0) units.push_back(static_cast<int>(e));
   for (int c = 0; c < nchains; ++c) units.push_back(-(c + 1));
   std::vector<std::uint8_t> done(entries.size(), 0);
+  std::vector<int> tops_left(entries.size(), 0);
+  for (const PlanChain& chain : plan->chains)
+    if (chain.shared_top) ++tops_left[chain.entries[0]];
+  auto final = [&](int e) { return done[e] && tops_left[e] == 0; };
   sc.units.clear();
   std::vector<std::uint8_t> emitted(units.size(), 0);
   bool progress = true;
@@ -542,8 +701,13 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
     for (std::size_t u = 0; u < units.size(); ++u) {
       if (emitted[u]) continue;
       const int unit = units[u];
-      const int dep = unit >= 0 ? entries[unit].driver : plan->chains[-unit - 1].anchor;
-      if (dep >= 0 && !done[dep]) continue;
+      if (unit >= 0) {
+        const int dep = entries[unit].driver;
+        if (dep >= 0 && !final(dep)) continue;
+      } else {
+        const PlanChain& chain = plan->chains[-unit - 1];
+        if (chain.anchor >= 0 && !(chain.shared_top ? done[chain.anchor] != 0 : final(chain.anchor))) continue;
+      }
       emitted[u] = 1;
       progress = true;
       sc.units.push_back(unit);
@@ -551,7 +715,13 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
         done[unit] = 1;
         plan->order.push_back(unit);
       } else {
-        for (int e : plan->chains[-unit - 1].entries) {
+        const PlanChain& chain = plan->chains[-unit - 1];
+        for (std::size_t i = 0; i < chain.entries.size(); ++i) {
+          const int e = chain.entries[i];
+          if (chain.shared_top && i == 0) {
+            --tops_left[e];
+            continue;
+          }
           done[e] = 1;
           plan->order.push_back(e);
         }
@@ -571,6 +741,7 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
   sc.chain_world.resize(longest);
   sc.positions.resize(longest);
   sc.solved.resize(longest);
+  sc.lengths.resize(longest);
   sc.corrections.resize(longest);
   sc.writes.reserve(n);
   return plan;
@@ -594,6 +765,7 @@ Status Session::drag_to(NodeId control, const Mat4& world) {
 }
 
 Status Session::drag(const Delta& delta) {
+  notes_.clear();
   if (!delta.translate.allFinite() || !delta.rotate.coeffs().allFinite() || !delta.scale.allFinite())
     return error(ErrorCode::kInvalidArgument, "drag: the motion is not finite");
   if (mode_ != Mode::kBody && delta.scale != Vec3::Ones())
@@ -618,6 +790,14 @@ Status Session::solve(const Delta& delta) {
   sc.has_motion.assign(n, 0);
   const Quat rot = delta.rotate.normalized();
   const Mat3 rot_m = rot.toRotationMatrix();
+  auto node_name = [&](NodeId id) { return graph.node(id) ? graph.node(id)->name() : std::string("?"); };
+  auto entry_name = [&](int e) { return node_name(entries[e].control); };
+  auto number = [](double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.6g", v);
+    return std::string(buffer);
+  };
+  auto note = [&](std::string text) { notes_.push_back(std::move(text)); };
 
   // The plan's own state: while it lives nothing but its drags edits the
   // scene (anything else drops it), so the world matrices the last drag
@@ -637,14 +817,43 @@ Status Session::solve(const Delta& delta) {
     }
     return sc.w[e];
   };
-  // New world of an entry; free followers are composed through the hierarchy.
+  // The new world of entry e's hierarchy parent: the parent control's new
+  // world; a joint driven by a control moves rigidly with it (a character
+  // rigged under another one's joint); a parent outside the plan stays.
+  auto parent_new_world = [&](auto& new_world_fn, int e) -> Mat4 {
+    const Index::Ctrl& c = ix.ctrls[sc.ctrl[e]];
+    const int pe = c.parent >= 0 ? sc.entry_of[c.parent] : -1;
+    if (pe < 0) return eval_mat(graph, entries[e].control, xform::kParentMatrix);
+    if (!c.parent_via_joint) return new_world_fn(new_world_fn, pe);
+    return Mat4(new_world_fn(new_world_fn, pe) * math::affine_inverse(world(pe)) *
+                eval_mat(graph, entries[e].control, xform::kParentMatrix));
+  };
+  Mat4 pivot_motion = Mat4::Identity();
+  Mat4 pivot_new = Mat4::Identity();
+  if (plan.mode == Mode::kBody) {
+    const Mat4& p = *plan_body_pivot_;
+    pivot_new = make(rot_m * lin(p), pos(p) + delta.translate);
+    pivot_motion = pivot_new * math::scale_matrix(delta.scale) * math::affine_inverse(p);
+  }
+  // Body motion: every control turns by the pivot's rotation exactly (its
+  // own linear part kept as it is, so local rotations do not change and are
+  // not rewritten); the pivot's scale moves positions only.
+  auto body_world = [&](int e) {
+    const Mat4& w = world(e);
+    return make(rot_m * lin(w), (pivot_motion * w.col(3)).head<3>());
+  };
+  // New world of an entry; free followers are composed through the
+  // hierarchy, and body entries that the hierarchy carries are computed
+  // when asked for (a control kept in place under one of them).
   auto new_world = [&](auto& self, int e) -> const Mat4& {
     if (!sc.has_wn[e]) {
-      // Only free followers are computed lazily.
-      const int d = entries[e].driver;
-      const graph::Node& node = *graph.node(entries[e].control);
-      sc.wn[e] = self(self, d) * std::get<Mat4>(node.value(xform::kOffsetParentMatrix)) *
-                 eval_mat(graph, entries[e].control, xform::kMatrix);
+      if (entries[e].role == Role::kBody) {
+        sc.wn[e] = body_world(e);
+      } else {
+        const graph::Node& node = *graph.node(entries[e].control);
+        sc.wn[e] = parent_new_world(self, e) * std::get<Mat4>(node.value(xform::kOffsetParentMatrix)) *
+                   eval_mat(graph, entries[e].control, xform::kMatrix);
+      }
       sc.has_wn[e] = 1;
     }
     return sc.wn[e];
@@ -663,14 +872,6 @@ Status Session::solve(const Delta& delta) {
     return make(rot_m * lin(base), pos(base) + (translate ? delta.translate : Vec3::Zero()));
   };
 
-  Mat4 pivot_motion = Mat4::Identity();
-  Mat4 pivot_new = Mat4::Identity();
-  if (plan.mode == Mode::kBody) {
-    const Mat4& p = *plan_body_pivot_;
-    pivot_new = make(rot_m * lin(p), pos(p) + delta.translate);
-    pivot_motion = pivot_new * math::scale_matrix(delta.scale) * math::affine_inverse(p);
-  }
-
   const bool body_rigid = plan.mode == Mode::kBody && delta.scale == Vec3::Ones();
   for (int unit : sc.units) {
     if (unit < 0) {
@@ -678,11 +879,30 @@ Status Session::solve(const Delta& delta) {
       const int m = static_cast<int>(chain.entries.size());
       for (int i = 0; i < m; ++i) {
         const int e = chain.entries[i];
-        sc.chain_world[i] = chain.anchor >= 0 ? carry(chain.anchor, world(e)) : world(e);
+        if (i == 0 && chain.shared_top) sc.chain_world[0] = new_world(new_world, e);  // where its own chain put it
+        else sc.chain_world[i] = chain.anchor >= 0 ? carry(chain.anchor, world(e)) : world(e);
       }
-      const Mat4 target = apply(sc.chain_world[m - 1], true);
+      // Every grabbed control's target is its own start plus the one motion,
+      // whatever carries the chain's top (README: "moves them all by one
+      // world-space motion").
+      const int end = chain.entries[m - 1];
+      const Mat4 target = apply(world(end), true);
+      const bool keeps_lengths = plan.mode == Mode::kInverse || plan.mode == Mode::kPseudoInverseLength;
       if (m == 1) {
-        set_new(chain.entries[0], target);
+        if (keeps_lengths && chain.anchor_control.is_valid()) {
+          // Alone in its chain under a parent (max_chain 1, or the walk
+          // stopped at another chain right above): moving it would change
+          // its bone's length, so it stays where its parent holds it and
+          // only turns.
+          const Vec3 held = pos(sc.chain_world[0]);
+          set_new(end, make(lin(target), held));
+          if ((pos(target) - held).norm() > 1e-12 * std::max(1.0, held.norm()))
+            note("'" + entry_name(end) + "' keeps its position: its chain holds no other control (" +
+                 (options_.max_chain == 1 ? std::string("max_chain 1") : "the walk stops at '" + node_name(chain.anchor_control) + "'") +
+                 "), and moving it would change the length of its bone; it only turns");
+        } else {
+          set_new(end, target);
+        }
         continue;
       }
       for (int i = 0; i < m; ++i) sc.positions[i] = pos(sc.chain_world[i]);
@@ -691,22 +911,16 @@ Status Session::solve(const Delta& delta) {
       if (plan.mode == Mode::kInverse && m == 3) {
         // Analytic two-bone keeping the current bend plane: the knee keeps
         // pointing where it points now, so a drag of zero changes nothing.
-        const Vec3 s = sc.positions[0], mid = sc.positions[1], end = sc.positions[2];
-        const double a = (mid - s).norm(), b = (end - mid).norm();
+        const Vec3 s = sc.positions[0], mid = sc.positions[1], end_p = sc.positions[2];
+        const double a = (mid - s).norm(), b = (end_p - mid).norm();
         const double scale = std::max(a + b, 1e-300);
         if (a > 1e-12 * scale && b > 1e-12 * scale) {
-          const Vec3 se = end - s;
+          const Vec3 se = end_p - s;
           const Vec3 u0 = se.norm() > 1e-12 * scale ? Vec3(se.normalized()) : Vec3((mid - s).normalized());
           Vec3 k = (mid - s) - (mid - s).dot(u0) * u0;
-          if (k.norm() <= 1e-9 * scale) {
-            // Straight: bend toward the start control's axis most
-            // perpendicular to the chain.
-            const Mat3 r = lin(sc.chain_world[0]);
-            int best = 0;
-            for (int c = 1; c < 3; ++c)
-              if (std::abs(r.col(c).normalized().dot(u0)) < std::abs(r.col(best).normalized().dot(u0))) best = c;
-            k = r.col(best) - r.col(best).dot(u0) * u0;
-          }
+          // Straight: bend toward the start control's axis most
+          // perpendicular to the chain.
+          if (k.norm() <= 1e-9 * scale) k = perpendicular(u0, straight_pole(lin(sc.chain_world[0]), u0));
           const Vec3 kh = k.normalized();
           const Vec3 n_old = u0.cross(kh).normalized();
           const Vec3 tv = t - s;
@@ -722,15 +936,17 @@ Status Session::solve(const Delta& delta) {
           const Vec3 end_new = s + dc * u;
           const Vec3 n_new = u.cross(w).normalized();
           const Mat3 rs = frame(mid_new - s, n_new) * frame(mid - s, n_old).transpose();
-          const Mat3 rm = frame(end_new - mid_new, n_new) * frame(end - mid, n_old).transpose();
+          const Mat3 rm = frame(end_new - mid_new, n_new) * frame(end_p - mid, n_old).transpose();
+          sc.solved[0] = s;
+          sc.solved[1] = mid_new;
+          sc.solved[2] = end_new;
           set_new(chain.entries[0], make(rs * lin(sc.chain_world[0]), s));
           set_new(chain.entries[1], make(rm * lin(sc.chain_world[1]), mid_new));
           set_new(chain.entries[2], make(lin(target), end_new));
           solved = true;
         }
       }
-      if (solved) continue;
-      if (plan.mode == Mode::kInverse) {
+      if (!solved && plan.mode == Mode::kInverse) {
         if (m == 2) {
           const Vec3 s = sc.positions[0];
           const double a = (sc.positions[1] - s).norm();
@@ -738,16 +954,46 @@ Status Session::solve(const Delta& delta) {
           sc.solved[0] = s;
           sc.solved[1] = tv.norm() > 1e-300 ? Vec3(s + a * tv.normalized()) : sc.positions[1];
         } else {
-          ops::ik::FabrikJob job;
-          job.world = std::span<const Mat4>(sc.chain_world.data(), m);
-          job.target = t;
-          job.tolerance = options_.fabrik_tolerance;
-          job.max_iterations = options_.fabrik_iterations;
-          job.positions = std::span<Vec3>(sc.solved.data(), m);
-          job.corrections = std::span<Quat>(sc.corrections.data(), m);
-          if (!job.run()) return error(ErrorCode::kInvalidArgument, "drag: FABRIK refused the chain (degenerate matrices)");
+          for (int i = 0; i + 1 < m; ++i) sc.lengths[i] = (sc.positions[i + 1] - sc.positions[i]).norm();
+          const std::span<Vec3> p(sc.solved.data(), m);
+          const std::span<const double> len(sc.lengths.data(), m - 1);
+          const Vec3 s = sc.positions[0];
+          double total = 0;
+          for (double l : len) total += l;
+          const double scale = std::max(total, 1e-300);
+          Vec3 u0 = sc.positions[m - 1] - s;
+          if (u0.norm() <= 1e-12 * scale) u0 = sc.positions[1] - s;
+          u0 = u0.norm() > 1e-300 ? Vec3(u0.normalized()) : Vec3::UnitX();
+          bool straight = true;
+          for (int i = 1; i < m && straight; ++i) {
+            const Vec3 r = sc.positions[i] - s;
+            straight = (r - r.dot(u0) * u0).norm() <= 1e-9 * scale;
+          }
+          const Vec3 pole = straight_pole(lin(sc.chain_world[0]), u0);
+          const Vec3 tv = t - s;
+          const double d = tv.norm();
+          if (straight && total > 0) {
+            // FABRIK cannot bend a straight chain out of its line (it folds
+            // it along the line) and crawls near full reach: lay it on an
+            // arc toward the target, bulging toward the pole.
+            const Vec3 u = d > 1e-12 * scale ? Vec3(tv / d) : u0;
+            p[0] = s;
+            lay_arc(p, len, u, perpendicular(u, pole), d);
+          } else {
+            ops::ik::FabrikJob job;
+            job.world = std::span<const Mat4>(sc.chain_world.data(), m);
+            job.target = t;
+            job.tolerance = options_.fabrik_tolerance;
+            job.max_iterations = options_.fabrik_iterations;
+            job.positions = p;
+            job.corrections = std::span<Quat>(sc.corrections.data(), m);
+            if (!job.run()) return error(ErrorCode::kInvalidArgument, "drag: FABRIK refused the chain (degenerate matrices)");
+          }
+          // Exact to rounding: FABRIK stops at its tolerance or iteration
+          // limit; the arc is as exact as its bisection.
+          if ((p[m - 1] - t).norm() > 1e-13 * scale) reach(p, len, 0, m - 1, t, pole);
         }
-      } else {
+      } else if (!solved) {
         // Pseudo-inverse: the grabbed control's motion spread evenly down to
         // the top (which stays): control i of m moves by i / (m - 1) of it.
         const Vec3 dp = t - sc.positions[m - 1];
@@ -761,6 +1007,27 @@ Status Session::solve(const Delta& delta) {
           }
         }
       }
+      if (plan.mode == Mode::kInverse) {
+        // Say why the grabbed control is not on its target (out of reach, a
+        // zero-length chain, the one bone of a two-control chain).
+        double total = 0;
+        for (int i = 0; i + 1 < m; ++i) total += (sc.positions[i + 1] - sc.positions[i]).norm();
+        const double miss = (sc.solved[m - 1] - t).norm();
+        const double reach_to = (t - sc.positions[0]).norm();
+        if (miss > 1e-9 * std::max({total, reach_to, 1e-300})) {
+          const std::string chain_text = "its chain from '" + entry_name(chain.entries[0]) + "' (" + std::to_string(m) +
+                                         " controls, length " + number(total) + ")";
+          if (total <= 1e-12 * reach_to)
+            note("'" + entry_name(end) + "' cannot move in inverse mode: " + chain_text + " has no length to turn");
+          else if (reach_to > total)
+            note("'" + entry_name(end) + "' is out of reach: the target is " + number(reach_to) + " from the top of " +
+                 chain_text + "; the chain points at it");
+          else
+            note("'" + entry_name(end) + "' ends " + number(miss) + " from its target: " + chain_text +
+                 " cannot reach it");
+        }
+      }
+      if (solved) continue;
       // Every control but the grabbed one re-aims at its child.
       for (int i = 0; i + 1 < m; ++i) {
         const Mat3 r = swing(sc.positions[i + 1] - sc.positions[i], sc.solved[i + 1] - sc.solved[i]);
@@ -805,14 +1072,10 @@ Status Session::solve(const Delta& delta) {
         break;
       }
       case Role::kBody:
-        // Rigid: only the roots are needed (the hierarchy carries the rest).
-        // Every control turns by the pivot's rotation exactly (its own
-        // linear part kept as it is, so local rotations do not change and
-        // are not rewritten); the pivot's scale moves positions only.
-        if (!body_rigid || ix.ctrls[sc.ctrl[e]].parent < 0 || sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] < 0) {
-          const Mat4& w = world(e);
-          set_new(e, make(rot_m * lin(w), (pivot_motion * w.col(3)).head<3>()));
-        }
+        // Rigid: only the roots are needed (the hierarchy carries the rest,
+        // also across characters: a control under a joint of another one).
+        if (!body_rigid || ix.ctrls[sc.ctrl[e]].parent < 0 || sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] < 0)
+          set_new(e, body_world(e));
         break;
       case Role::kKeepWorld:
         set_new(e, world(e));
@@ -828,13 +1091,14 @@ Status Session::solve(const Delta& delta) {
   bool exact = true;  // every written rotation is a rotation (no projection)
   for (std::size_t e = 0; e < n; ++e) {
     if (sc.free[e]) continue;
-    if (body_rigid && ix.ctrls[sc.ctrl[e]].parent >= 0 && sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] >= 0) continue;
+    if (body_rigid && entries[e].role == Role::kBody && ix.ctrls[sc.ctrl[e]].parent >= 0 &&
+        sc.entry_of[ix.ctrls[sc.ctrl[e]].parent] >= 0)
+      continue;
     const int k = sc.ctrl[e];
     const graph::Node& node = *graph.node(entries[e].control);
     const int parent = ix.ctrls[k].parent;
     const int pe = parent >= 0 ? sc.entry_of[parent] : -1;
-    const Mat4 parent_world =
-        pe >= 0 ? new_world(new_world, pe) : eval_mat(graph, entries[e].control, xform::kParentMatrix);
+    const Mat4 parent_world = parent_new_world(new_world, static_cast<int>(e));
     // local = (parent_world * offset)^-1 * world, in 3x3 + translation.
     const Mat4& offset = std::get<Mat4>(node.value(xform::kOffsetParentMatrix));
     const Mat3 po_inverse = (lin(parent_world) * lin(offset)).inverse();

@@ -7,6 +7,7 @@
 #include "ephemeral_test_util.h"
 #include "rigel/ephemeral/keying.h"
 #include "rigel/io/gltf_import.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/ops/anim/nodes.h"
 
 namespace rigel::ephemeral {
@@ -265,6 +266,113 @@ TEST(EphemeralMerge, merge_edits_are_undoable_and_saved) {
   ASSERT_TRUE(g.undo());
   EXPECT_EQ(io::write_scene(s), before);
   EXPECT_EQ(merge_characters(g, {a.prop_rig}).code(), ErrorCode::kInvalidArgument);
+}
+
+// ---- key times a hair off a frame (glTF stores seconds as float) -------------
+
+// The elbow's rotation keyed at `frames` (a distinct angle each).
+void key_arm_at(Arm& arm, const std::vector<double>& frames) {
+  Graph& g = arm.scene->graph();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    g.set_time(frames[i] / g.fps());
+    ASSERT_TRUE(succeeded(write_channel(g, arm.c(1), xform::kRotate, Vec3(0, 0, 30 + 10.0 * i), true)));
+  }
+}
+
+// Key times of the curve on the elbow's rotateZ.
+std::vector<double> elbow_rotate_z_times(const Graph& g, const Arm& arm) {
+  for (const graph::Connection& c : g.node(arm.c(1))->inputs())
+    if (c.dst.attr == xform::kRotate && c.dst.component == 2) return ops::anim::curve_key_times(g, c.src.node);
+  return {};
+}
+
+TEST(EphemeralKeys, a_key_within_a_thousandth_of_a_frame_is_that_frames_key) {
+  for (double fps : {24.0, 30.0, 1000.0}) {
+    for (double off : {-7.9e-5, 7.9e-5, -9e-4, 9e-4}) {
+      SCOPED_TRACE("fps " + std::to_string(fps) + ", key " + std::to_string(off) + " frames off");
+      Arm arm = make_arm();
+      Graph& g = arm.scene->graph();
+      ASSERT_TRUE(succeeded(g.set_fps(fps)));
+      key_arm_at(arm, {10, 38 + off, 50});
+      const std::size_t curves = curve_count(g);
+      g.set_time(38 / fps);
+      EXPECT_TRUE(has_key_now(g, arm.c(1))) << "frame 38 has a key";
+      EXPECT_EQ(key_times(g, {arm.c(1)}).size(), 3u);
+      // Keying frame 38 updates that key (no second key a hair away).
+      ASSERT_TRUE(succeeded(set_key(g, {arm.c(0)})));
+      std::vector<double> times = key_times(g, {arm.c(1)});
+      ASSERT_EQ(times.size(), 3u);
+      const std::vector<double> elbow = elbow_rotate_z_times(g, arm);
+      ASSERT_EQ(elbow.size(), 3u);
+      EXPECT_DOUBLE_EQ(elbow[1], (38 + off) / fps) << "the key keeps its time";
+      EXPECT_EQ(curve_count(g), curves + 15) << "the other channels got curves keyed at frame 38";
+      // A drag at frame 38 edits the key, off-key refusal does not apply;
+      // auto-key adds nothing.
+      for (bool auto_key : {false, true}) {
+        SessionOptions o;
+        o.auto_key = auto_key;
+        Session session(*arm.scene, o);
+        session.select({arm.c(1)});
+        ASSERT_TRUE(succeeded(session.drag(Delta{Vec3::Zero(), about_z(5)})));
+        session.release();
+        EXPECT_EQ(key_times(g, {arm.c(1)}).size(), 3u);
+        EXPECT_EQ(elbow_rotate_z_times(g, arm).size(), 3u);
+      }
+      // Deleting the key at frame 38 removes that key.
+      ASSERT_TRUE(succeeded(delete_key(g, {arm.c(1)})));
+      times = key_times(g, {arm.c(1)});
+      ASSERT_EQ(times.size(), 2u);
+      EXPECT_NEAR(times[0] * fps, 10, 1e-9);
+      EXPECT_NEAR(times[1] * fps, 50, 1e-9);
+    }
+  }
+}
+
+TEST(EphemeralKeys, a_key_two_thousandths_of_a_frame_away_is_not_that_frames_key) {
+  Arm arm = make_arm();
+  Graph& g = arm.scene->graph();
+  key_arm_at(arm, {10, 38.002});
+  g.set_time(38 / g.fps());
+  EXPECT_FALSE(has_key_now(g, arm.c(1)));
+  Session session(*arm.scene);
+  session.select({arm.c(1)});
+  const Status s = session.drag(Delta{Vec3::Zero(), about_z(5)});
+  EXPECT_FALSE(s.is_ok());
+  EXPECT_NE(s.message().find("has no key"), std::string::npos) << s.message();
+  EXPECT_EQ(key_time_tolerance(g), kKeyFrameTolerance / g.fps());
+}
+
+TEST(EphemeralKeys, the_imported_cesium_man_keys_sit_on_their_frames) {
+  io::GltfImportOptions options;
+  options.registry = default_registry();
+  auto loaded = io::import_gltf(std::filesystem::path(RIGEL_SOURCE_DIR) / "tests" / "data" / "gltf" / "CesiumMan.glb", options);
+  ASSERT_TRUE(loaded.is_ok()) << loaded.status().message();
+  scene::Scene& s = **loaded;
+  Result<SetupResult> r = setup_ephemeral(s);
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  Graph& g = s.graph();
+  // Every key time of the clip is within the tolerance of a whole frame,
+  // and at each of those frames every keyed control has its key.
+  const std::vector<double> times = key_times(g, r->controls);
+  ASSERT_GT(times.size(), 10u);
+  std::size_t off_frame = 0;
+  for (double t : times) {
+    const double f = t * g.fps();
+    off_frame += std::abs(f - std::round(f)) > 1e-6;
+    ASSERT_LE(std::abs(f - std::round(f)), kKeyFrameTolerance) << "key at frame " << f;
+  }
+  EXPECT_GT(off_frame, 0u) << "the file's float times sit a hair off their frames";
+  s.set_frame(38);
+  for (NodeId c : r->controls)
+    if (is_keyed(g, c)) {
+      EXPECT_TRUE(has_key_now(g, c)) << g.node(c)->name();
+    }
+  SessionOptions o;
+  o.auto_key = true;
+  Session session(s, o);
+  session.select({r->controls[3]});
+  ASSERT_TRUE(succeeded(session.drag(Delta{Vec3::Zero(), about_z(5)})));
+  EXPECT_EQ(key_times(g, r->controls).size(), times.size()) << "auto-key found the key at frame 38";
 }
 
 }  // namespace

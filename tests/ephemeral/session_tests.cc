@@ -351,13 +351,17 @@ TEST(EphemeralMulti, inverse_elbow_and_wrist_are_both_targets__neither_pushed) {
   const Vec3 elbow = position(*arm.scene, arm.elbow), wrist = position(*arm.scene, arm.wrist);
   ASSERT_TRUE(succeeded(session.drag(Delta{d})));
   // The elbow chain (shoulder -> elbow) aims the shoulder: the elbow lands
-  // on the shoulder-length sphere toward its target; the wrist, carried by
-  // the elbow, then applies its own delta.
+  // on the shoulder-length sphere toward its target. The wrist's chain
+  // starts at the elbow (the grabbed control above is its top): the elbow
+  // turns to aim at the wrist's own target (wrist + d, not pushed by the
+  // elbow's motion), and the wrist lands on its bone's sphere toward it.
   const Vec3 e = position(*arm.scene, arm.elbow);
   EXPECT_NEAR(e.norm(), 1.0, 1e-12);
   EXPECT_TRUE(vec_near(e, (elbow + d).normalized(), 1e-12));
-  const Vec3 carried = position(*arm.scene, arm.wrist) - d;
-  EXPECT_NEAR((carried - e).norm(), (wrist - elbow).norm(), 1e-12) << "the wrist is carried by the elbow, then moved by its own delta";
+  const Vec3 w = position(*arm.scene, arm.wrist);
+  EXPECT_NEAR((w - e).norm(), (wrist - elbow).norm(), 1e-12) << "the forearm keeps its length";
+  EXPECT_TRUE(vec_near((w - e).normalized(), (wrist + d - e).normalized(), 1e-12)) << "toward the wrist's own target";
+  EXPECT_EQ(session.notes().size(), 2u) << "neither target is within reach of its one bone";
 }
 
 TEST(EphemeralMulti, magnet_two_sources_nearest_wins) {

@@ -65,6 +65,18 @@ std::vector<Relation> carrier_relations(const Graph& graph);
 
 // ---- keys --------------------------------------------------------------------
 
+// A key within kKeyFrameTolerance frames of a time is the key at that time,
+// wherever keys are looked up by time (has_key_now, write_channel, set_key,
+// delete_key, key_times; the CLI, the server's key routes and Python all go
+// through these): glTF clips store times in float seconds, so CesiumMan's
+// key at frame 38 sits at frame 37.999921. A drag or key at frame 38 edits
+// that key (its time is kept). Keys of one curve closer than this are one
+// key for lookups (the nearest is edited).
+inline constexpr double kKeyFrameTolerance = 1e-3;
+// kKeyFrameTolerance in seconds at the graph's frame rate (never below
+// ops::anim::kKeyTimeTolerance, 1e-6 s).
+double key_time_tolerance(const Graph& graph);
+
 // What a key on `controls` keys: with scope `character`, every control of
 // their characters and the characters merged with them; with `controls`,
 // the controls themselves. Joints stand for their controls. Rig order.
@@ -79,18 +91,22 @@ Status set_key(Graph& graph, const std::vector<NodeId>& controls);
 // without keys is deleted and its channel keeps its current value.
 // kNotFound when none of them has a key there.
 Status delete_key(Graph& graph, const std::vector<NodeId>& controls);
-// Sorted key times (seconds) of the channels of keying_set(controls).
+// Sorted key times (seconds) of the channels of keying_set(controls); times
+// within key_time_tolerance() of the one before are listed once.
 std::vector<double> key_times(const Graph& graph, const std::vector<NodeId>& controls);
-// True when `control` has a key at the graph's time (within 1e-6 s).
+// True when `control` has a key at the graph's time (within
+// key_time_tolerance()).
 bool has_key_now(const Graph& graph, NodeId control);
 // True when a channel of `control` is driven by a curve.
 bool is_keyed(const Graph& graph, NodeId control);
 
 // Writes `value` into a control channel (attr translate, rotate or
 // rotateQuaternion). Free channels are set. Keyed channels: the key at the
-// graph's time takes the value; with no key there, one is inserted when
-// `insert`, else kInvalidArgument naming the channel and the frame.
-// Channels driven by anything else: kInvalidArgument.
+// graph's time (within key_time_tolerance(); its time is kept) takes the
+// value; with no key there, one is inserted when `insert`, else
+// kInvalidArgument naming the channel and the frame. Channels driven by
+// anything else, or component curves of one channel whose keys near the
+// time are more than 1e-6 s apart: kInvalidArgument naming the channel.
 Status write_channel(Graph& graph, NodeId control, graph::AttrIndex attr, const graph::Value& value, bool insert);
 
 }  // namespace rigel::ephemeral

@@ -100,6 +100,10 @@ struct PlanChain {
   std::vector<int> entries;  // top (position fixed unless carried) ... grabbed end
   int anchor = -1;           // plan entry the top hangs from (moves it), -1: fixed
   NodeId anchor_control;     // the control the walk stopped at (invalid: a root)
+  // The top is the anchor itself: a grabbed control above, solved by its own
+  // chain first; this chain starts where that one put it and turns it (its
+  // position stays) to aim at the rest of this chain.
+  bool shared_top = false;
 };
 
 // The temporary graph: in memory only.
@@ -159,6 +163,11 @@ class Session : public graph::Observer {
   // translation; its scale is kept): the delta that takes it there is
   // applied to every grabbed control.
   Status drag_to(NodeId control, const Mat4& world);
+  // What the last drag could not do, one sentence each, naming the controls:
+  // an inverse chain that cannot reach its target (out of reach, no length
+  // to turn), a control that keeps its position because moving it would
+  // stretch its bone. Empty when every grabbed control reached its target.
+  const std::vector<std::string>& notes() const { return notes_; }
 
   // graph::Observer: any edit the session did not make drops the plan.
   void node_added(const Graph&, NodeId) override { external_change(true); }
@@ -188,6 +197,7 @@ class Session : public graph::Observer {
   std::unique_ptr<Scratch> scratch_;
   bool writing_ = false;
   int plans_built_ = 0;
+  std::vector<std::string> notes_;
   std::uint64_t gesture_ = 0;  // undo merge key of the current plan's drags
 };
 
