@@ -1404,9 +1404,8 @@ class Exporter {
 
     // Materials, textures, uv sets and colours of the meshes (gltf_materials.h).
     gltf_look::LookWriter looks(g_, model, buffer.bytes(), report_.notes);
-    for (std::size_t i = 0; i < nodes_.size(); ++i) {
-      if (nodes_[i].mesh < 0) continue;
-      if (Status s = looks.write(nodes_[i].id, model.nodes[i].mesh); !s) return s;
+    for (std::size_t k = 0; k < written_meshes_.size() && k < model.meshes.size(); ++k) {
+      if (Status s = looks.write(written_meshes_[k], static_cast<int>(k)); !s) return s;
     }
 
     if (!buffer.error().empty()) return error(ErrorCode::kInvalidArgument, buffer.error());
@@ -1468,6 +1467,7 @@ class Exporter {
 
   tinygltf::Mesh write_mesh(const MeshExport& m, BufferBuilder& buffer) {
     const std::string& mesh_name = name(nodes_[m.node].id);
+    written_meshes_.push_back(nodes_[m.node].id);  // the caller pushes this mesh onto model.meshes next
     tinygltf::Mesh mesh;
     mesh.name = mesh_name;
     tinygltf::Primitive primitive;
@@ -1539,6 +1539,7 @@ class Exporter {
   std::vector<DirectWeights> direct_weights_;
   std::string bake_reason_;
   std::vector<AnimationExport> animations_;
+  std::vector<NodeId> written_meshes_;  // the mesh node of each glTF mesh, in model.meshes order
 };
 
 }  // namespace
