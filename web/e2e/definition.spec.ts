@@ -145,15 +145,19 @@ test('definition editor: a live build that fails shows the build error, not "val
   // A joint the character does not have: the definition is valid, its build is not.
   await page.getByTestId('def-guide-joint-1').fill('no_such_joint');
   await page.getByTestId('def-guide-joint-1').press('Enter');
+  // The global alone builds...
+  const types = async (): Promise<string[]> => ((await server.get('/api/rigs')).rigs[0]?.components ?? []).map((c: any) => c.type).sort();
   await link(page, 'rig', global);
-  await link(page, global, chain);
+  await expect.poll(types).toEqual(['global']);
   const problems = page.getByTestId('def-problems');
+  await expect(problems).toContainText('✔ valid and built');
+  // ...the chain on the missing joint does not.
+  await link(page, global, chain);
   await expect(problems).toHaveAttribute('data-state', 'build-failed');
   await expect(page.getByTestId('def-build-error')).toContainText('no_such_joint');
   await expect(problems).not.toContainText('✔');
   await settle(page, server);
   // The failed rebuild changed nothing: the rig has only what built before (global).
-  const types = async (): Promise<string[]> => ((await server.get('/api/rigs')).rigs[0]?.components ?? []).map((c: any) => c.type).sort();
   expect(await types()).toEqual(['global']);
 
   // Fixed: valid and built.

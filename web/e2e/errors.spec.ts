@@ -84,10 +84,10 @@ test('a server that goes away: one "connection lost" state, polls backing off, r
   // Retries back off: wait for five of them (state, not time).
   await expect.poll(() => page.evaluate(() => (window as any).rigel.app.retries.length), { timeout: 60_000 }).toBeGreaterThanOrEqual(5);
   const retries = (await page.evaluate(() => (window as any).rigel.app.retries)) as number[];
-  const gaps = retries.slice(1).map((t, i) => t - retries[i]!);
-  // Each gap at least the one before (0.5 s, 1 s, 2 s, 4 s, 4 s...), give or take a timer's slack.
-  for (let i = 1; i < gaps.length; i++) expect(gaps[i]!, `retry gaps ${gaps.join(', ')} ms`).toBeGreaterThanOrEqual(gaps[i - 1]! * 0.9);
-  expect(gaps[gaps.length - 1]!, `retry gaps ${gaps.join(', ')} ms`).toBeGreaterThanOrEqual(1500);
+  // The gaps double: 0.5 s, 1 s, 2 s, 4 s (then 4 s each). A loaded
+  // machine only makes a timer late, so each gap is at least its nominal.
+  const gaps = retries.slice(1, 5).map((t, i) => t - retries[i]!);
+  [500, 1000, 2000, 4000].forEach((nominal, i) => expect(gaps[i]!, `retry gaps ${gaps.join(', ')} ms`).toBeGreaterThanOrEqual(nominal * 0.95));
   // Actions while the server is gone add no error of their own.
   await page.keyboard.press('2');
   await page.keyboard.press('Escape');
