@@ -45,17 +45,29 @@ Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
 
   std::vector<double> frames;
   for (double f = o.first; f <= o.last + 1e-9; f += 1.0) frames.push_back(std::min(f, o.last));
-  if (frames.back() < o.last - 1e-9) frames.push_back(o.last);
+  // The last frame, unless it is one key with the frame before (then that
+  // one is taken at the last frame).
+  if (frames.back() < o.last - 1e-9) {
+    if ((o.last - frames.back()) / g.fps() > ops::anim::kKeyTimeTolerance) frames.push_back(o.last);
+    else frames.back() = o.last;
+  }
 
   // Sample every node at every frame (the rig evaluated as it is).
   const double time_before = g.time();
+  // Progress: one unit per node and frame sampled, as many again for the
+  // keys (written a node at a time), one for the end.
   const std::size_t total_work = nodes.size() * frames.size() * 2 + 1;
   std::size_t done = 0;
-  struct Sample {
-    math::Vec3 translate, scale, euler;  // euler: degrees
-    math::Quat rotation;
+  // Per node, one entry per frame.
+  struct Samples {
+    std::vector<math::Vec3> translate, scale, euler;  // euler: degrees
+    std::vector<math::Quat> rotation;
   };
-  std::vector<std::vector<Sample>> samples(nodes.size());
+  std::vector<Samples> samples(nodes.size());
+  for (Samples& list : samples) {
+    for (auto* v : {&list.translate, &list.scale, &list.euler}) v->reserve(frames.size());
+    list.rotation.reserve(frames.size());
+  }
   for (std::size_t f = 0; f < frames.size(); ++f) {
     scene.set_frame(frames[f]);
     for (std::size_t n = 0; n < nodes.size(); ++n) {
@@ -66,22 +78,26 @@ Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
       }
       const auto order =
           static_cast<math::RotateOrder>(std::get<std::int64_t>(g.node(nodes[n])->value(xform::kRotateOrder)));
-      Sample x{ch->translate, ch->scale, {}, {}};
+      math::Vec3 euler;
+      math::Quat rotation;
       if (ch->rotation_attr == xform::kRotate) {
-        x.euler = std::get<math::Vec3>(ch->rotation);
-        x.rotation = math::euler_to_quat(math::to_radians(x.euler), order);
+        euler = std::get<math::Vec3>(ch->rotation);
+        rotation = math::euler_to_quat(math::to_radians(euler), order);
       } else {
-        x.rotation = std::get<math::Quat>(ch->rotation);
-        x.euler = math::to_degrees(math::quat_to_euler(x.rotation, order));
+        rotation = std::get<math::Quat>(ch->rotation);
+        euler = math::to_degrees(math::quat_to_euler(rotation, order));
       }
       // Continuity: Euler angles closest to the previous frame's, quaternions
       // in the previous frame's hemisphere, so linear keys take the short way.
-      std::vector<Sample>& list = samples[n];
-      if (!list.empty()) {
-        x.euler = math::to_degrees(math::euler_closest(math::to_radians(x.euler), math::to_radians(list.back().euler), order));
-        if (x.rotation.coeffs().dot(list.back().rotation.coeffs()) < 0) x.rotation.coeffs() *= -1;
+      Samples& list = samples[n];
+      if (!list.euler.empty()) {
+        euler = math::to_degrees(math::euler_closest(math::to_radians(euler), math::to_radians(list.euler.back()), order));
+        if (rotation.coeffs().dot(list.rotation.back().coeffs()) < 0) rotation.coeffs() *= -1;
       }
-      list.push_back(x);
+      list.translate.push_back(ch->translate);
+      list.scale.push_back(ch->scale);
+      list.euler.push_back(euler);
+      list.rotation.push_back(rotation);
       if (o.progress) o.progress(static_cast<double>(++done) / static_cast<double>(total_work));
     }
   }
@@ -101,22 +117,25 @@ Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
     }
     ++report.disconnected;
   }
+  // Each channel's keys in one write: its curves' arrays are set once (one
+  // undo record each), so time and memory grow with the frames.
+  std::vector<double> times(frames.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) times[f] = frames[f] / g.fps();
   for (std::size_t n = 0; n < nodes.size(); ++n) {
-    for (std::size_t f = 0; f < frames.size(); ++f) {
-      const double t = frames[f] / g.fps();
-      const Sample& x = samples[n][f];
-      Status s = ops::anim::write_channel_key(g, nodes[n], xform::kTranslate, graph::Value(x.translate), t, true);
-      if (s) s = ops::anim::write_channel_key(g, nodes[n], xform::kRotate, graph::Value(x.euler), t, true);
-      if (s) s = ops::anim::write_channel_key(g, nodes[n], xform::kRotateQuaternion, graph::Value(x.rotation), t, true);
-      if (s) s = ops::anim::write_channel_key(g, nodes[n], xform::kScale, graph::Value(x.scale), t, true);
-      if (!s) {
-        tx.rollback();
-        g.set_time(time_before);
-        return s.with_context("bake: " + g.node(nodes[n])->name());
-      }
-      report.keys += 4;
-      if (o.progress) o.progress(static_cast<double>(++done) / static_cast<double>(total_work));
+    Samples& x = samples[n];
+    Status s = ops::anim::write_channel_keys(g, nodes[n], xform::kTranslate, times, x.translate, true);
+    if (s) s = ops::anim::write_channel_keys(g, nodes[n], xform::kRotate, times, x.euler, true);
+    if (s) s = ops::anim::write_channel_keys(g, nodes[n], xform::kRotateQuaternion, times, x.rotation, true);
+    if (s) s = ops::anim::write_channel_keys(g, nodes[n], xform::kScale, times, x.scale, true);
+    if (!s) {
+      tx.rollback();
+      g.set_time(time_before);
+      return s.with_context("bake: " + g.node(nodes[n])->name());
     }
+    x = Samples{};  // written: its memory goes back
+    report.keys += 4 * frames.size();
+    done += frames.size();
+    if (o.progress) o.progress(static_cast<double>(done) / static_cast<double>(total_work));
   }
   g.set_time(time_before);
   if (o.progress) o.progress(1.0);
