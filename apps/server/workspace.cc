@@ -152,6 +152,42 @@ struct Workspace::Impl {
   std::uint64_t revision = 1;
   std::uint64_t gesture = 0;  // undo merge key of the current direct (non-ephemeral) drag
 
+  // Rigs stepped back to step 0 (POST /api/rigs/step). The scene keeps
+  // nothing of a rig with no step built (its metaRoot is step 1's work), so
+  // the workspace keeps its definition, to list the rig and step it forward
+  // again, as a Build object held in Python does. An entry stands while the
+  // scene has no rig of its name and the undo history is at or after the
+  // step that made it: undoing that step hides it (the rig is back), redo
+  // shows it again, and a new edit made from before it drops it for good.
+  struct Unbuilt {
+    rig::Definition definition;
+    rig::BuildOptions options;
+    std::size_t since = 0;     // undo_count() after the step to 0
+    std::uint64_t serial = 0;  // which entry (a name may be stepped to 0 again)
+  };
+  std::map<std::string, Unbuilt> unbuilt;
+  std::uint64_t unbuilt_serial = 0;
+
+  const Unbuilt* unbuilt_rig(const std::string& name) {
+    auto it = unbuilt.find(name);
+    if (it == unbuilt.end() || g().undo_count() < it->second.since || rig::find_rig(g(), name).is_valid()) return nullptr;
+    return &it->second;
+  }
+
+  // The entries whose step an undo took back: a request that leaves nothing
+  // to redo has dropped them from the history.
+  std::vector<std::uint64_t> unbuilt_undone() {
+    std::vector<std::uint64_t> out;
+    for (const auto& [name, u] : unbuilt)
+      if (u.since > g().undo_count()) out.push_back(u.serial);
+    return out;
+  }
+  void drop_unbuilt(const std::vector<std::uint64_t>& undone) {
+    if (undone.empty() || g().can_redo()) return;
+    for (auto it = unbuilt.begin(); it != unbuilt.end();)
+      it = std::find(undone.begin(), undone.end(), it->second.serial) != undone.end() ? unbuilt.erase(it) : std::next(it);
+  }
+
   graph::Graph& g() { return scene.graph(); }
 
   // A request path inside the root, or 400.
@@ -161,11 +197,20 @@ struct Workspace::Impl {
     return *r;
   }
 
-  // Makes the folder a file is about to be saved in.
+  // Makes the folder a file is about to be saved in; a folder (or anything
+  // else that is not a file) where the file goes is the request's fault.
   static void make_parent(const fs::path& file, const std::string& field) {
     std::error_code ec;
+    const fs::file_status st = fs::status(file, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st))
+      refuse(400, field + ": '" + file.string() + "' is " + (fs::is_directory(st) ? "a folder" : "not a file"), field);
     fs::create_directories(file.parent_path(), ec);
     if (ec) refuse(409, field + ": cannot make " + file.parent_path().string() + ": " + ec.message(), field);
+  }
+
+  // A save that failed: where the request said to write cannot take it.
+  static void check_saved(const Status& s, const std::string& field) {
+    if (!s) refuse(s.code() == ErrorCode::kIoError ? 409 : status_of(s.code()), s.message(), field);
   }
 
   // ---- nodes -------------------------------------------------------------------
@@ -363,7 +408,7 @@ struct Workspace::Impl {
     if (const Json* p = opt(body, "path")) path = confined(as_string(*p, "path"), "path");
     if (path.empty()) refuse(400, "path: the scene has no file yet; give a path", "path");
     make_parent(path, "path");
-    check(io::save_scene(scene, path));
+    check_saved(io::save_scene(scene, path), "path");
     scene_path = path;
     return Json{{"path", path.string()}};
   }
@@ -518,9 +563,14 @@ struct Workspace::Impl {
 
   Json post_time(const Request&, const Json& body) {
     if (const Json* f = opt(body, "frame")) {
-      scene.set_frame(as_number(*f, "frame"));
+      const double frame = as_number(*f, "frame");
+      if (std::abs(frame) > kMaxFrame) refuse(400, "frame: " + f->dump() + " is out of range (at most " + std::to_string(static_cast<int>(kMaxFrame)) + " frames either side of 0)", "frame");
+      scene.set_frame(frame);
     } else if (const Json* t = opt(body, "time")) {
-      g().set_time(as_number(*t, "time"));
+      const double time = as_number(*t, "time");
+      if (std::abs(time * g().fps()) > kMaxFrame)
+        refuse(400, "time: " + t->dump() + " s is out of range (at most " + std::to_string(static_cast<int>(kMaxFrame)) + " frames either side of 0)", "time");
+      g().set_time(time);
     } else {
       refuse(400, "missing field 'frame' (or 'time')", "frame");
     }
@@ -578,10 +628,41 @@ struct Workspace::Impl {
 
   // ---- routes: rigs --------------------------------------------------------------
 
-  std::string rig_name(const Json& body) {
+  // The request's rig: one the scene holds, or (where the route takes one)
+  // a rig stepped back to step 0.
+  std::string rig_name(const Json& body, bool unbuilt_too = false) {
     const std::string name = as_string(need(body, "rig"), "rig");
-    if (!rig::find_rig(g(), name).is_valid()) refuse(404, "rig: the scene has no rig '" + name + "'", "rig");
-    return name;
+    if (rig::find_rig(g(), name).is_valid()) return name;
+    if (unbuilt_rig(name)) {
+      if (unbuilt_too) return name;
+      refuse(409, "rig: '" + name + "' is at step 0 (nothing built): step it forward first", "rig");
+    }
+    refuse(404, "rig: the scene has no rig '" + name + "'", "rig");
+  }
+
+  // A Build of the rig: the scene's, or at step 0 for a rig stepped back there.
+  std::unique_ptr<rig::Build> open_rig(const std::string& name) {
+    if (const Unbuilt* u = unbuilt_rig(name)) return take(rig::Build::open(scene, u->definition, factory, u->options));
+    return take(rig::Build::reopen(scene, name, factory));
+  }
+
+  // What rigs_report() says of a rig, for one at step 0.
+  static Json unbuilt_report(const std::string& name, const rig::Build& build) {
+    const rig::Definition& def = build.definition();
+    Json on_disk = nullptr;
+    std::error_code ec;
+    if (!def.source.empty() && fs::is_regular_file(def.source, ec)) {
+      rig::ParseResult p = rig::load_definition(def.source);
+      if (p.ok()) on_disk = p.definition.version;
+    }
+    return Json{{"name", name},
+                {"version", def.version},
+                {"definition", def.source},
+                {"definitionVersion", on_disk},
+                {"outOfDate", on_disk.is_string() && on_disk.get<std::string>() != def.version},
+                {"editMode", build.edit_mode()},
+                {"buildPosition", 0},
+                {"components", Json::array()}};
   }
 
   Json get_rigs(const Request&, const Json&) {
@@ -590,6 +671,14 @@ struct Workspace::Impl {
       auto build = rig::Build::reopen(scene, r["name"].get<std::string>(), factory);
       r["steps"] = build ? static_cast<int>((*build)->plan().size()) : 0;
       r["features"] = build ? features_json(**build) : Json::array();
+    }
+    for (const auto& [name, u] : unbuilt) {
+      if (!unbuilt_rig(name)) continue;
+      auto build = open_rig(name);
+      Json r = unbuilt_report(name, *build);
+      r["steps"] = static_cast<int>(build->plan().size());
+      r["features"] = features_json(*build);
+      rigs.push_back(std::move(r));
     }
     return Json{{"rigs", std::move(rigs)}};
   }
@@ -626,7 +715,13 @@ struct Workspace::Impl {
   }
 
   Json post_rigs_remove(const Request&, const Json& body) {
-    const std::string name = rig_name(body);
+    const std::string name = rig_name(body, true);
+    if (unbuilt_rig(name)) {
+      // Nothing of it is in the scene: it leaves the list.
+      unbuilt.erase(name);
+      return Json{{"rig", name}};
+    }
+    unbuilt.erase(name);
     auto build = take(rig::Build::reopen(scene, name, factory));
     graph::Transaction tx(g(), "remove rig " + name);
     if (Status s = build->remove(); !s) {
@@ -646,7 +741,8 @@ struct Workspace::Impl {
     fs::path def_path = out ? *out : fs::path(build->definition().source);
     if (!edits.changed.empty()) {
       if (def_path.empty()) refuse(400, "definitionOut: the rig has no definition path; give one", "definitionOut");
-      check(rig::save_definition(edits.definition, def_path));
+      make_parent(def_path, "definitionOut");
+      check_saved(rig::save_definition(edits.definition, def_path), "definitionOut");
     }
     return Json{{"rig", name},
                 {"version", edits.definition.version},
@@ -656,8 +752,9 @@ struct Workspace::Impl {
   }
 
   Json post_rigs_step(const Request&, const Json& body) {
-    const std::string name = rig_name(body);
-    auto build = take(rig::Build::reopen(scene, name, factory));
+    const std::string name = rig_name(body, true);
+    auto build = open_rig(name);
+    const bool was_built = build->position() > 0;
     const int steps = static_cast<int>(build->plan().size());
     int to = build->position();
     if (const Json* t = opt(body, "to")) {
@@ -668,7 +765,7 @@ struct Workspace::Impl {
     } else {
       const double by = as_number(need(body, "by"), "by");
       if (by != std::floor(by)) refuse(400, "by: expected a whole number", "by");
-      to = std::clamp(to + static_cast<int>(by), 0, steps);
+      to = static_cast<int>(std::clamp(to + by, 0.0, static_cast<double>(steps)));
     }
     {
       graph::Transaction tx(g(), "step " + name + " to " + std::to_string(to));
@@ -678,6 +775,8 @@ struct Workspace::Impl {
       }
     }
     const int position = build->position();
+    if (position == 0 && was_built)
+      unbuilt[name] = Unbuilt{build->definition(), rig::BuildOptions{build->edit_mode()}, g().undo_count(), ++unbuilt_serial};
     return Json{{"rig", name},
                 {"position", position},
                 {"steps", steps},
@@ -708,12 +807,12 @@ struct Workspace::Impl {
   }
 
   Json post_rigs_feature(const Request&, const Json& body) {
-    const std::string name = rig_name(body);
+    const std::string name = rig_name(body, true);
     const std::string feature = as_string(need(body, "feature"), "feature");
     const bool enabled = as_bool(need(body, "enabled"), "enabled");
     std::string switch_name;
     if (const Json* sw = opt(body, "switch")) switch_name = as_string(*sw, "switch");
-    auto build = take(rig::Build::reopen(scene, name, factory));
+    auto build = open_rig(name);
     bool known = false;
     for (const rig::PlannedStep& p : build->plan()) known = known || p.feature == feature;
     if (!known) refuse(404, "feature: no step of rig '" + name + "' names feature '" + feature + "'", "feature");
@@ -722,15 +821,23 @@ struct Workspace::Impl {
       tx.rollback();
       check(s, "feature");
     }
+    if (build->position() == 0) {
+      auto it = unbuilt.find(name);
+      if (it != unbuilt.end()) it->second.definition = build->definition();
+    }
     return Json{{"rig", name}, {"features", features_json(*build)}, {"position", build->position()},
                 {"steps", static_cast<int>(build->plan().size())}};
   }
 
   Json post_rigs_edit_mode(const Request&, const Json& body) {
-    const std::string name = rig_name(body);
+    const std::string name = rig_name(body, true);
     const bool on = as_bool(need(body, "on"), "on");
-    auto build = take(rig::Build::reopen(scene, name, factory));
+    auto build = open_rig(name);
     check(build->set_edit_mode(on));
+    if (build->position() == 0) {
+      auto it = unbuilt.find(name);
+      if (it != unbuilt.end()) it->second.options.edit_mode = build->edit_mode();
+    }
     return Json{{"rig", name}, {"editMode", build->edit_mode()}};
   }
 
@@ -740,8 +847,9 @@ struct Workspace::Impl {
   Json get_definition(const Request& req, const Json&) {
     auto it = req.query.find("rig");
     if (it == req.query.end()) refuse(400, "missing query 'rig'", "rig");
-    if (!rig::find_rig(g(), it->second).is_valid()) refuse(404, "rig: the scene has no rig '" + it->second + "'", "rig");
-    auto build = take(rig::Build::reopen(scene, it->second, factory));
+    if (!rig::find_rig(g(), it->second).is_valid() && !unbuilt_rig(it->second))
+      refuse(404, "rig: the scene has no rig '" + it->second + "'", "rig");
+    auto build = open_rig(it->second);
     return Json{{"rig", it->second},
                 {"path", build->definition().source},
                 {"definition", Json::parse(rig::write_definition(build->definition(), rig::Syntax::kJson))}};
@@ -820,6 +928,7 @@ struct Workspace::Impl {
     if (!syntax) refuse(400, "path: '" + rel + "' is neither .rig.xml nor .rig.json", "path");
     auto [def, problems] = parse_request_definition(body);
     if (!problems.empty()) throw ApiError{400, "definition: " + problems.front().str(), "definition"};
+    make_parent(path, "path");
     // Saving over a definition with other content makes a new version.
     std::error_code ec;
     if (fs::exists(path, ec)) {
@@ -836,8 +945,7 @@ struct Workspace::Impl {
       }
     }
     def.source = path.string();
-    make_parent(path, "path");
-    check(rig::save_definition(def, path));
+    check_saved(rig::save_definition(def, path), "path");
     return Json{{"path", path.string()}, {"version", def.version}};
   }
 };
@@ -932,13 +1040,22 @@ Response Workspace::handle(const Request& request) {
     if (route->method == std::string("POST") && !request.body.empty()) {
       try {
         body = Json::parse(request.body);
-      } catch (const Json::parse_error& e) {
-        // nlohmann's message names the line and column.
+      } catch (const Json::exception& e) {
+        // nlohmann's message names the line and column (a parse error) or
+        // the number that does not fit a double (out_of_range 406).
         throw ApiError{400, std::string("malformed JSON: ") + e.what(), "body"};
       }
       if (!body.is_object()) throw ApiError{400, std::string("the body must be a JSON object, got ") + body.type_name(), "body"};
     }
     if (!route->handler) return impl_->get_character();
+    // A new edit made after undoing a step to 0 drops that rig's entry.
+    struct Prune {
+      Impl& impl;
+      std::vector<std::uint64_t> undone;
+      ~Prune() { impl.drop_unbuilt(undone); }
+    } prune{*impl_, route->handler == &Impl::post_undo || route->handler == &Impl::post_redo
+                        ? std::vector<std::uint64_t>{}
+                        : impl_->unbuilt_undone()};
     Json answer = (impl_.get()->*(route->handler))(request, body);
     if (route->changes) ++impl_->revision;
     // The revision this answer describes: after the change.

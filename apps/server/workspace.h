@@ -42,6 +42,9 @@ struct Response {
 
 // The largest request body the API takes (413 above it).
 inline constexpr std::size_t kMaxBody = 4u << 20;
+// The farthest a request may move the current time from 0, in frames
+// (POST /api/time; 400 beyond it).
+inline constexpr double kMaxFrame = 1e6;
 
 class Workspace {
  public:

@@ -12,6 +12,7 @@
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/definition_io.h"
+#include "rigel/rig/meta.h"
 #include "server_test_util.h"
 #include "workspace.h"
 
@@ -158,6 +159,10 @@ TEST(ServerApi, BadRequestsNameTheFieldAndTheServerGoesOn) {
       {"POST", "/api/drag", R"({"translate": [1, 2]})", 400, "translate", "3 numbers"},
       {"POST", "/api/time", R"({"frame": "ten"})", 400, "frame", "number"},
       {"POST", "/api/time", "{}", 400, "frame", "missing"},
+      // A number no double holds is malformed JSON, not a server fault.
+      {"POST", "/api/time", R"({"frame": 1e999999})", 400, "body", "overflow"},
+      {"POST", "/api/select", R"({"controls": [-1e999999]})", 400, "body", "overflow"},
+      {"POST", "/api/save", R"({"path": "."})", 400, "path", "folder"},
       {"POST", "/api/options", R"({"maxChain": 2.5})", 400, "maxChain", "whole number"},
       {"POST", "/api/undo", "{}", 409, "", "nothing to undo"},
       {"POST", "/api/rigs/remove", R"({"rig": "nobody"})", 404, "rig", "no rig 'nobody'"},
@@ -380,6 +385,183 @@ TEST(ServerApi, SaveIsAtomicAndConfined) {
   EXPECT_EQ(s.request("POST", "/api/save", R"({"path": "../a.rigel"})").status, 400);
   for (const auto& e : fs::directory_iterator(s.root / "shots"))
     EXPECT_EQ(e.path().extension(), ".rigel") << "left a temporary file: " << e.path();
+}
+
+// Step 0 is the rig with no step built: still listed, steppable forward,
+// and the history takes it back and forth (as Build::go_to(0) in Python).
+TEST(ServerApi, SteppingToZeroKeepsTheRigListedAndSteppable) {
+  Served s = served_puppet();
+  const Json rigs = s.get("/api/rigs")["rigs"];
+  ASSERT_EQ(rigs.size(), 1u);
+  const int steps = rigs[0]["steps"].get<int>();
+  const Json features = rigs[0]["features"];
+  ASSERT_GT(steps, 2);
+  const auto listed = [&]() -> Json {
+    const Json list = s.get("/api/rigs")["rigs"];
+    EXPECT_EQ(list.size(), 1u) << list;
+    return list.empty() ? Json() : list[0];
+  };
+
+  for (const Json& request : {Json{{"rig", "puppet"}, {"to", 0}}, Json{{"rig", "puppet"}, {"by", -steps - 5}}}) {
+    SCOPED_TRACE(request.dump());
+    if (listed()["buildPosition"] != 0) {
+      Json step = s.post("/api/rigs/step", request);
+      EXPECT_EQ(step["position"], 0);
+      EXPECT_EQ(step["steps"], steps);
+      EXPECT_EQ(step["step"], "");
+    }
+    // Nothing of the rig is in the scene; the list still has it, at 0.
+    EXPECT_FALSE(rig::find_rig(s.workspace->scene().graph(), "puppet").is_valid());
+    Json r = listed();
+    EXPECT_EQ(r["name"], "puppet");
+    EXPECT_EQ(r["buildPosition"], 0);
+    EXPECT_EQ(r["steps"], steps);
+    EXPECT_EQ(r["features"], features);
+    EXPECT_TRUE(r["components"].empty());
+    EXPECT_EQ(s.get("/api/definition?rig=puppet")["definition"]["rig"]["name"], "puppet");
+    // Other rig operations need something built.
+    EXPECT_EQ(s.request("POST", "/api/rigs/update", R"({"rig": "puppet"})").status, 409);
+    // Forward again: one step, then the rest.
+    EXPECT_EQ(s.post("/api/rigs/step", {{"rig", "puppet"}, {"by", 1}})["position"], 1);
+    EXPECT_TRUE(rig::find_rig(s.workspace->scene().graph(), "puppet").is_valid());
+    EXPECT_EQ(listed()["buildPosition"], 1);
+    EXPECT_EQ(s.post("/api/rigs/step", {{"rig", "puppet"}, {"to", steps}})["position"], steps);
+    r = listed();
+    EXPECT_EQ(r["buildPosition"], steps);
+    EXPECT_FALSE(r["components"].empty());
+    // Back to 0 for the next request form.
+    EXPECT_EQ(s.post("/api/rigs/step", request)["position"], 0);
+  }
+
+  // Undo and redo carry the rig through step 0: forward to 3, undo (at 0,
+  // listed), undo (built again, listed once), redo, redo.
+  EXPECT_EQ(s.post("/api/rigs/step", {{"rig", "puppet"}, {"to", 3}})["position"], 3);
+  s.post("/api/undo", Json::object());
+  EXPECT_EQ(listed()["buildPosition"], 0);
+  s.post("/api/undo", Json::object());
+  EXPECT_EQ(listed()["buildPosition"], steps);
+  s.post("/api/redo", Json::object());
+  EXPECT_EQ(listed()["buildPosition"], 0);
+  s.post("/api/redo", Json::object());
+  EXPECT_EQ(listed()["buildPosition"], 3);
+
+  // Removing it at step 0 takes it off the list.
+  s.post("/api/rigs/step", {{"rig", "puppet"}, {"to", 0}});
+  s.post("/api/rigs/remove", {{"rig", "puppet"}});
+  EXPECT_TRUE(s.get("/api/rigs")["rigs"].empty());
+  EXPECT_EQ(s.request("POST", "/api/rigs/step", R"({"rig": "puppet", "by": 1})").status, 404);
+}
+
+// A rig stepped to 0, that step undone and then the rig's adding undone: a
+// new edit from there forgets the step to 0, however far the history grows.
+TEST(ServerApi, ANewEditAfterUndoingAStepToZeroForgetsIt) {
+  Served s = served_character();
+  fs::copy_file(source_path("examples/puppet.rig.xml"), s.root / "puppet.rig.xml");
+  s.post("/api/rigs/add", {{"definition", "puppet.rig.xml"}});
+  s.post("/api/rigs/step", {{"rig", "puppet"}, {"to", 0}});
+  s.post("/api/undo", Json::object());  // the step to 0
+  s.post("/api/undo", Json::object());  // the add
+  EXPECT_TRUE(s.get("/api/rigs")["rigs"].empty());
+  // Two new undo steps: another rig built, stepped back one.
+  s.post("/api/definition/build", {{"definition", two_component_definition()}});
+  s.post("/api/rigs/step", {{"rig", "arm"}, {"by", -1}});
+  const Json rigs = s.get("/api/rigs")["rigs"];
+  ASSERT_EQ(rigs.size(), 1u) << rigs;
+  EXPECT_EQ(rigs[0]["name"], "arm");
+}
+
+TEST(ServerApi, TimeIsRefusedOutsideTheFrameRange) {
+  Served s = served_puppet();
+  s.post("/api/time", {{"frame", 7}});
+  const double fps = s.get("/api/scene")["fps"].get<double>();
+  for (const Json& bad : {Json{{"frame", -1e9}}, Json{{"frame", 1e308}}, Json{{"frame", -1e308}},
+                          Json{{"frame", kMaxFrame + 0.5}}, Json{{"frame", -kMaxFrame - 1}},
+                          Json{{"time", 1e308}}, Json{{"time", -1e9 / fps}}, Json{{"time", (kMaxFrame + 1) / fps}}}) {
+    Response r = s.request("POST", "/api/time", bad.dump());
+    EXPECT_EQ(r.status, 400) << bad << " " << r.body;
+    EXPECT_NE(r.body.find("out of range"), std::string::npos) << r.body;
+    EXPECT_EQ(Json::parse(r.body)["field"], bad.begin().key()) << r.body;
+  }
+  EXPECT_EQ(s.get("/api/scene")["frame"], 7);
+  // The edges are in range.
+  EXPECT_EQ(s.post("/api/time", {{"frame", kMaxFrame}})["frame"], kMaxFrame);
+  EXPECT_EQ(s.post("/api/time", {{"frame", -kMaxFrame}})["frame"], -kMaxFrame);
+  EXPECT_NEAR(s.post("/api/time", {{"time", kMaxFrame / fps}})["frame"].get<double>(), kMaxFrame, 1e-6);
+}
+
+// Bad input is a 4xx, never a 5xx: every route, with malformed bodies and
+// each of its fields given values of every kind, alone and beside a real
+// rig and control; the server still answers afterwards.
+TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
+  Served s = served_puppet();
+  fs::create_directories(s.root / "folder.rig.json");
+  fs::create_directories(s.root / "folder.rigel");
+  // Each POST route and the fields it reads (rigs/remove last: it takes the
+  // rig away from the routes after it).
+  const std::vector<std::pair<std::string, std::vector<std::string>>> routes = {
+      {"/api/save", {"path"}},
+      {"/api/select", {"controls", "add"}},
+      {"/api/mode", {"mode"}},
+      {"/api/options", {"autoKey", "magnetFraction", "magnetRadius", "maxChain"}},
+      {"/api/drag", {"control", "to", "translate", "rotate", "scale"}},
+      {"/api/release", {}},
+      {"/api/time", {"frame", "time"}},
+      {"/api/key", {"controls", "delete"}},
+      {"/api/undo", {}},
+      {"/api/redo", {}},
+      {"/api/rigs/add", {"definition", "editMode"}},
+      {"/api/rigs/update", {"rig", "keepKeys", "force"}},
+      {"/api/rigs/edit", {"rig", "definitionOut"}},
+      {"/api/rigs/edit-mode", {"rig", "on"}},
+      {"/api/rigs/feature", {"rig", "feature", "enabled", "switch"}},
+      {"/api/rigs/step", {"rig", "to", "by"}},
+      {"/api/definition/validate", {"definition"}},
+      {"/api/definition/build", {"definition"}},
+      {"/api/definition/save", {"definition", "path"}},
+      {"/api/rigs/remove", {"rig"}},
+  };
+  const std::vector<Json> values = {
+      nullptr, true, false, 0, -1, 3, 0.5, -0.0, 1e308, -1e308, 2147483648.0, -2147483649.0,
+      "", "x", ".", "..", "/etc/passwd", "../../x.rigel", "folder.rig.json", "folder.rigel", "hand.L", "puppet",
+      std::string(5000, 'a'), Json::array(), Json::array({1}), Json::array({"hand.L"}),
+      Json::array({1e308, -1e308, 1e308}), Json::array({0, 0, 0, 0}), Json::array({1e308, 0, 0, 1}),
+      Json::object(), Json{{"t", {1e308, 0, 0}}}, Json{{"q", {0, 0, 0, 0}}}, Json{{"euler", {1e308, 0, 0}}},
+      Json{{"rig", 3}}, Json{{"rig", Json{{"name", "x"}, {"components", 1}}}},
+  };
+  const std::vector<std::string> raw = {
+      "",       "not json", "[]",   "1e999999", R"({"frame": 1e999999})", R"({"a":)", "null", "\"text\"",
+      "{\"controls\": [\"\\ud800\"]}", std::string("{\"rig\": \"\xff\xfe\"}"), "{\"unknown\": 1}",
+  };
+  int requests = 0;
+  const auto expect_below_500 = [&](const std::string& method, const std::string& target, const std::string& body) {
+    const Response r = s.request(method, target, body);
+    ++requests;
+    EXPECT_LT(r.status, 500) << method << " " << target << " " << body.substr(0, 200) << ": " << r.body;
+    EXPECT_GE(r.status, 200);
+    EXPECT_TRUE(Json::accept(r.body) || r.content_type != "application/json") << r.body;
+  };
+  const Json beside{{"rig", "puppet"}, {"controls", {"hand.L"}}, {"control", "hand.L"}};
+  for (const auto& [route, fields] : routes) {
+    SCOPED_TRACE(route);
+    for (const std::string& body : raw) expect_below_500("POST", route, body);
+    for (const std::string& field : fields) {
+      for (const Json& v : values) {
+        expect_below_500("POST", route, Json{{field, v}}.dump());
+        Json both = beside;
+        both[field] = v;
+        expect_below_500("POST", route, both.dump());
+      }
+    }
+  }
+  for (const char* get : {"/api/pose?space=", "/api/keys?controls=", "/api/definition?rig="}) {
+    for (const Json& v : values)
+      if (v.is_string()) expect_below_500("GET", get + v.get<std::string>(), "");
+  }
+  for (const char* get : {"/api/scene", "/api/nodes", "/api/pose", "/api/keys", "/api/rigs", "/api/revision",
+                          "/api/components", "/api/definition", "/api/character.glb"})
+    expect_below_500("GET", get, "");
+  EXPECT_GT(requests, 2000);
+  EXPECT_EQ(s.get("/api/scene").value("fps", 0.0), 24.0);
 }
 
 }  // namespace
