@@ -1,8 +1,9 @@
 #pragma once
 // The HTTP side of `rigel serve` (cpp-httplib): the API routes go to a
 // Workspace, everything else is a static file of the web app. Binding,
-// tokens and body limits are here; what a request means is not
-// (workspace.h, docs/SERVER.md).
+// connections, tokens, which requests may write (Host, Origin,
+// Content-Type), framing and body limits, and the static files' caching are
+// here; what a request means is not (workspace.h, docs/SERVER.md).
 
 #include <filesystem>
 #include <functional>
@@ -20,7 +21,7 @@ struct ServeOptions {
   // The built web app (index.html, app.js, ...); empty: API only.
   std::filesystem::path web_dir;
   // Required on every POST (Authorization: Bearer T, or X-Rigel-Token: T)
-  // when not empty.
+  // when not empty; bind() refuses a host other than loopback without one.
   std::string token;
   // One line per request on stderr.
   bool log = false;
@@ -42,6 +43,10 @@ class HttpServer {
   // Serves until stop() (from another thread or a signal handler's thread).
   Status run();
   void stop();
+
+  // How many times a static file of the web app was compressed (once per
+  // file and version of it: the compressed bytes are kept). For tests.
+  std::size_t compressions() const;
 
  private:
   struct Impl;
