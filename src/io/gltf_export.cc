@@ -16,6 +16,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/transform.h"
 #include "rigel/ops/anim/clips.h"
@@ -354,6 +355,8 @@ struct ExportNode {
   bool under_shear = false;  // the parent's glTF frame lost shear (rest_pose): direct keys would not place it
   int mesh = -1;  // index into Exporter::meshes_
   bool animated = false;
+  int merged_into = -1;  // a mesh node written as the mesh of this node (index into nodes_), not as a node
+  int owned_mesh = -1;   // the mesh written on this node for a merged mesh node (index into meshes_)
 };
 
 struct MeshExport {
@@ -415,6 +418,7 @@ class Exporter {
     clips_ = std::move(*clips);
     if (Status s = collect_nodes(); !s) return s;
     if (Status s = collect_meshes(); !s) return s;
+    merge_mesh_nodes();
     if (Status s = rest_pose(); !s) return s;
     analyse_animation();
     apply_rest_values();
@@ -619,6 +623,50 @@ class Exporter {
       meshes_.push_back(std::move(m));
     }
     return Status::ok();
+  }
+
+  // A mesh node the glTF importer made (tag gltf.node: the uuid of the node
+  // its glTF mesh hung on) goes back onto that node as its mesh, so import
+  // -> export keeps the node tree and names: when the node exists and has
+  // no mesh of its own or merged already, the mesh node has no children, is
+  // no skin's joint, and either is skinned (glTF ignores a skinned node's
+  // transform) or sits right under that node with an identity transform
+  // that nothing animates.
+  void merge_mesh_nodes() {
+    for (std::size_t k = 0; k < meshes_.size(); ++k) {
+      const MeshExport& m = meshes_[k];
+      const NodeId id = nodes_[m.node].id;
+      const std::string* tag = g_.node(id)->tag_find(kTagGltfNode);
+      if (!tag) continue;
+      const std::optional<graph::Uuid> uuid = graph::Uuid::parse(*tag);
+      if (!uuid) continue;
+      const NodeId owner = g_.find(*uuid);
+      const int o = owner.is_valid() ? gltf_index(owner) : -1;
+      if (o < 0 || owner == id) continue;
+      ExportNode& target = nodes_[static_cast<std::size_t>(o)];
+      if (target.mesh >= 0 || target.owned_mesh >= 0 || target.merged_into >= 0) continue;
+      if (!g_.children(id).empty() || is_skin_joint(id)) continue;
+      if (!m.cluster.is_valid()) {
+        if (g_.parent(id) != owner || !static_identity(*g_.node(id))) continue;
+      }
+      nodes_[m.node].merged_into = o;
+      target.owned_mesh = static_cast<int>(k);
+    }
+  }
+
+  bool is_skin_joint(NodeId id) const {
+    for (const SkinExport& s : skins_)
+      for (int j : s.joints)
+        if (nodes_[static_cast<std::size_t>(j)].id == id) return true;
+    return false;
+  }
+
+  // An identity local transform that no connection drives.
+  bool static_identity(const Node& n) const {
+    for (const graph::Connection& c : n.inputs())
+      if (shapes_matrix(n, c.dst.attr)) return false;
+    return std::get<Mat4>(g_.evaluate(n.id(), xf::kMatrix)) == Mat4::Identity() &&
+           std::get<Mat4>(n.value(xf::kOffsetParentMatrix)) == Mat4::Identity();
   }
 
   Status check_triangles(NodeId id, const MeshExport& m) const {
@@ -1327,24 +1375,44 @@ class Exporter {
     model.asset.generator = "rigel";
     BufferBuilder buffer(model);
 
-    for (const AnimationExport& a : animations_)
-      for (const Channel& ch : a.channels) nodes_[static_cast<std::size_t>(ch.node)].animated = true;
+    // Merged mesh nodes (merge_mesh_nodes) are no glTF node: every index
+    // into nodes_ goes through `out` (a merged one: its owner's).
+    std::vector<int> index_out(nodes_.size(), -1);
+    int written = 0;
+    for (std::size_t i = 0; i < nodes_.size(); ++i)
+      if (nodes_[i].merged_into < 0) index_out[i] = written++;
+    for (std::size_t i = 0; i < nodes_.size(); ++i)
+      if (nodes_[i].merged_into >= 0) index_out[i] = index_out[static_cast<std::size_t>(nodes_[i].merged_into)];
+    for (AnimationExport& a : animations_) {
+      // A merged mesh node's own transform channels have no node to go to
+      // (its transform is identity, or ignored when skinned); its morph
+      // weights go to its owner, which holds the mesh.
+      std::erase_if(a.channels, [&](const Channel& ch) {
+        return nodes_[static_cast<std::size_t>(ch.node)].merged_into >= 0 && ch.path != Path::kWeights;
+      });
+      for (Channel& ch : a.channels) nodes_[static_cast<std::size_t>(ch.node)].animated = true;
+    }
+    animations_.erase(std::remove_if(animations_.begin(), animations_.end(),
+                                     [](const AnimationExport& a) { return a.channels.empty(); }),
+                      animations_.end());
 
     for (const ExportNode& n : nodes_) {
+      if (n.merged_into >= 0) continue;
       tinygltf::Node node;
       node.name = name(n.id);
       // The node's rigel uuid, so a client (the web app) maps glTF nodes back
       // to scene nodes whatever their names become.
       node.extras = tinygltf::Value(tinygltf::Value::Object{{"uuid", tinygltf::Value(g_.node(n.id)->uuid().str())}});
-      node.children = n.children;
+      for (int c : n.children)
+        if (nodes_[static_cast<std::size_t>(c)].merged_into < 0) node.children.push_back(index_out[static_cast<std::size_t>(c)]);
       {  // TRS, never `matrix`: shear was dropped (rest_pose)
         if (n.rest.translate != Vec3::Zero()) node.translation = {n.rest.translate.x(), n.rest.translate.y(), n.rest.translate.z()};
         const Quat& q = n.rest.rotation;
         if (q.coeffs() != Quat::Identity().coeffs()) node.rotation = {q.x(), q.y(), q.z(), q.w()};
         if (n.rest.scale != Vec3::Ones()) node.scale = {n.rest.scale.x(), n.rest.scale.y(), n.rest.scale.z()};
       }
-      if (n.mesh >= 0) {
-        const MeshExport& m = meshes_[static_cast<std::size_t>(n.mesh)];
+      if (const int mesh = n.mesh >= 0 ? n.mesh : n.owned_mesh; mesh >= 0) {
+        const MeshExport& m = meshes_[static_cast<std::size_t>(mesh)];
         node.mesh = static_cast<int>(model.meshes.size());
         node.skin = m.skin;
         model.meshes.push_back(write_mesh(m, buffer));
@@ -1358,7 +1426,7 @@ class Exporter {
     if (!grouped.empty()) {
       tinygltf::Node group;
       group.name = unused_name("skeleton_root");
-      group.children = grouped;
+      for (int r : grouped) group.children.push_back(index_out[static_cast<std::size_t>(r)]);
       model.nodes.push_back(std::move(group));
       report_.notes.push_back("the joints of a skin sit in " + std::to_string(grouped.size()) +
                               " separate trees; glTF asks for one common root, so '" + model.nodes.back().name +
@@ -1368,7 +1436,7 @@ class Exporter {
     for (const SkinExport& s : skins_) {
       tinygltf::Skin skin;
       skin.name = name(s.cluster);
-      skin.joints = s.joints;
+      for (int j : s.joints) skin.joints.push_back(index_out[static_cast<std::size_t>(j)]);
       std::vector<double> matrices;
       for (const Mat4& m : s.inverse_bind) matrices.insert(matrices.end(), m.data(), m.data() + 16);
       skin.inverseBindMatrices =
@@ -1393,7 +1461,7 @@ class Exporter {
           sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_VEC3, 3, 0, false, what);
         tinygltf::AnimationChannel channel;
         channel.sampler = static_cast<int>(animation.samplers.size());
-        channel.target_node = ch.node;
+        channel.target_node = index_out[static_cast<std::size_t>(ch.node)];
         channel.target_path = path_name(ch.path);
         animation.samplers.push_back(std::move(sampler));
         animation.channels.push_back(std::move(channel));
@@ -1420,9 +1488,9 @@ class Exporter {
       tinygltf::Scene gltf_scene;
       for (std::size_t i = 0; i < nodes_.size(); ++i) {
         const bool in_group = std::find(grouped.begin(), grouped.end(), static_cast<int>(i)) != grouped.end();
-        if (nodes_[i].parent < 0 && !in_group) gltf_scene.nodes.push_back(static_cast<int>(i));
+        if (nodes_[i].parent < 0 && !in_group && nodes_[i].merged_into < 0) gltf_scene.nodes.push_back(index_out[i]);
       }
-      if (!grouped.empty()) gltf_scene.nodes.push_back(static_cast<int>(nodes_.size()));
+      if (!grouped.empty()) gltf_scene.nodes.push_back(written);
       model.scenes.push_back(std::move(gltf_scene));
       model.defaultScene = 0;
     }

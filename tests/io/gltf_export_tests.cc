@@ -13,6 +13,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "io_test_util.h"
@@ -943,6 +944,57 @@ TEST(GltfExport, shear_is_never_written_as_a_matrix_and_what_hangs_below_keeps_i
   bool noted = false;
   for (const std::string& note : report.notes) noted |= note.rfind("sheared: its shear", 0) == 0;
   EXPECT_TRUE(noted) << "the report says the shear is left out";
+}
+
+// import -> export -> import -> export of every bundled character keeps the
+// node tree: the same scene nodes (name, type, parent) after each import,
+// and the same glTF nodes (count, names, parents) as the original file.
+TEST(GltfExport, round_trips_keep_the_node_tree_and_names_of_every_bundled_character) {
+  using Tree = std::vector<std::tuple<std::string, std::string, std::string>>;  // name, type, parent
+  auto scene_tree = [](Scene& sc) {
+    Tree out;
+    for (NodeId id : sc.graph().nodes()) {
+      if (!sc.is_transform(id)) continue;
+      const NodeId p = sc.graph().parent(id);
+      out.emplace_back(sc.graph().node(id)->name(), sc.graph().node(id)->type().name(), p.is_valid() ? sc.graph().node(p)->name() : "");
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  // glTF nodes as (name, parent name), unnamed ones named as the importer does.
+  auto file_tree = [](const tinygltf::Model& model) {
+    std::vector<std::pair<std::string, std::string>> out;
+    std::vector<int> parent(model.nodes.size(), -1);
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+      for (int c : model.nodes[i].children) parent[static_cast<std::size_t>(c)] = static_cast<int>(i);
+    auto name = [&](std::size_t i) { return model.nodes[i].name.empty() ? "node_" + std::to_string(i) : model.nodes[i].name; };
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+      out.emplace_back(name(i), parent[i] < 0 ? std::string() : name(static_cast<std::size_t>(parent[i])));
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  for (const auto& entry : fs::directory_iterator(source_dir() / "tests" / "data" / "gltf")) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".glb" && ext != ".gltf") continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    TempDir dir;
+    Result<std::unique_ptr<Scene>> first = import_gltf(entry.path());
+    ASSERT_TRUE(first.is_ok()) << first.status().message();
+    const auto original = file_tree(load_model(entry.path()));
+    const Tree tree = scene_tree(**first);
+    std::unique_ptr<Scene> current = std::move(*first);
+    for (int trip = 1; trip <= 2; ++trip) {
+      SCOPED_TRACE("round trip " + std::to_string(trip));
+      const fs::path out = dir.path() / ("trip" + std::to_string(trip) + ".glb");
+      ASSERT_TRUE(export_gltf(*current, out).is_ok());
+      EXPECT_VALID_GLTF(out);
+      EXPECT_EQ(file_tree(load_model(out)), original) << "the file's nodes, names and parents";
+      Result<std::unique_ptr<Scene>> next = import_gltf(out);
+      ASSERT_TRUE(next.is_ok()) << next.status().message();
+      EXPECT_EQ(scene_tree(**next), tree) << "the imported scene's nodes, names, types and parents";
+      current = std::move(*next);
+    }
+  }
 }
 
 fs::path gltf_data(const std::string& name) { return source_dir() / "tests" / "data" / "gltf" / name; }

@@ -7,7 +7,14 @@
 //
 // - Every transform-type node (transform, joint, control, locator, mesh)
 //   becomes a glTF node with its name and `extras.uuid` (the rigel uuid),
-//   children in creation order. Its
+//   children in creation order, except a mesh node the glTF importer made
+//   (tag gltf.node, kTagGltfNode in gltf_import.h): its mesh goes back on the
+//   node that tag names, so import -> export keeps the node tree and names,
+//   when that node has no mesh of its own (the first such mesh node wins),
+//   the mesh node has no children and is no joint, and it is skinned (glTF
+//   ignores a skinned node's transform) or sits under that node with an
+//   identity transform nothing animates. Its own transform channels are
+//   dropped (identity, or ignored when skinned); morph weights follow. Its
 //   local transform (offsetParentMatrix * matrix, evaluated at the scene's
 //   current time) is written as translation / rotation / scale, never as
 //   `matrix` (glTF allows only TRS matrices, and animates TRS only). Shear

@@ -22,7 +22,10 @@
 // Meshes. Each primitive of a node's mesh becomes a `mesh` node (points =
 // POSITION, normals = NORMAL, triangles). Its name is the glTF mesh's name,
 // else `<node>_mesh`, with the primitive index appended when the mesh has
-// more than one primitive. Modes: TRIANGLES as they are, TRIANGLE_STRIP and
+// more than one primitive. Its tag "gltf.node" (kTagGltfNode) holds the
+// uuid of the scene node made from the glTF node that holds the mesh: the
+// exporter writes the mesh back on that node, so import -> export keeps the
+// node tree. Modes: TRIANGLES as they are, TRIANGLE_STRIP and
 // TRIANGLE_FAN converted to triangles; POINTS and LINES primitives make no
 // mesh node (their data is still checked). A primitive without POSITION
 // makes no mesh node (glTF: clients skip it). Non-indexed primitives get
@@ -129,6 +132,10 @@
 #include "rigel/scene/scene.h"
 
 namespace rigel::io {
+
+// The tag on an imported mesh node naming (by uuid) the node its glTF mesh
+// hangs on; see "Meshes" above and gltf_export.h.
+inline constexpr const char* kTagGltfNode = "gltf.node";
 
 struct GltfImportOptions {
   // Multiplies translations (node TRS and matrices, translation keys and
