@@ -223,7 +223,8 @@ struct HttpServer::Impl {
   ServeOptions options;
   Server http;
   int port = -1;
-  // Host headers a loopback server answers (empty: any, off loopback).
+  // The names (lower case, IPv6 in brackets) a loopback server answers to
+  // in a Host header (empty: any, off loopback).
   std::vector<std::string> hosts;
   fs::path web;  // the web folder, resolved
 
@@ -332,10 +333,17 @@ struct HttpServer::Impl {
   // asking), a missing or wrong token.
   bool refused(const httplib::Request& req, httplib::Response& res) const {
     const std::string host = lower(trim(req.get_header_value("Host")));
-    if (!host.empty() && !hosts.empty() && std::find(hosts.begin(), hosts.end(), host) == hosts.end()) {
-      refuse(res, 403, "Host '" + host + "' is not this server: it answers " + hosts.front() +
-                           " (a name that resolves here is not enough: DNS rebinding)");
-      return true;
+    if (!host.empty() && !hosts.empty()) {
+      // NAME or NAME:PORT, NAME an IPv6 address in brackets.
+      const auto colon = host.rfind(':');
+      const bool has_port = colon != std::string::npos && host.find(']', colon) == std::string::npos;
+      const std::string name = has_port ? host.substr(0, colon) : host;
+      if (std::find(hosts.begin(), hosts.end(), name) == hosts.end() ||
+          (has_port && host.substr(colon + 1) != std::to_string(port))) {
+        refuse(res, 403, "Host '" + host + "' is not this server: it answers " + hosts.front() + ":" +
+                             std::to_string(port) + " (a name that resolves here is not enough: DNS rebinding)");
+        return true;
+      }
     }
     if (req.method == "GET" || req.method == "HEAD") return false;
     if (req.has_header("Origin")) {
@@ -478,12 +486,8 @@ Result<int> HttpServer::bind() {
     // The bound address first (the one error messages name), then the other
     // names of this machine's loopback.
     const std::string bound = lower(o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host);
-    for (const std::string& h : {bound, std::string("localhost"), std::string("127.0.0.1"), std::string("[::1]")}) {
-      const std::string with_port = h + ":" + std::to_string(impl_->port);
-      if (std::find(impl_->hosts.begin(), impl_->hosts.end(), with_port) != impl_->hosts.end()) continue;
-      impl_->hosts.push_back(with_port);
-      if (impl_->port == 80) impl_->hosts.push_back(h);
-    }
+    for (const std::string& h : {bound, std::string("localhost"), std::string("127.0.0.1"), std::string("[::1]")})
+      if (std::find(impl_->hosts.begin(), impl_->hosts.end(), h) == impl_->hosts.end()) impl_->hosts.push_back(h);
   }
   return impl_->port;
 }

@@ -88,6 +88,39 @@ TEST(CliServe, ServesTheBundledRigAndStopsOnSigterm) {
   EXPECT_TRUE(contains(read_text(err), "server stopped")) << read_text(err);
 }
 
+// Off loopback the server needs a token for writes: serve makes one when
+// none is given and prints it (the URL carries it for the web app).
+TEST(CliServe, OffLoopbackMakesAToken) {
+  TempDir dir;
+  const std::string out = (dir.path() / "out").string(), err = (dir.path() / "err").string();
+  std::vector<std::string> words = {RIGEL_CLI_PATH, "serve", "--host", "0.0.0.0", "--port", "0", "--json",
+                                    "--root", dir.path().string()};
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, RIGEL_CLI_PATH, &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  nlohmann::json printed;
+  for (int i = 0; i < 600 && !printed.is_object(); ++i) {  // up to a minute (sanitizer builds are slow)
+    printed = nlohmann::json::parse(read_text(out), nullptr, false);
+    if (!printed.is_object()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_TRUE(printed.is_object()) << read_text(err);
+  const std::string token = printed.value("token", "");
+  EXPECT_EQ(token.size(), 32u) << printed;
+  EXPECT_TRUE(contains(printed.value("url", ""), "?token=" + token)) << printed;
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_text(err);
+}
+
 TEST(CliServe, RefusesBadArguments) {
   TempDir dir;
   EXPECT_TRUE(exited_with(rigel({"serve", "--port", "70000"}), 2));

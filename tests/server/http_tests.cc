@@ -386,7 +386,8 @@ TEST(ServerHttp, CrossSiteWritesAreRefused) {
       {"rebound name, own origin", {{"Host", "evil.example:" + port}, {"Origin", "http://evil.example:" + port}},
        "application/json", 403, "Host"},
       {"another port's host", {{"Host", "127.0.0.1:1"}}, "application/json", 403, "Host"},
-      {"no port", {{"Host", "127.0.0.1"}}, "application/json", 403, "Host"},
+      {"a name with this port", {{"Host", "127.0.0.1.evil.example:" + port}}, "application/json", 403, "Host"},
+      {"another loopback address", {{"Host", "127.0.0.2:" + port}}, "application/json", 403, "Host"},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(k.what);
@@ -420,7 +421,8 @@ TEST(ServerHttp, CrossSiteWritesAreRefused) {
   // any of its loopback names, a charset, no Origin at all.
   for (const httplib::Headers& ok : {httplib::Headers{{"Origin", "http://127.0.0.1:" + port}},
                                      httplib::Headers{{"Host", "localhost:" + port}, {"Origin", "http://localhost:" + port}},
-                                     httplib::Headers{{"Host", "LOCALHOST:" + port}}, httplib::Headers{}}) {
+                                     httplib::Headers{{"Host", "LOCALHOST:" + port}}, httplib::Headers{{"Host", "127.0.0.1"}},
+                                     httplib::Headers{}}) {
     auto res = c.Post("/api/select", ok, R"({"controls": ["hand.L"]})", "application/json; charset=utf-8");
     ASSERT_TRUE(res);
     EXPECT_EQ(res->status, 200) << res->body;
