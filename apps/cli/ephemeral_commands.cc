@@ -98,10 +98,14 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
 
 // ---- ephemeral: names, keys and scopes (shared by pose and the key commands) ----
 
-// A key time in seconds as a frame, rounded to 1e-6 frame so that frame 10
-// at 24 fps prints 10, not 10.000000000000002.
+// A key time in seconds as a frame: a whole frame when within
+// kKeyFrameTolerance of one (the key is that frame's key: glTF's float
+// seconds put CesiumMan's frame 38 at 37.999921), else rounded to 1e-6
+// frame so that frame 10 at 24 fps prints 10, not 10.000000000000002.
 double frame_of(const rigel::graph::Graph& g, double seconds) {
-  return std::round(seconds * g.fps() * 1e6) / 1e6;
+  const double frame = seconds * g.fps();
+  if (std::abs(frame - std::round(frame)) <= rigel::ephemeral::kKeyFrameTolerance) return std::round(frame);
+  return std::round(frame * 1e6) / 1e6;
 }
 
 
@@ -224,6 +228,8 @@ int run_pose(const PoseArgs& args) {
   }
   for (const std::string& name : args.select)
     if (name.empty()) return usage_error("--select: empty control name (expected A,B,...)");
+  if (args.scale && *mode != eph::Mode::kBody) return usage_error("--scale applies in body mode only (--mode body)");
+  if (args.pivot && *mode != eph::Mode::kBody) return usage_error("--pivot applies in body mode only (--mode body)");
 
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
@@ -235,8 +241,6 @@ int run_pose(const PoseArgs& args) {
                        args.scene + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + args.scene +
                            " -o OUT.rigel` first"));
   }
-  if (pivot && *mode != eph::Mode::kBody)
-    return fail(Status(rigel::ErrorCode::kInvalidArgument, "--pivot applies in body mode only (--mode body)"));
   if (args.frame) s.set_frame(*args.frame);
   if (args.time) g.set_time(*args.time);
 
@@ -320,6 +324,7 @@ int run_pose(const PoseArgs& args) {
     out["moved"] = std::move(moved);
     out["keyScope"] = scopes_json(g, grabbed_rigs);
     out["keyed"] = names_json(g, keyed);
+    out["notes"] = session.notes();
     std::cout << out.dump() << "\n";
   }
   std::string names;
@@ -330,6 +335,9 @@ int run_pose(const PoseArgs& args) {
   if (args.key) std::cerr << "; keyed " << key_set.size() << (key_set.size() == 1 ? " control" : " controls");
   std::cerr << "; " << keyed.size() << (keyed.size() == 1 ? " control has" : " controls have") << " a key at frame "
             << number_text(s.frame()) << "\n";
+  // What the drag could not do (an inverse chain out of reach, a bone that
+  // would stretch), so that "0 controls moved" is never silent.
+  for (const std::string& note : session.notes()) std::cerr << "rigel: note: " << note << "\n";
   return 0;
 }
 
@@ -661,6 +669,18 @@ std::pair<std::string, std::string> split_ends(const rigel::graph::Graph& g, con
   return {ends.substr(0, at), ends.substr(at + 1)};
 }
 
+// The relations `rig`'s carrier adds (keying.h): the carrier drives the
+// rig's root controls (forward) and they reach back (inverse). They live
+// with the carrier, not in the rig's relation list.
+std::vector<rigel::ephemeral::Relation> carrier_relations_of(const rigel::graph::Graph& g, NodeId rig) {
+  std::vector<rigel::ephemeral::Relation> out;
+  for (const rigel::ephemeral::Relation& r : rigel::ephemeral::carrier_relations(g)) {
+    const NodeId carried = r.kind == rigel::ephemeral::RelationKind::kForward ? r.to : r.from;
+    if (rigel::ephemeral::rig_of(g, carried) == rig) out.push_back(r);
+  }
+  return out;
+}
+
 nlohmann::ordered_json relations_json(const rigel::graph::Graph& g, NodeId rig,
                                       const std::vector<rigel::ephemeral::Relation>& relations) {
   nlohmann::ordered_json out;
@@ -670,6 +690,12 @@ nlohmann::ordered_json relations_json(const rigel::graph::Graph& g, NodeId rig,
     out["relations"].push_back({{"kind", rigel::ephemeral::relation_kind_name(r.kind)},
                                 {"from", g.node(r.from)->name()},
                                 {"to", g.node(r.to)->name()}});
+  }
+  for (const rigel::ephemeral::Relation& r : carrier_relations_of(g, rig)) {
+    out["relations"].push_back({{"kind", rigel::ephemeral::relation_kind_name(r.kind)},
+                                {"from", g.node(r.from)->name()},
+                                {"to", g.node(r.to)->name()},
+                                {"carrier", true}});
   }
   return out;
 }
@@ -688,6 +714,10 @@ int print_relations(const rigel::graph::Graph& g, const std::string& scene, cons
     for (const rigel::ephemeral::Relation& r : *relations) {
       std::printf("%-7s  %s -> %s\n", rigel::ephemeral::relation_kind_name(r.kind), g.node(r.from)->name().c_str(),
                   g.node(r.to)->name().c_str());
+    }
+    for (const rigel::ephemeral::Relation& r : carrier_relations_of(g, rig)) {
+      std::printf("%-7s  %s -> %s  (carrier)\n", rigel::ephemeral::relation_kind_name(r.kind),
+                  g.node(r.from)->name().c_str(), g.node(r.to)->name().c_str());
     }
   }
   std::fflush(stdout);
@@ -763,6 +793,19 @@ int run_ephemeral_relations(const EphemeralRelationsArgs& args, const std::vecto
         st = eph::group_add(g, rig, controls);
         grouped += st.is_ok();
         break;
+    }
+    if (!st && edit.op != RelationEdit::Op::kAdd && edit.op != RelationEdit::Op::kGroup) {
+      // A carrier's relation is not the rig's to edit: it goes with the carrier.
+      const eph::Relation r{spec.kind, controls[0], controls[1]};
+      for (NodeId carried : eph::rigs_find(g)) {
+        const std::vector<eph::Relation> cr = carrier_relations_of(g, carried);
+        if (std::find(cr.begin(), cr.end(), r) == cr.end()) continue;
+        st = Status(rigel::ErrorCode::kInvalidArgument,
+                    "a carrier relation (" + g.node(eph::carrier_of(g, carried))->name() + " carries " +
+                        g.node(carried)->name() + "): it goes with the carrier; `rigel ephemeral unmerge --rig " +
+                        g.node(carried)->name() + "` clears it");
+        break;
+      }
     }
     if (!st) {
       tx.rollback();
@@ -886,7 +929,7 @@ void add_ephemeral_commands(CLI::App& app, EphemeralCommands& commands) {
   s.relations_cmd->add_option("-o,--output", s.relations.output, "Scene file to write (.rigel; with edits only)");
   s.relations_cmd->add_flag("--json", s.relations.json,
                             "Print {\"rig\", \"relations\": [{\"kind\", \"from\", \"to\"}...]} (after the edits; one "
-                            "object a line, one per rig)");
+                            "object a line, one per rig; a carrier's relations into the rig last, with \"carrier\": true)");
 
   s.key_cmd = ephemeral_cmd->add_subcommand(
       "key", "Key controls at a frame (their keying group: the whole character unless its scope is controls)");
@@ -977,8 +1020,9 @@ void add_ephemeral_commands(CLI::App& app, EphemeralCommands& commands) {
                      "character unless its keying scope is controls)");
   s.pose_cmd->add_flag("--json", s.pose.json,
                      "Print {\"mode\", \"frame\", \"grabbed\": [NAME...], \"moved\": {NAME: {\"t\", \"q\"}}, "
-                     "\"keyScope\": {RIG: SCOPE}, \"keyed\": [NAME...]} (moved: world space, every control whose world "
-                     "matrix changed; keyed: controls with a key at this frame)");
+                     "\"keyScope\": {RIG: SCOPE}, \"keyed\": [NAME...], \"notes\": [TEXT...]} (moved: world space, "
+                     "every control whose world matrix changed; keyed: controls with a key at this frame; notes: what "
+                     "the motion could not do, e.g. a target out of an inverse chain's reach)");
 }
 
 std::optional<int> run_ephemeral_commands(const EphemeralCommands& commands) {

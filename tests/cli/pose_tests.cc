@@ -298,11 +298,14 @@ TEST_F(CliPose, errors__usage_errors_exit_2) {
   pose_fails(rig(), out(), {"--mode", "forward"}, 2);  // --control is required
 }
 
-TEST_F(CliPose, errors__scale_and_pivot_outside_body_mode_exit_1) {
-  CliRun r = pose_fails(rig(), out(), {"--control", "elbow_ctrl", "--mode", "forward", "--scale", "2,2,2"}, 1);
-  EXPECT_TRUE(contains(r.err, "scale applies in body mode only")) << r;
-  r = pose_fails(rig(), out(), {"--control", "elbow_ctrl", "--mode", "inverse", "--pivot", "0,0,0"}, 1);
+TEST_F(CliPose, errors__scale_and_pivot_outside_body_mode_exit_2) {
+  // Usage errors (exit 2), found before the scene is read.
+  CliRun r = pose_fails(rig(), out(), {"--control", "elbow_ctrl", "--mode", "forward", "--scale", "2,2,2"}, 2);
+  EXPECT_TRUE(contains(r.err, "--scale applies in body mode only")) << r;
+  r = pose_fails(rig(), out(), {"--control", "elbow_ctrl", "--mode", "inverse", "--pivot", "0,0,0"}, 2);
   EXPECT_TRUE(contains(r.err, "--pivot applies in body mode only")) << r;
+  r = pose_fails(path("missing.rigel"), out(), {"--control", "elbow_ctrl", "--mode", "inverse", "--scale", "1,2,1"}, 2);
+  EXPECT_TRUE(contains(r.err, "--scale applies in body mode only")) << r;
 }
 
 }  // namespace
