@@ -69,6 +69,18 @@ int run_build(const BuildArgs& args) {
   }
   auto scene = load_or_import(character);
   if (!scene) return fail(scene.status().with_context(character));
+  // Every guide joint the character lacks, each at its place, before building.
+  if (std::vector<rig::Diagnostic> missing = rig::check_guide_joints(*def, **scene); !missing.empty()) {
+    Json errors = Json::array();
+    for (const rig::Diagnostic& d : missing) {
+      std::cerr << d.str() << "\n";
+      errors.push_back(Json{{"file", d.file}, {"line", d.where.line}, {"column", d.where.column}, {"message", d.message}});
+    }
+    std::cerr << "rigel: " << args.definition << ": " << missing.size() << " guide joint"
+              << (missing.size() == 1 ? " is" : "s are") << " missing from " << character << "\n";
+    if (args.json) print_json(Json{{"rig", def->name}, {"character", character}, {"errors", errors}});
+    return kExitInvalidInput;
+  }
   rig::BuildOptions options;
   options.edit_mode = args.edit_mode;
   auto build = rig::Build::open(**scene, *def, factory(), options);
@@ -325,6 +337,7 @@ struct EditArgs {
   std::vector<std::string> turns;   // ADDRESS=X,Y,Z (rotate, degrees)
   std::string definition_out;       // "" = the rig's definition path
   std::string output;
+  bool keep_editing = false;        // stay in rig edit mode after committing
   bool json = false;
 };
 
@@ -359,9 +372,16 @@ int run_edit(const EditArgs& args) {
     if (Status s = apply_channel(g, m, scene::xform::kTranslate, "--move"); !s) return fail(s);
   for (const std::string& t : args.turns)
     if (Status s = apply_channel(g, t, scene::xform::kRotate, "--turn"); !s) return fail(s);
-  Result<rig::Edits> edits = (*build)->commit_edits();
-  if (!edits) return fail(edits.status().with_context(args.scene));
   std::string out_def = args.definition_out.empty() ? (*build)->definition().source : args.definition_out;
+  if (!out_def.empty()) {
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(out_def, ec);
+    if (!ec) out_def = absolute.lexically_normal().string();
+  }
+  // Committing records where the definition goes (the rig is then up to
+  // date with it) and leaves edit mode unless --keep-editing.
+  Result<rig::Edits> edits = (*build)->commit_edits(out_def, !args.keep_editing);
+  if (!edits) return fail(edits.status().with_context(args.scene));
   if (!edits->changed.empty()) {
     if (out_def.empty()) return usage_error(rig_name + " has no definition path; give --definition-out");
     if (Status s = rig::save_definition(edits->definition, out_def); !s) return fail(s);
@@ -378,6 +398,7 @@ int run_edit(const EditArgs& args) {
                     {"changed", changed},
                     {"ignored", edits->ignored},
                     {"definition", edits->changed.empty() ? Json(nullptr) : Json(out_def)},
+                    {"editMode", (*build)->edit_mode()},
                     {"output", args.output}});
   } else if (edits->changed.empty()) {
     std::cerr << "rigel: " << rig_name << ": no guide moved; the definition is unchanged\n";
@@ -500,6 +521,8 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
   s.edit_cmd->add_option("--definition-out", s.edit.definition_out,
                          "Where to save the edited definition (default: the rig's definition path)");
   s.edit_cmd->add_option("-o,--output", s.edit.output, "Scene file to write (.rigel)")->required();
+  s.edit_cmd->add_flag("--keep-editing", s.edit.keep_editing,
+                       "Stay in rig edit mode after writing back (default: the rig is rebuilt for animation)");
   s.edit_cmd->add_flag("--json", s.edit.json, "Print a JSON report on stdout");
 
   s.meta_cmd = app.add_subcommand(

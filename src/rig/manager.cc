@@ -205,12 +205,42 @@ Json rigs_report(const graph::Graph& g) {
   return list;
 }
 
+std::vector<Diagnostic> check_guide_joints(const Definition& d, const scene::Scene& scene) {
+  std::vector<Diagnostic> out;
+  const graph::Graph& g = scene.graph();
+  std::vector<const Component*> stack;
+  for (auto it = d.components.rbegin(); it != d.components.rend(); ++it) stack.push_back(&*it);
+  while (!stack.empty()) {
+    const Component& c = *stack.back();
+    stack.pop_back();
+    for (std::size_t i = 0; i < c.guides.size(); ++i) {
+      const Guide& guide = c.guides[i];
+      if (guide.joint.empty()) continue;
+      const NodeId id = g.find(guide.joint);
+      std::string what;
+      if (!id.is_valid()) what = "the character has no joint '" + guide.joint + "'";
+      else if (!scene.is_transform(id)) what = "'" + guide.joint + "' is not a joint or transform";
+      else continue;
+      out.push_back({d.source, guide.where,
+                     "component '" + c.name + "' (" + c.type + (c.side == Side::kCenter ? "" : std::string(", ") + side_name(c.side)) +
+                         "): guide " + std::to_string(i) + (guide.name.empty() ? "" : " (" + guide.name + ")") + ": " + what});
+    }
+    for (auto it = c.children.rbegin(); it != c.children.rend(); ++it) stack.push_back(&*it);
+  }
+  return out;
+}
+
 Result<AddedRig> add_rig(scene::Scene& scene, const fs::path& path, const ComponentFactory& factory,
                          BuildOptions options, const std::function<void(int, int)>& progress) {
   auto def = read_definition(path, factory.schemas());
   if (!def) return def.status();
   if (find_rig(scene.graph(), def->name).is_valid())
     return error(ErrorCode::kAlreadyExists, path.string() + ": the scene already has a rig '" + def->name + "'");
+  if (std::vector<Diagnostic> missing = check_guide_joints(*def, scene); !missing.empty()) {
+    std::ostringstream o;
+    for (std::size_t i = 0; i < missing.size(); ++i) o << (i ? "\n" : "") << missing[i].str();
+    return error(ErrorCode::kNotFound, o.str());
+  }
   AddedRig added{def->name, def->version, 0, {}};
   auto build = Build::open(scene, std::move(*def), factory, options);
   if (!build) return build.status().with_context(path.string());

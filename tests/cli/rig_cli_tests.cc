@@ -109,7 +109,7 @@ TEST(CliRig, edit_mode_writes_moved_guides_back_with_versions_bumped) {
 
   // The left breast's control (a `simple` component), 5 cm along its bone.
   CliRun e = rigel({"edit", built, "--move", "hero:chest/main[0]=0,0.05,0", "--definition-out", def_out, "-o", edited,
-                    "--json"});
+                    "--keep-editing", "--json"});
   ASSERT_EQ(e.exit_code, 0) << e;
   Json report = Json::parse(e.out);
   EXPECT_EQ(report["version"], "1.1");
@@ -128,6 +128,15 @@ TEST(CliRig, edit_mode_writes_moved_guides_back_with_versions_bumped) {
   CliRun again = rigel({"edit", edited, "--definition-out", def_out, "-o", edited, "--json"});
   ASSERT_EQ(again.exit_code, 0) << again;
   EXPECT_TRUE(Json::parse(again.out)["changed"].empty());
+  EXPECT_FALSE(Json::parse(again.out)["editMode"].get<bool>()) << "committing leaves edit mode";
+  // The rig now points at the definition it was written to, and is up to date with it.
+  CliRun listed = rigel({"rigs", edited, "--json"});
+  ASSERT_EQ(listed.exit_code, 0) << listed;
+  const Json rig_entry = Json::parse(listed.out)["rigs"][0];
+  EXPECT_EQ(fs::path(rig_entry["definition"].get<std::string>()), fs::weakly_canonical(def_out));
+  EXPECT_FALSE(rig_entry["outOfDate"].get<bool>()) << rig_entry.dump(1);
+  EXPECT_FALSE(rig_entry["editMode"].get<bool>());
+  EXPECT_EQ(rig_entry["version"], "1.1");
 
   // A rig built for animation is not in edit mode; bad moves name themselves.
   const std::string anim = (dir.path() / "anim.rigel").string();
@@ -140,6 +149,137 @@ TEST(CliRig, edit_mode_writes_moved_guides_back_with_versions_bumped) {
   EXPECT_NE(bad.err.find("--move 'hero:chest/main[0]=1,2'"), std::string::npos) << bad;
   CliRun missing = rigel({"edit", built, "--move", "hero:wing_L/fk[0]=1,2,3", "-o", edited});
   EXPECT_EQ(missing.exit_code, 1) << missing;
+}
+
+// Runs `rigel ARGS...` in folder `dir` (the current directory matters to
+// the test), stdout and stderr captured.
+CliRun rigel_in(const fs::path& dir, const std::vector<std::string>& args) {
+  TempDir files;
+  const std::string out = (files.path() / "stdout").string(), err = (files.path() / "stderr").string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<std::string> words = {RIGEL_CLI_PATH};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  CliRun run;
+  const int spawned = posix_spawn(&pid, RIGEL_CLI_PATH, &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  EXPECT_EQ(spawned, 0);
+  if (spawned != 0) return run;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  run.exited = WIFEXITED(status);
+  run.exit_code = run.exited ? WEXITSTATUS(status) : -1;
+  run.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  run.out = read_text(out);
+  run.err = read_text(err);
+  return run;
+}
+
+TEST(CliRig, the_definition_path_does_not_depend_on_the_current_directory) {
+  TempDir dir;
+  // Built from the source folder with the definition named relative to it,
+  // the scene written elsewhere.
+  CliRun b = rigel_in(RIGEL_SOURCE_DIR, {"build", "examples/biped.rig.xml", "-o", (dir.path() / "hero.rigel").string()});
+  ASSERT_EQ(b.exit_code, 0) << b;
+  CliRun rigs = rigel_in(dir.path(), {"rigs", "hero.rigel", "--json"});
+  ASSERT_EQ(rigs.exit_code, 0) << rigs;
+  const Json r = Json::parse(rigs.out)["rigs"][0];
+  EXPECT_EQ(r["definitionVersion"], "1.0") << r.dump(1);
+  EXPECT_TRUE(r["definitionFound"].get<bool>());
+  EXPECT_EQ(fs::path(r["definition"].get<std::string>()), fs::weakly_canonical(example()));
+  CliRun u = rigel_in(dir.path(), {"update", "hero.rigel", "-o", "h2.rigel"});
+  EXPECT_EQ(u.exit_code, 0) << u;
+  EXPECT_TRUE(contains(u.err, "up to date")) << u;
+
+  // A definition that is gone is said so, naming it.
+  const fs::path copy = dir.path() / "defs" / "biped.rig.xml";
+  fs::create_directories(copy.parent_path());
+  std::ofstream(copy) << read_text(example());
+  const std::string plain = (dir.path() / "plain.rigel").string();
+  ASSERT_EQ(rigel({"import", metarig(), "-o", plain}).exit_code, 0);
+  ASSERT_EQ(rigel({"build", copy.string(), "--character", plain, "-o", (dir.path() / "moved.rigel").string()}).exit_code, 0);
+  fs::remove(copy);
+  CliRun missing = rigel_in(dir.path(), {"rigs", "moved.rigel"});
+  EXPECT_EQ(missing.exit_code, 0) << missing;
+  EXPECT_TRUE(contains(missing.out, "definition missing")) << missing;
+  CliRun refused = rigel_in(dir.path(), {"update", "moved.rigel", "-o", "m2.rigel"});
+  EXPECT_EQ(refused.exit_code, 1) << refused;
+  EXPECT_TRUE(contains(refused.err, "defs/biped.rig.xml: cannot be read")) << refused;
+}
+
+TEST(CliRig, a_components_version_bump_alone_is_out_of_date_and_rebuilt) {
+  TempDir dir;
+  std::string text = read_text(example());
+  const std::string arm = "name=\"arm\" side=\"L\" version=\"1.0\"";
+  ASSERT_NE(text.find(arm), std::string::npos);
+  const fs::path def = dir.path() / "hero.rig.xml";
+  const std::string plain = (dir.path() / "plain.rigel").string();
+  const std::string built = (dir.path() / "hero.rigel").string();
+  ASSERT_EQ(rigel({"import", metarig(), "-o", plain}).exit_code, 0);
+  std::ofstream(def) << text;
+  ASSERT_EQ(rigel({"build", def.string(), "--character", plain, "-o", built}).exit_code, 0);
+  text.replace(text.find(arm), arm.size(), "name=\"arm\" side=\"L\" version=\"1.1\"");
+  std::ofstream(def, std::ios::trunc) << text;
+  CliRun rigs = rigel({"rigs", built, "--json"});
+  ASSERT_EQ(rigs.exit_code, 0) << rigs;
+  const Json r = Json::parse(rigs.out)["rigs"][0];
+  EXPECT_TRUE(r["outOfDate"].get<bool>());
+  for (const Json& c : r["components"]) EXPECT_EQ(c["outOfDate"].get<bool>(), c["name"] == "arm_L") << c.dump();
+  CliRun listed = rigel({"rigs", built});
+  EXPECT_TRUE(contains(listed.out, "out of date: definition has 1.1")) << listed;
+  CliRun u = rigel({"update", built, "-o", (dir.path() / "h2.rigel").string(), "--json"});
+  ASSERT_EQ(u.exit_code, 0) << u;
+  const std::vector<std::string> rebuilt = Json::parse(u.out)["rigs"][0]["rebuilt"].get<std::vector<std::string>>();
+  ASSERT_FALSE(rebuilt.empty());
+  EXPECT_EQ(rebuilt.front(), "arm_L");
+}
+
+TEST(CliRig, a_moved_pole_is_not_written_into_a_guide) {
+  TempDir dir;
+  const std::string built = (dir.path() / "e.rigel").string();
+  const std::string def_out = (dir.path() / "p.rig.xml").string();
+  ASSERT_EQ(rigel({"build", example(), "--edit-mode", "-o", built}).exit_code, 0);
+  CliRun e = rigel({"edit", built, "--move", "hero:arm_L/pole=0,0.1,0", "--definition-out", def_out, "-o",
+                    (dir.path() / "e2.rigel").string(), "--json"});
+  ASSERT_EQ(e.exit_code, 0) << e;
+  const Json report = Json::parse(e.out);
+  EXPECT_TRUE(report["changed"].empty()) << report.dump(1);
+  ASSERT_EQ(report["ignored"].size(), 1u) << report.dump(1);
+  EXPECT_EQ(report["ignored"][0], "hero_arm_L_pole");
+  EXPECT_FALSE(fs::exists(def_out)) << "nothing to write";
+}
+
+TEST(CliRig, every_missing_guide_joint_is_reported_with_its_place) {
+  TempDir dir;
+  std::string text = read_text(example());
+  for (const std::string joint : {"forearm.L", "hand.R"}) {
+    const std::string attr = "joint=\"" + joint + "\"";
+    const std::size_t at = text.find(attr);
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, attr.size(), "joint=\"no_" + joint + "\"");
+  }
+  const fs::path def = dir.path() / "missing.rig.xml";
+  std::ofstream(def) << text;
+  const std::string out = (dir.path() / "x.rigel").string();
+  CliRun b = rigel({"build", def.string(), "--character", metarig(), "-o", out, "--json"});
+  EXPECT_EQ(b.exit_code, 1) << b;
+  EXPECT_TRUE(contains(b.err, "missing.rig.xml:")) << b;
+  EXPECT_TRUE(contains(b.err, "no joint 'no_forearm.L'")) << b;
+  EXPECT_TRUE(contains(b.err, "no joint 'no_hand.R'")) << b;
+  ASSERT_FALSE(b.out.empty()) << b;
+  const Json errors = Json::parse(b.out)["errors"];
+  ASSERT_EQ(errors.size(), 2u) << b;
+  for (const Json& e : errors) EXPECT_GT(e["line"].get<int>(), 0) << e.dump();
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(CliRig, bad_input_is_refused_with_the_place) {

@@ -17,6 +17,7 @@
 #include "rigel/rig/build.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/definition.h"
+#include "rigel/rig/definition_io.h"
 #include "rigel/scene/scene.h"
 
 namespace rigel::rig {
@@ -74,10 +75,16 @@ nlohmann::ordered_json rigs_report(const graph::Graph& graph);
 // features, rootOnly, needsParent.
 nlohmann::ordered_json component_schema_json(const ComponentSchema& schema);
 
+// Every guide joint of `definition` that `graph` lacks (or that is not a
+// transform), each at its guide's place in the definition file: what a build
+// would otherwise stop at, one at a time. Empty when every joint is there.
+std::vector<Diagnostic> check_guide_joints(const Definition& definition, const scene::Scene& scene);
+
 // Builds the definition at `path` on `scene` (every step; progress, when
 // given, gets the steps done and the total after each) and records the path
-// on the metaRoot. Fails, changing nothing, on an invalid definition or a
-// step that fails.
+// on the metaRoot. Fails, changing nothing, on an invalid definition, guide
+// joints the scene lacks (every one listed, file:line:column) or a step
+// that fails.
 struct AddedRig {
   std::string name, version;
   int steps = 0;
