@@ -692,7 +692,7 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
   std::vector<int> tops_left(entries.size(), 0);
   for (const PlanChain& chain : plan->chains)
     if (chain.shared_top) ++tops_left[chain.entries[0]];
-  auto final = [&](int e) { return done[e] && tops_left[e] == 0; };
+  auto is_final = [&](int e) { return done[e] && tops_left[e] == 0; };
   sc.units.clear();
   std::vector<std::uint8_t> emitted(units.size(), 0);
   bool progress = true;
@@ -703,10 +703,10 @@ Result<std::unique_ptr<Plan>> Session::plan_build() {
       const int unit = units[u];
       if (unit >= 0) {
         const int dep = entries[unit].driver;
-        if (dep >= 0 && !final(dep)) continue;
+        if (dep >= 0 && !is_final(dep)) continue;
       } else {
         const PlanChain& chain = plan->chains[-unit - 1];
-        if (chain.anchor >= 0 && !(chain.shared_top ? done[chain.anchor] != 0 : final(chain.anchor))) continue;
+        if (chain.anchor >= 0 && !(chain.shared_top ? done[chain.anchor] != 0 : is_final(chain.anchor))) continue;
       }
       emitted[u] = 1;
       progress = true;
@@ -899,7 +899,7 @@ Status Session::solve(const Delta& delta) {
           if ((pos(target) - held).norm() > 1e-12 * std::max(1.0, held.norm()))
             note("'" + entry_name(end) + "' keeps its position: its chain holds no other control (" +
                  (options_.max_chain == 1 ? std::string("max_chain 1") : "the walk stops at '" + node_name(chain.anchor_control) + "'") +
-                 "), and moving it would change the length of its bone; it only turns");
+                 "), and moving it would change the length of its bone; only the motion's rotation applies");
         } else {
           set_new(end, target);
         }
