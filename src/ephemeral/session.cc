@@ -1177,7 +1177,7 @@ Status Session::solve(const Delta& delta) {
   };
   auto write = [&](NodeId id, graph::AttrIndex attr, graph::Value value) {
     if (connected(*graph.node(id), attr)) {
-      exact = false;  // a key evaluated at a time within 1e-6 s of it: re-read next time
+      exact = false;  // a key evaluated at a time within key_time_tolerance() of it: re-read next time
       return write_channel(graph, id, attr, value, false);
     }
     return graph.set_value(Plug{id, attr, -1}, std::move(value));
