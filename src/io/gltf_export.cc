@@ -625,7 +625,7 @@ class Exporter {
     return Status::ok();
   }
 
-  // A mesh node the glTF importer made (tag gltf.node: the uuid of the node
+  // A mesh node the glTF importer made (tag gltf.node: the name of the node
   // its glTF mesh hung on) goes back onto that node as its mesh, so import
   // -> export keeps the node tree and names: when the node exists and has
   // no mesh of its own or merged already, the mesh node has no children, is
@@ -638,9 +638,7 @@ class Exporter {
       const NodeId id = nodes_[m.node].id;
       const std::string* tag = g_.node(id)->tag_find(kTagGltfNode);
       if (!tag) continue;
-      const std::optional<graph::Uuid> uuid = graph::Uuid::parse(*tag);
-      if (!uuid) continue;
-      const NodeId owner = g_.find(*uuid);
+      const NodeId owner = g_.find(*tag);
       const int o = owner.is_valid() ? gltf_index(owner) : -1;
       if (o < 0 || owner == id) continue;
       ExportNode& target = nodes_[static_cast<std::size_t>(o)];

@@ -1824,7 +1824,7 @@ Status Importer::build_meshes() {
       Status s = set(*mesh_id, ma::kTriangles, prim.triangles);
       // The glTF node holding the mesh: the exporter writes the mesh back on
       // it, so a round trip keeps the node tree (gltf_export.h).
-      if (s) s = g.set_tag(*mesh_id, kTagGltfNode, g.node(ids_[i])->uuid().str());
+      if (s) s = g.set_tag(*mesh_id, kTagGltfNode, g.node(ids_[i])->name());
       // Where the points come from: the file, a blendShape, a skinCluster.
       NodeId points_src;
       graph::AttrIndex points_attr = 0;

@@ -6,7 +6,10 @@
 #include <tiny_gltf.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "../io/io_test_util.h"
 #include "cli_test_util.h"
@@ -61,6 +64,7 @@ TEST(CliExportGltf, euler_tracks__bake_with_a_note_saying_why) {
   EXPECT_TRUE(contains(r.err, "arm.rotate is animated with Euler angles")) << "and why: " << r;
   EXPECT_TRUE(contains(r.err, "rigel: exported 1 nodes")) << r;
   EXPECT_FALSE(contains(r.err, "\r")) << "no progress line when stderr is not a terminal";
+  EXPECT_VALID_GLTF(out);
   tinygltf::Model model = load_glb_or_gltf(out);
   ASSERT_EQ(model.animations.size(), 1u);
   ASSERT_EQ(model.animations[0].channels.size(), 1u) << "only the rotation changes";
@@ -75,6 +79,7 @@ TEST(CliExportGltf, frames_option__bakes_that_range) {
   const CliRun r = rigel({"export", scene, "-o", out.string(), "--frames", "6:12"});
   ASSERT_TRUE(exited_with(r, 0)) << r;
   EXPECT_TRUE(contains(r.err, "baked frames 6 to 12")) << r;
+  EXPECT_VALID_GLTF(out);
   tinygltf::Model model = load_glb_or_gltf(out);
   const auto& input = model.accessors.at(static_cast<std::size_t>(model.animations.at(0).samplers.at(0).input));
   EXPECT_EQ(input.count, 7u) << "frames 6..12";
@@ -91,11 +96,60 @@ TEST(CliExportGltf, imported_character__round_trips_without_baking) {
     const CliRun r = rigel({"export", scene, "-o", out.string()});
     ASSERT_TRUE(exited_with(r, 0)) << r;
     EXPECT_FALSE(contains(r.err, "baked")) << "glTF tracks are written as they are: " << r;
+    EXPECT_VALID_GLTF(out);
     tinygltf::Model model = load_glb_or_gltf(out);
     EXPECT_EQ(model.skins.size(), 1u);
     EXPECT_EQ(model.meshes.size(), 1u);
     ASSERT_EQ(model.animations.size(), 1u);
     EXPECT_GT(model.animations[0].channels.size(), 10u);
+  }
+}
+
+// Every kind of file the exporter writes passes the Khronos glTF-Validator
+// with no error: each bundled character, the biped built from
+// examples/biped.rig.xml, and a BVH, each direct and with --bake, as .glb
+// and .gltf. Skipped, saying so, only when node or the validator package
+// (npm ci in web/) is not installed.
+TEST(CliExportGltf, every_export_passes_the_khronos_gltf_validator) {
+  if (!rigel::io::testing::gltf_validator_errors(character("RiggedSimple.glb")))
+    GTEST_SKIP() << "the Khronos glTF-Validator is not installed (node and `npm ci` in web/ provide it)";
+  TempDir dir;
+  const fs::path root = rigel::io::testing::source_dir();
+  std::vector<std::pair<std::string, std::string>> scenes;  // name, .rigel path
+  for (const auto& entry : fs::directory_iterator(root / "tests" / "data" / "gltf")) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".glb" && ext != ".gltf") continue;
+    const std::string scene = (dir.path() / (entry.path().stem().string() + ".rigel")).string();
+    const CliRun r = rigel({"import", entry.path().string(), "-o", scene});
+    ASSERT_TRUE(exited_with(r, 0)) << entry.path() << ": " << r;
+    scenes.emplace_back(entry.path().stem().string(), scene);
+  }
+  ASSERT_GE(scenes.size(), 8u) << "every bundled character";
+  {
+    const std::string scene = (dir.path() / "hero.rigel").string();
+    const CliRun r = rigel({"build", (root / "examples" / "biped.rig.xml").string(), "-o", scene});
+    ASSERT_TRUE(exited_with(r, 0)) << r;
+    scenes.emplace_back("biped", scene);
+  }
+  {
+    const std::string scene = (dir.path() / "walk.rigel").string();
+    const CliRun r = rigel({"import", (root / "tests" / "data" / "bvh" / "cmu_131_01.bvh").string(), "-o", scene});
+    ASSERT_TRUE(exited_with(r, 0)) << r;
+    scenes.emplace_back("bvh", scene);
+  }
+  for (const auto& [name, scene] : scenes) {
+    for (const bool bake : {false, true}) {
+      for (const char* ext : {".glb", ".gltf"}) {
+        const fs::path out = dir.path() / (name + (bake ? "_baked" : "") + ext);
+        std::vector<std::string> args = {"export", scene, "-o", out.string()};
+        if (bake) args.push_back("--bake");
+        const CliRun r = rigel(args);
+        ASSERT_TRUE(exited_with(r, 0)) << out << ": " << r;
+        const std::optional<std::string> errors = rigel::io::testing::gltf_validator_errors(out);
+        ASSERT_TRUE(errors.has_value());
+        EXPECT_EQ(*errors, "") << out.filename() << " should pass the validator";
+      }
+    }
   }
 }
 

@@ -86,5 +86,35 @@ TEST(CliImportGltf, malformed_files__exit_1_naming_file_and_element_and_write_no
   EXPECT_TRUE(contains(unsupported.err, "unsupported file type")) << unsupported;
 }
 
+TEST(CliImportGltf, a_buffer_outside_the_files_folder__exit_1_without_its_bytes_or_size) {
+  TempDir dir;
+  const std::string out = (dir.path() / "x.rigel").string();
+  const std::string file = (dir.path() / "steal.gltf").string();
+  // The issue's file: the indices come from /etc/passwd, and byteLength is a guess.
+  rigel::io::testing::write_text(file, R"({"asset": {"version": "2.0"},
+    "buffers": [{"uri": "../../../../../../../../etc/passwd", "byteLength": 6}],
+    "bufferViews": [{"buffer": 0, "byteLength": 6}],
+    "accessors": [{"bufferView": 0, "componentType": 5121, "count": 3, "type": "SCALAR"},
+                  {"componentType": 5126, "count": 3, "type": "VEC3"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 1}, "indices": 0}]}],
+    "nodes": [{"mesh": 0}]})");
+  const CliRun r = rigel({"import", file, "-o", out});
+  EXPECT_TRUE(exited_with(r, 1)) << r;
+  EXPECT_TRUE(contains(r.err, "buffers[0]: uri '../../../../../../../../etc/passwd' reaches outside the glTF file's folder")) << r;
+  EXPECT_FALSE(contains(r.err, "element")) << "nothing read from the file: " << r;
+  EXPECT_FALSE(contains(r.err, "bytes")) << "not even its size: " << r;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliImportGltf, vertices_without_a_weight__import_with_a_warning_naming_them) {
+  TempDir dir;
+  const std::string out = (dir.path() / "x.rigel").string();
+  const CliRun r = rigel({"import", invalid("skin__ignored_local_transform.gltf").string(), "-o", out});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_TRUE(contains(r.err, "rigel: warning: ")) << r;
+  EXPECT_TRUE(contains(r.err, "meshes[0].primitives[0]: vertices 0, 1, 2 have no joint weight above zero")) << r;
+  EXPECT_TRUE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace rigel::cli

@@ -23,7 +23,8 @@
 //   world position and a frame loses the shear it has or inherits; an
 //   unskinned mesh's points (normals, morph deltas) and a skin's inverse
 //   bind matrices take up the difference, so vertices land where rigel puts
-//   them (exact at the export time and, when baking, the same per frame).
+//   them (exact at the export time; baked frames place every node the same
+//   way, keeping the corrections made at the export time).
 //   Shear above 1e-4 is listed in the report's notes; a node animated by
 //   direct keys below a sheared node makes the export bake.
 //   Non-transform nodes (curves, deformers, constraints, ...) are not

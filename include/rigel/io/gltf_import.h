@@ -23,7 +23,7 @@
 // POSITION, normals = NORMAL, triangles). Its name is the glTF mesh's name,
 // else `<node>_mesh`, with the primitive index appended when the mesh has
 // more than one primitive. Its tag "gltf.node" (kTagGltfNode) holds the
-// uuid of the scene node made from the glTF node that holds the mesh: the
+// name of the scene node made from the glTF node that holds the mesh: the
 // exporter writes the mesh back on that node, so import -> export keeps the
 // node tree. Modes: TRIANGLES as they are, TRIANGLE_STRIP and
 // TRIANGLE_FAN converted to triangles; POINTS and LINES primitives make no
@@ -133,7 +133,7 @@
 
 namespace rigel::io {
 
-// The tag on an imported mesh node naming (by uuid) the node its glTF mesh
+// The tag on an imported mesh node naming the node its glTF mesh
 // hangs on; see "Meshes" above and gltf_export.h.
 inline constexpr const char* kTagGltfNode = "gltf.node";
 
