@@ -896,10 +896,16 @@ Status Session::solve(const Delta& delta) {
           // only turns.
           const Vec3 held = pos(sc.chain_world[0]);
           set_new(end, make(lin(target), held));
-          if ((pos(target) - held).norm() > 1e-12 * std::max(1.0, held.norm()))
-            note("'" + entry_name(end) + "' keeps its position: its chain holds no other control (" +
-                 (options_.max_chain == 1 ? std::string("max_chain 1") : "the walk stops at '" + node_name(chain.anchor_control) + "'") +
+          if ((pos(target) - held).norm() > 1e-12 * std::max(1.0, held.norm())) {
+            std::string why = "max_chain 1";
+            if (options_.max_chain != 1) {
+              why = "the walk stops at '";
+              why += node_name(chain.anchor_control);
+              why += "'";
+            }
+            note("'" + entry_name(end) + "' keeps its position: its chain holds no other control (" + why +
                  "), and moving it would change the length of its bone; only the motion's rotation applies");
+          }
         } else {
           set_new(end, target);
         }

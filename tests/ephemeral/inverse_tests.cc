@@ -33,7 +33,7 @@ Straight make_straight(const Vec3& axis, const std::vector<double>& lengths) {
   NodeId parent = joint(*c.scene, "j0", {}, Vec3::Zero());
   c.joints.push_back(parent);
   for (std::size_t i = 0; i < lengths.size(); ++i) {
-    parent = joint(*c.scene, "j" + std::to_string(i + 1), parent, axis.normalized() * lengths[i]);
+    parent = joint(*c.scene, std::string("j").append(std::to_string(i + 1)), parent, axis.normalized() * lengths[i]);
     c.joints.push_back(parent);
     c.length += lengths[i];
   }
