@@ -1,6 +1,8 @@
 #include "rigel/io/bvh_import.h"
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "rigel/ops/anim/nodes.h"
 #include "rigel/ops/anim/track.h"
@@ -38,9 +40,11 @@ Status add_track(graph::Graph& g, const std::string& name, const std::vector<dou
 Result<std::unique_ptr<scene::Scene>> import_bvh(const BvhFile& file, const BvhImportOptions& options) {
   if (!(options.scale > 0.0) || !std::isfinite(options.scale))
     return error(ErrorCode::kInvalidArgument, "BVH import: scale must be a positive number");
-  if (!(file.frame_time >= kBvhMinFrameTime && file.frame_time <= kBvhMaxFrameTime))
-    return error(ErrorCode::kInvalidArgument, "BVH import: the frame time " + std::to_string(file.frame_time) +
-                                                  " s is outside [0.0001, 1000] s");
+  if (!(file.frame_time >= kBvhMinFrameTime && file.frame_time <= kBvhMaxFrameTime)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", file.frame_time);
+    return error(ErrorCode::kInvalidArgument, std::string("BVH import: the frame time ") + text + " s is outside [0.0001, 1000] s");
+  }
   auto scene = std::make_unique<scene::Scene>(options.registry ? options.registry : ops::default_registry());
   graph::Graph& g = scene->graph();
   const double fps = snapped_fps(file.frame_time);
