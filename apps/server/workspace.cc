@@ -494,6 +494,7 @@ struct Workspace::Impl {
 
   Json post_drag(const Request&, const Json& body) {
     const auto before = pose_values(false);
+    bool session_dragged = false;  // the session's notes are this drag's
     std::vector<NodeId> selected;
     for (NodeId id : g().selection())
       if (g().node(id)) selected.push_back(id);
@@ -512,6 +513,7 @@ struct Workspace::Impl {
       if (ephemeral::rig_of(g(), control).is_valid()) {
         Mat4 world = math::trs_matrix(t, q, d.scale);
         check(session.drag_to(control, world), "control");
+        session_dragged = true;
       } else {
         std::vector<NodeId> direct;
         for (NodeId id : selected)
@@ -526,6 +528,7 @@ struct Workspace::Impl {
       if (selected.empty()) refuse(409, "nothing is selected: select controls first (POST /api/select)", "controls");
       if (!session.grabbed().empty()) {
         check(session.drag(delta));
+        session_dragged = true;
       } else {
         if (delta.scale != Vec3::Ones()) refuse(400, "scale: only body mode on an ephemeral rig scales", "scale");
         std::vector<NodeId> direct;
@@ -535,8 +538,11 @@ struct Workspace::Impl {
       }
     }
     // The answer lists only what moved: the revision after this drag is the
-    // caller's pose plus these nodes.
-    return pose_json(false, &before);
+    // caller's pose plus these nodes; "notes" says what the drag could not
+    // do (a target out of reach, a bone that would stretch).
+    Json answer = pose_json(false, &before);
+    if (session_dragged && !session.notes().empty()) answer["notes"] = session.notes();
+    return answer;
   }
 
   Json post_release(const Request&, const Json&) {

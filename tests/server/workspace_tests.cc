@@ -85,6 +85,22 @@ TEST(ServerApi, InverseDragMovesTheArmOnlyAndUndoRestoresIt) {
   EXPECT_LT(s.distance(after, s.get("/api/pose?space=world")["nodes"], "hand.L"), 1e-12);
 }
 
+TEST(ServerApi, ADragThatCannotDoAllSaysWhyInNotes) {
+  Served s = served_puppet();
+  s.post("/api/mode", {{"mode", "inverse"}});
+  s.post("/api/select", {{"controls", {"hand.L"}}});
+  // A chain of reach 3 moves without a note.
+  s.post("/api/options", {{"maxChain", 3}});
+  EXPECT_FALSE(s.post("/api/drag", {{"translate", {0.0, 0.01, 0.0}}}).contains("notes"));
+  s.post("/api/release", Json::object());
+  // A chain of one control would stretch its bone: it keeps its place and says so.
+  s.post("/api/options", {{"maxChain", 1}});
+  const Json answer = s.post("/api/drag", {{"translate", {0.0, 0.1, 0.0}}});
+  ASSERT_TRUE(answer.contains("notes")) << answer;
+  ASSERT_FALSE(answer["notes"].empty());
+  EXPECT_NE(answer["notes"][0].get<std::string>().find("hand.L"), std::string::npos) << answer["notes"];
+}
+
 TEST(ServerApi, DragToAWorldTargetAndMultiSelection) {
   Served s = served_puppet();
   const Json before = s.get("/api/pose?space=world")["nodes"];
