@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -120,6 +121,39 @@ TEST(CliDefinition, diff_exits_0_when_equal_1_when_different_2_on_trouble) {
   const CliRun broken = rigel({"diff", fixture("all_types.rig.xml"), fixture("syntax_error.rig.xml")});
   EXPECT_TRUE(exited_with(broken, 2)) << broken;
   EXPECT_TRUE(contains(broken.err, "syntax_error.rig.xml:4:3: XML syntax error")) << broken;
+}
+
+TEST(CliDefinition, deep_nesting_is_refused_with_the_place_not_a_crash) {
+  TempDir dir;
+  std::string open, close;
+  for (int i = 0; i < 10000; ++i) {
+    open += "<component type=\"fkChain\" name=\"c" + std::to_string(i) + "\" version=\"1.0\">\n";
+    close += "</component>\n";
+  }
+  const std::string xml = (dir.path() / "deep.rig.xml").string();
+  std::ofstream(xml) << "<?xml version=\"1.0\"?>\n<rig name=\"r\" version=\"1.0\">\n" << open << close << "</rig>\n";
+  const std::string json = (dir.path() / "deep.rig.json").string();
+  std::ofstream(json) << "{\"rig\": " << std::string(10000, '[') << std::string(10000, ']') << "}";
+  for (const std::string& file : {xml, json}) {
+    const CliRun v = rigel({"validate", file});
+    EXPECT_TRUE(exited_with(v, 1)) << v;
+    EXPECT_TRUE(contains(v.err, "nest deeper than 1024 levels")) << v;
+    EXPECT_TRUE(contains(v.err, file + ":")) << v;
+    const CliRun d = rigel({"diff", file, file});
+    EXPECT_TRUE(exited_with(d, 2)) << d;
+    const CliRun b = rigel({"build", file, "--character", (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb").string(),
+                            "-o", (dir.path() / "x.rigel").string()});
+    EXPECT_TRUE(exited_with(b, 1)) << b;
+  }
+  // The shipped examples are well-formed XML (puppet's comment held "--").
+  const CliRun examples = rigel({"validate", (fs::path(RIGEL_SOURCE_DIR) / "examples/puppet.rig.xml").string(),
+                                 (fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml").string()});
+  EXPECT_TRUE(exited_with(examples, 0)) << examples;
+  const std::string comment = (dir.path() / "comment.rig.xml").string();
+  std::ofstream(comment) << "<?xml version=\"1.0\"?>\n<!-- a -- b -->\n<rig name=\"r\" version=\"1.0\"/>\n";
+  const CliRun c = rigel({"validate", comment});
+  EXPECT_TRUE(exited_with(c, 1)) << c;
+  EXPECT_TRUE(contains(c.err, "comment.rig.xml:2:8: XML syntax error: '--' is not allowed inside a comment")) << c;
 }
 
 TEST(CliDefinition, help_shows_an_example_for_each_command) {
