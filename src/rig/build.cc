@@ -365,8 +365,12 @@ Result<std::unique_ptr<Build>> Build::open(scene::Scene& scene, Definition defin
                                            BuildOptions options) {
   if (!scene.graph().registry().find(kMetaRootType))
     return error(ErrorCode::kUnsupported, "build: the scene's registry has no rig types (use rig::default_registry())");
-  if (definition.name.empty() || !graph::Graph::is_valid_name(definition.name))
-    return error(ErrorCode::kInvalidArgument, "build: the rig needs a name usable in node names");
+  if (definition.name.empty() || !graph::Graph::is_valid_name(definition.name)) {
+    const Diagnostic where{definition.source, definition.where,
+                           definition.name.empty() ? "the rig has no name"
+                                                   : "rig name '" + definition.name + "' is not usable in node names"};
+    return error(ErrorCode::kInvalidArgument, "build: " + where.str());
+  }
   std::unique_ptr<Build> b(new Build(scene, std::move(definition), factory, options));
   if (Status s = b->replan(); !s) return s;
   // Continue a build the scene already holds.

@@ -12,6 +12,8 @@
 #include "../io/io_test_util.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/definition_io.h"
+#include "rigel/rig/build.h"
+#include "rigel/rig/component.h"
 #include "rigel/rig/diff.h"
 #include "rigel/rig/meta.h"
 
@@ -148,6 +150,19 @@ TEST(WellFormed, validate_refuses_a_definition_built_deeper_than_the_limit) {
   bool found = false;
   for (const Diagnostic& e : validate(d)) found = found || e.message.find("nest deeper than 256") != std::string::npos;
   EXPECT_TRUE(found);
+}
+
+TEST(WellFormed, a_rig_without_a_name_is_refused_at_its_place) {
+  const ParseResult r =
+      parse_definition(std::string(kHead) + "<rig version=\"1.0\">\n" + kGlobal + "\n</rig>\n", Syntax::kXml, "n.rig.xml");
+  ASSERT_TRUE(r.ok());
+  const std::vector<Diagnostic> problems = validate(r.definition);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].str(), "n.rig.xml:2:1: the rig has no name");
+  scene::Scene scene(default_registry());
+  auto b = Build::open(scene, r.definition, builtin_components());
+  ASSERT_FALSE(b.is_ok());
+  EXPECT_EQ(b.status().message(), "build: n.rig.xml:2:1: the rig has no name");
 }
 
 TEST(WellFormed, deep_scene_files_are_refused_with_the_place) {
