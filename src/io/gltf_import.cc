@@ -30,6 +30,8 @@
 #include "rigel/ops/registry.h"
 #include "rigel/scene/transform_types.h"
 
+#include "gltf_materials.h"
+
 namespace rigel::io {
 namespace {
 
@@ -995,6 +997,11 @@ class Importer {
 
   Result<std::unique_ptr<scene::Scene>> run();
 
+  // After run(): the mesh nodes made, with their primitives, and the
+  // accessor reader, for the materials and uv sets (gltf_materials.h).
+  std::span<const gltf_look::MeshSource> mesh_sources() const { return mesh_sources_; }
+  Result<const std::vector<double>*> accessor_values(int accessor) { return read(accessor); }
+
  private:
   // checks and reading
   Status check_accessors();
@@ -1045,6 +1052,7 @@ class Importer {
   std::vector<Vec3> rest_translate_, rest_scale_;
   std::vector<Quat> rest_rotate_;
   std::vector<std::vector<NodeId>> blend_shapes_;  // per glTF node
+  std::vector<gltf_look::MeshSource> mesh_sources_;
 };
 
 Status Importer::set(NodeId node, graph::AttrIndex attr, graph::Value value) {
@@ -1820,6 +1828,7 @@ Status Importer::build_meshes() {
       const bool skinned = n.skin >= 0;
       Result<NodeId> mesh_id = scene_->create(scene::kMeshType, name, skinned ? NodeId{} : ids_[i]);
       if (!mesh_id) return mesh_id.status().with_context(where);
+      mesh_sources_.push_back({*mesh_id, mi, p});
       const std::string& mesh_name = g.node(*mesh_id)->name();
       Status s = set(*mesh_id, ma::kTriangles, prim.triangles);
       // The glTF node holding the mesh: the exporter writes the mesh back on
@@ -2125,11 +2134,17 @@ Result<std::unique_ptr<scene::Scene>> import_gltf(const std::filesystem::path& p
     ctx.folder = fs::weakly_canonical(ctx.base_dir.empty() ? fs::current_path(ec) : fs::path(ctx.base_dir), ec);
     if (ec) return error(ErrorCode::kIoError, where + ": cannot resolve the file's folder: " + ec.message());
     if (Status s = check_json(*doc, ctx); !s) return s.with_context(where);
+    const Json images = doc->contains("images") ? doc->at("images") : Json();  // tinygltf never sees them
     Result<tinygltf::Model> model = load_model(std::move(*doc), source, ctx);
     if (!model) return model.status().with_context(where);
     Importer importer(*model, options, ctx.quantized);
     Result<std::unique_ptr<scene::Scene>> scene = importer.run();
     if (!scene) return scene.status().with_context(where);
+    if (Status s = gltf_look::import_looks(**scene, *model, images, ctx.base_dir, importer.mesh_sources(),
+                                           [&](int a) { return importer.accessor_values(a); });
+        !s)
+      return s.with_context(where);
+    (*scene)->graph().clear_history();
     return scene;
   } catch (const std::bad_alloc&) {
     return error(ErrorCode::kIoError, where + ": out of memory");
