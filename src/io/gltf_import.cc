@@ -31,6 +31,7 @@
 #include "rigel/scene/transform_types.h"
 
 #include "gltf_materials.h"
+#include "gltf_uri.h"
 
 namespace rigel::io {
 namespace {
@@ -443,32 +444,6 @@ bool is_base64_char(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
 }
 
-// tinygltf's URI decoding (dlib::urldecode), so that the file checked here is
-// the file tinygltf asks for.
-std::string url_decode(const std::string& text) {
-  auto hex = [](unsigned char c) -> unsigned char {
-    if (c >= '0' && c <= '9') return static_cast<unsigned char>(c - '0');
-    if (c >= 'a' && c <= 'f') return static_cast<unsigned char>(c - 'a' + 10);
-    if (c >= 'A' && c <= 'F') return static_cast<unsigned char>(c - 'A' + 10);
-    return 0;
-  };
-  std::string out;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '+') out += ' ';
-    else if (text[i] == '%' && text.size() > i + 2) {
-      out += static_cast<char>((hex(static_cast<unsigned char>(text[i + 1])) << 4) | hex(static_cast<unsigned char>(text[i + 2])));
-      i += 2;
-    } else out += text[i];
-  }
-  return out;
-}
-
-// tinygltf's JoinPath.
-std::string join_path(const std::string& dir, const std::string& file) {
-  if (dir.empty()) return file;
-  return dir.back() == '/' ? dir + file : dir + "/" + file;
-}
-
 struct SchemaContext {
   const Source* source = nullptr;
   std::string base_dir;                 // the folder of the file, as tinygltf joins paths
@@ -477,50 +452,9 @@ struct SchemaContext {
   bool quantized = false;               // KHR_mesh_quantization in extensionsUsed
 };
 
-// Whether `path` (absolute, links resolved) lies inside `folder` (likewise).
-bool inside(const fs::path& folder, const fs::path& path) {
-  auto f = folder.begin(), p = path.begin();
-  for (; f != folder.end(); ++f, ++p) {
-    if (p == path.end() || *f != *p) return false;
-  }
-  return p != path.end();
-}
-
-// The file an external URI (a buffer's, an image's) names, as tinygltf will
-// ask for it: the URI decoded and joined to the glTF file's folder. Only
-// relative names that stay inside that folder are read: no scheme (file:,
-// http:), no absolute path, no ".." that climbs out, and no symbolic link
-// (in the name or the folders on the way) that leads out; checked on the
-// resolved path, so the file read is the file checked. Refusals name the
-// URI, never anything about the file it pointed at (its size, its bytes).
+// The file an external URI (a buffer's) names: the rule is gltf_uri's.
 Result<std::string> external_file(const SchemaContext& ctx, const std::string& uri, const std::string& where) {
-  const std::string decoded = url_decode(uri);
-  if (decoded.empty()) return bad(where, "an empty uri");
-  if (decoded.find('\0') != std::string::npos) return bad(where, "uri " + quote_text(uri) + " holds a NUL character");
-  // RFC 3986: scheme = ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":"
-  const std::size_t colon = uri.find(':');
-  if (colon != std::string::npos && colon > 0 && std::isalpha(static_cast<unsigned char>(uri[0]))) {
-    const bool scheme = std::all_of(uri.begin(), uri.begin() + static_cast<std::ptrdiff_t>(colon), [](char c) {
-      return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
-    });
-    if (scheme)
-      return error(ErrorCode::kUnsupported, where + ": uri " + quote_text(uri) +
-                                                " has a scheme; rigel reads data: URIs and relative file names only");
-  }
-  const fs::path relative = fs::path(decoded).lexically_normal();
-  if (decoded.front() == '/' || relative.is_absolute())
-    return bad(where, "uri " + quote_text(uri) + " is an absolute path; only names relative to the glTF file's folder are read");
-  if (relative.empty() || *relative.begin() == ".." || relative == ".")
-    return bad(where, "uri " + quote_text(uri) + " reaches outside the glTF file's folder");
-  const std::string file = join_path(ctx.base_dir, decoded);
-  std::error_code ec;
-  const fs::path real = fs::canonical(fs::path(file), ec);
-  if (ec) return error(ErrorCode::kNotFound, where + ": missing (uri " + quote_text(uri) + " not found)");
-  if (!inside(ctx.folder, real))
-    return bad(where, "uri " + quote_text(uri) + " leads outside the glTF file's folder (through a symbolic link)");
-  const fs::file_status status = fs::status(real, ec);
-  if (ec || !fs::is_regular_file(status)) return error(ErrorCode::kNotFound, where + ": uri " + quote_text(uri) + " is not a file");
-  return file;
+  return gltf_uri::confined_file(ctx.folder, ctx.base_dir, uri, where);
 }
 
 Status check_buffers(const Json& doc, SchemaContext& ctx) {
@@ -820,7 +754,7 @@ bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::strin
   // Checked again as it is read: the file must still resolve inside the folder.
   std::error_code ec;
   const fs::path real = fs::canonical(fs::path(path), ec);
-  if (ec || !inside(static_cast<const SchemaContext*>(user)->folder, real)) {
+  if (ec || !gltf_uri::inside(static_cast<const SchemaContext*>(user)->folder, real)) {
     if (err) *err = "not inside the glTF file's folder";
     return false;
   }
@@ -2131,8 +2065,9 @@ Result<std::unique_ptr<scene::Scene>> import_gltf(const std::filesystem::path& p
     const std::size_t slash = where.find_last_of('/');
     ctx.base_dir = slash == std::string::npos ? std::string() : slash == 0 ? std::string("/") : where.substr(0, slash);
     std::error_code ec;
-    ctx.folder = fs::weakly_canonical(ctx.base_dir.empty() ? fs::current_path(ec) : fs::path(ctx.base_dir), ec);
-    if (ec) return error(ErrorCode::kIoError, where + ": cannot resolve the file's folder: " + ec.message());
+    Result<fs::path> folder = gltf_uri::resolved_folder(ctx.base_dir, where);
+    if (!folder) return folder.status();
+    ctx.folder = std::move(*folder);
     if (Status s = check_json(*doc, ctx); !s) return s.with_context(where);
     const Json images = doc->contains("images") ? doc->at("images") : Json();  // tinygltf never sees them
     Result<tinygltf::Model> model = load_model(std::move(*doc), source, ctx);

@@ -1,4 +1,5 @@
 #include "gltf_materials.h"
+#include "gltf_uri.h"
 
 #include <algorithm>
 #include <cmath>
@@ -67,25 +68,6 @@ int base64_value(char c) {
   return -1;
 }
 
-// tinygltf's URI decoding (dlib::urldecode), as the importer's buffers use.
-std::string url_decode(const std::string& text) {
-  auto hex = [](unsigned char c) -> unsigned char {
-    if (c >= '0' && c <= '9') return static_cast<unsigned char>(c - '0');
-    if (c >= 'a' && c <= 'f') return static_cast<unsigned char>(c - 'a' + 10);
-    if (c >= 'A' && c <= 'F') return static_cast<unsigned char>(c - 'A' + 10);
-    return 0;
-  };
-  std::string out;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '+') out += ' ';
-    else if (text[i] == '%' && text.size() > i + 2) {
-      out += static_cast<char>((hex(static_cast<unsigned char>(text[i + 1])) << 4) | hex(static_cast<unsigned char>(text[i + 2])));
-      i += 2;
-    } else out += text[i];
-  }
-  return out;
-}
-
 // The MIME type of image bytes, from their signature; empty when unknown.
 std::string sniff_mime(std::span<const unsigned char> b) {
   if (b.size() >= 8 && std::memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0) return "image/png";
@@ -102,24 +84,16 @@ struct ImageData {
   std::vector<unsigned char> bytes;
 };
 
-// A file named by a relative URI, inside `base_dir` once every symlink is
-// resolved; anything else is refused without reading it.
+// A file named by a relative URI, under the importer's rule for external
+// files (gltf_uri::confined_file); anything else is refused without reading it.
 Status read_confined(const std::string& base_dir, const std::string& uri, const std::string& where,
                      std::vector<unsigned char>& out) {
-  const std::string decoded = url_decode(uri);
-  const fs::path relative(decoded);
-  if (decoded.empty() || relative.is_absolute() || decoded.find(':') != std::string::npos)
-    return error(ErrorCode::kInvalidArgument, where + ": " + quote(uri) + " is not a relative file name");
+  Result<fs::path> folder = gltf_uri::resolved_folder(base_dir, where);
+  if (!folder) return folder.status();
+  Result<std::string> confined = gltf_uri::confined_file(*folder, base_dir, uri, where);
+  if (!confined) return confined.status();
+  const fs::path file(*confined);
   std::error_code ec;
-  const fs::path base = fs::canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir), ec);
-  if (ec) return error(ErrorCode::kIoError, where + ": the glTF's folder cannot be resolved");
-  const fs::path file = fs::canonical(base / relative, ec);
-  if (ec) return error(ErrorCode::kNotFound, where + ": missing (uri " + quote(uri) + " not found)");
-  const fs::path inside = file.lexically_relative(base);
-  if (inside.empty() || *inside.begin() == "..")
-    return error(ErrorCode::kInvalidArgument, where + ": " + quote(uri) + " resolves outside the glTF's folder");
-  if (!fs::is_regular_file(file, ec) || ec)
-    return error(ErrorCode::kNotFound, where + ": " + quote(uri) + " is not a regular file");
   const std::uintmax_t size = fs::file_size(file, ec);
   if (ec) return error(ErrorCode::kIoError, where + ": " + quote(uri) + ": cannot read the file size");
   if (size > kMaxImageBytes)
