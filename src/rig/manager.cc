@@ -296,9 +296,23 @@ Result<UpdateReport> update_rig(scene::Scene& scene, std::string_view rig_name, 
   auto build = Build::reopen(scene, report.rig, factory);
   if (!build) return build.status();
   const Definition kept = *def;
+  graph::Transaction tx(g, "update " + report.rig);
   auto rebuilt = (*build)->rebuild_changed(std::move(*def), force ? Build::Rebuild::kAll : Build::Rebuild::kNewerVersion,
                                            keep);
-  if (!rebuilt) return rebuilt.status();
+  if (!rebuilt) {
+    tx.rollback();
+    return rebuilt.status();
+  }
+  // Updated from another file: the rig now follows that one.
+  if (!definition_path.empty()) {
+    const NodeId r = find_rig(g, report.rig);
+    if (Status s = g.set_value(graph::Plug{r, g.node(r)->type().attr_find("definitionPath"), -1}, graph::Value(kept.source));
+        !s) {
+      tx.rollback();
+      return s;
+    }
+    report.definition = kept.source;
+  }
   report.updated = true;
   for (const std::string& id : *rebuilt) {
     const Component* c = kept.find_by_rig_id(id);

@@ -89,6 +89,12 @@ TEST(CliRig, build_lists_updates_and_removes_the_biped) {
   std::vector<std::string> rebuilt = report["rebuilt"].get<std::vector<std::string>>();
   EXPECT_EQ(rebuilt.size(), 3u);
   EXPECT_EQ(rebuilt.front(), "arm_R");
+  // Updated from another file, the rig follows that file and is up to date with it.
+  CliRun after = rigel({"rigs", updated, "--json"});
+  ASSERT_EQ(after.exit_code, 0) << after;
+  const Json followed = Json::parse(after.out)["rigs"][0];
+  EXPECT_EQ(fs::path(followed["definition"].get<std::string>()), fs::weakly_canonical(v2));
+  EXPECT_FALSE(followed["outOfDate"].get<bool>()) << followed.dump(1);
 
   // Remove gives back the character exactly.
   const std::string removed = (dir.path() / "removed.rigel").string();
