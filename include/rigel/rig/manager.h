@@ -101,6 +101,7 @@ Result<AddedRig> add_rig(scene::Scene& scene, const std::filesystem::path& path,
 // (Build::rebuild_changed), whatever the scene's time. `updated` is false
 // when the rig's and every component's version already agreed and nothing
 // was forced. A definition that cannot be read fails naming its path.
+// Updated from `definition_path`, the rig records it as its definition.
 struct UpdateReport {
   std::string rig, from, to, definition;
   bool updated = false;
