@@ -742,9 +742,13 @@ struct Workspace::Impl {
     std::optional<fs::path> out;
     if (const Json* o = opt(body, "definitionOut"))
       out = confined(as_string(*o, "definitionOut"), "definitionOut");
+    bool keep_editing = false;
+    if (const Json* k = opt(body, "keepEditing")) keep_editing = as_bool(*k, "keepEditing");
     auto build = take(rig::Build::reopen(scene, name, factory));
-    const rig::Edits edits = take(build->commit_edits());
-    fs::path def_path = out ? *out : fs::path(build->definition().source);
+    const fs::path def_path = out ? *out : fs::path(build->definition().source);
+    // As `rigel edit`: the rig records the file its moved guides are saved
+    // to (so it is up to date with it) and leaves edit mode unless asked not to.
+    const rig::Edits edits = take(build->commit_edits(def_path.string(), !keep_editing));
     if (!edits.changed.empty()) {
       if (def_path.empty()) refuse(400, "definitionOut: the rig has no definition path; give one", "definitionOut");
       make_parent(def_path, "definitionOut");
@@ -754,7 +758,8 @@ struct Workspace::Impl {
                 {"version", edits.definition.version},
                 {"changed", edits.changed},
                 {"ignored", edits.ignored},
-                {"definition", edits.changed.empty() ? Json(nullptr) : Json(def_path.string())}};
+                {"definition", edits.changed.empty() ? Json(nullptr) : Json(def_path.string())},
+                {"editMode", build->edit_mode()}};
   }
 
   Json post_rigs_step(const Request&, const Json& body) {

@@ -308,9 +308,27 @@ TEST(ServerApi, RigManagerAddUpdateStepRemove) {
   EXPECT_EQ(s.get("/api/rigs")["rigs"][0]["buildPosition"], steps);
   s.post("/api/rigs/edit-mode", {{"rig", "hero"}, {"on", false}});
   EXPECT_FALSE(s.get("/api/rigs")["rigs"][0]["editMode"].get<bool>());
+  // Committing edit mode with moved guides saves the definition where asked,
+  // leaves edit mode and leaves the rig up to date with the new file.
+  s.post("/api/rigs/edit-mode", {{"rig", "hero"}, {"on", true}});
+  s.post("/api/select", {{"controls", {"hero_chest_main0"}}});
+  s.post("/api/drag", {{"translate", {0.0, 0.05, 0.0}}});
+  Json committed = s.post("/api/rigs/edit", {{"rig", "hero"}, {"definitionOut", "defs/moved.rig.xml"}});
+  ASSERT_FALSE(committed["changed"].empty()) << committed;
+  EXPECT_TRUE(fs::exists(s.root / "defs/moved.rig.xml"));
+  EXPECT_FALSE(committed["editMode"].get<bool>());
+  rigs = s.get("/api/rigs")["rigs"];
+  EXPECT_FALSE(rigs[0]["editMode"].get<bool>());
+  EXPECT_FALSE(rigs[0]["outOfDate"].get<bool>()) << rigs[0];
+  s.post("/api/rigs/edit-mode", {{"rig", "hero"}, {"on", true}});
+  committed = s.post("/api/rigs/edit", {{"rig", "hero"}, {"keepEditing", true}});
+  EXPECT_TRUE(committed["editMode"].get<bool>());
+  s.post("/api/rigs/edit-mode", {{"rig", "hero"}, {"on", false}});
+
   Json def_back = s.get("/api/definition?rig=hero");
   EXPECT_EQ(def_back["definition"]["rig"]["name"], "hero");
-  EXPECT_EQ(def_back["definition"]["rig"]["version"], "1.1");
+  EXPECT_EQ(def_back["definition"]["rig"]["version"], "1.2");  // the edit bumped it
+  EXPECT_EQ(fs::path(def_back["path"].get<std::string>()).filename(), "moved.rig.xml");
   EXPECT_EQ(s.request("GET", "/api/definition?rig=villain", "").status, 404);
 
   s.post("/api/rigs/remove", {{"rig", "hero"}});
@@ -527,7 +545,7 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},
       {"/api/rigs/update", {"rig", "keepKeys", "force"}},
-      {"/api/rigs/edit", {"rig", "definitionOut"}},
+      {"/api/rigs/edit", {"rig", "definitionOut", "keepEditing"}},
       {"/api/rigs/edit-mode", {"rig", "on"}},
       {"/api/rigs/feature", {"rig", "feature", "enabled", "switch"}},
       {"/api/rigs/step", {"rig", "to", "by"}},
