@@ -334,6 +334,9 @@ int run_bake(const BakeArgs& args) {
   auto report = rigel::tools::bake(**scene, options);
   if (shown) std::fputc('\n', stderr);
   if (!report) return fail(report.status().with_context(args.scene));
+  // A command line run has no undo: the bake's undo records (the key arrays
+  // before and after) would stay in memory while the file is written.
+  (*scene)->graph().clear_history();
   if (Status s = rigel::io::save_scene(**scene, args.output); !s) return fail(s);
   if (args.json) {
     std::cout << nlohmann::ordered_json{{"nodes", report->nodes},

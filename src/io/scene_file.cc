@@ -8,6 +8,9 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
+#include <ostream>
+#include <streambuf>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -492,83 +495,141 @@ Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& pa
 }
 
 namespace {
-std::string write_scene_in(scene::Scene& scene, const std::filesystem::path* folder) {
+
+// One node as the file holds it (the whole file is never a JSON document:
+// a baked shot's is hundreds of MB).
+Json node_json(const Graph& g, NodeId id, const std::filesystem::path* folder) {
+  const graph::Node& n = *g.node(id);
+  Json jn;
+  jn["name"] = n.name();
+  jn["type"] = n.type().name();
+  jn["uuid"] = n.uuid().str();
+  if (NodeId p = g.parent(id); p.is_valid()) jn["parent"] = g.node(p)->name();
+  Json attrs = Json::object();
+  for (AttrIndex a = 0; a < n.type().attr_count(); ++a) {
+    const AttrSpec& spec = n.type().attr(a);
+    if (!(spec.flags & graph::kInput) || !(spec.flags & graph::kStorable)) continue;
+    if (spec.type.value == ValueType::kMessage) continue;
+    if (g.source(Plug{id, a, -1})) continue;  // the connection restores it
+    if (graph::values_identical(n.value(a), spec.default_value)) continue;
+    Json v = encode_value(n.value(a), spec);
+    if (folder && v.is_string() && !v.get_ref<const std::string&>().empty() && is_path_attribute(n.type().name(), spec.name))
+      v = path_relative_to(v.get<std::string>(), *folder);
+    attrs[spec.name] = std::move(v);
+  }
+  if (!attrs.empty()) jn["attrs"] = std::move(attrs);
+  if (!n.tags().empty()) {
+    Json tags = Json::object();
+    for (const auto& [k, v] : n.tags()) tags[k] = v;
+    jn["tags"] = std::move(tags);
+  }
+  return jn;
+}
+
+// Writes the file node by node, in the layout diffable_json() gives the
+// whole document (tests/data/scenes/golden_v1.rigel holds it to the byte):
+//   { "rigel", "version", "fps", "time", "nodes": [ ... ], "connections": [ ... ] }
+// What is held at a time is one node's JSON and the writer's chunk.
+void write_scene_to(scene::Scene& scene, const std::filesystem::path* folder, std::ostream& out) {
   Graph& g = scene.graph();
   g.evaluate_all();
-  Json root;
-  root["rigel"] = "scene";
-  root["version"] = kSceneFormatVersion;
-  root["fps"] = g.fps();
-  root["time"] = g.time();
-  Json nodes = Json::array();
-  for (NodeId id : g.nodes()) {
-    const graph::Node& n = *g.node(id);
-    Json jn;
-    jn["name"] = n.name();
-    jn["type"] = n.type().name();
-    jn["uuid"] = n.uuid().str();
-    if (NodeId p = g.parent(id); p.is_valid()) jn["parent"] = g.node(p)->name();
-    Json attrs = Json::object();
-    for (AttrIndex a = 0; a < n.type().attr_count(); ++a) {
-      const AttrSpec& spec = n.type().attr(a);
-      if (!(spec.flags & graph::kInput) || !(spec.flags & graph::kStorable)) continue;
-      if (spec.type.value == ValueType::kMessage) continue;
-      if (g.source(Plug{id, a, -1})) continue;  // the connection restores it
-      if (graph::values_identical(n.value(a), spec.default_value)) continue;
-      attrs[spec.name] = encode_value(n.value(a), spec);
-    }
-    if (!attrs.empty()) jn["attrs"] = std::move(attrs);
-    if (!n.tags().empty()) {
-      Json tags = Json::object();
-      for (const auto& [k, v] : n.tags()) tags[k] = v;
-      jn["tags"] = std::move(tags);
-    }
-    nodes.push_back(std::move(jn));
-  }
-  root["nodes"] = std::move(nodes);
-  Json connections = Json::array();
+  DiffableJsonWriter w(out);
+  w.text("{\n  \"rigel\": \"scene\",\n  \"version\": ");
+  w.value(Json(kSceneFormatVersion), 2, false);
+  w.text(",\n  \"fps\": ");
+  w.value(Json(g.fps()), 2, false);
+  w.text(",\n  \"time\": ");
+  w.value(Json(g.time()), 2, false);
+  // An array of objects: one element per line, "[]" when empty.
+  bool any = false;
+  auto element = [&](const Json& j) {
+    w.text(any ? ",\n    " : "[\n    ");
+    any = true;
+    w.value(j, 4, true);
+  };
+  auto close = [&] {
+    w.text(any ? "\n  ]" : "[]");
+    any = false;
+  };
+  w.text(",\n  \"nodes\": ");
+  for (NodeId id : g.nodes()) element(node_json(g, id, folder));
+  close();
+  w.text(",\n  \"connections\": ");
   for (const graph::Connection& c : g.connections()) {
     if (is_hierarchy(g, c)) continue;
     Json jc;
     jc["src"] = g.plug_name(c.src);
     jc["dst"] = g.plug_name(c.dst);
-    connections.push_back(std::move(jc));
+    element(jc);
   }
-  root["connections"] = std::move(connections);
-  if (folder) rewrite_paths(root, [&](const std::string& p) { return path_relative_to(p, *folder); });
-  return diffable_json(root);
+  close();
+  w.text("\n}\n");
+  w.flush();
 }
-}  // namespace
 
-std::string write_scene(scene::Scene& scene) { return write_scene_in(scene, nullptr); }
+// An unbuffered stream buffer on a file descriptor (the writers above hand
+// it chunks); remembers the errno of a failed write.
+class FdStreambuf : public std::streambuf {
+ public:
+  explicit FdStreambuf(int fd) : fd_(fd) {}
+  int error = 0;
 
-Status write_file_atomic(const std::filesystem::path& path, std::string_view content) {
+ protected:
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    std::streamsize done = 0;
+    while (done < n) {
+      const ssize_t written = ::write(fd_, s + done, static_cast<std::size_t>(n - done));
+      if (written < 0) {
+        if (errno == EINTR) continue;
+        error = errno;
+        return done;
+      }
+      done += written;
+    }
+    return done;
+  }
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    const char ch = traits_type::to_char_type(c);
+    return xsputn(&ch, 1) == 1 ? c : traits_type::eof();
+  }
+
+ private:
+  int fd_;
+};
+
+// Writes what `produce` writes to `path` atomically: a temporary file beside
+// it, written as it is produced, fsync'ed, then renamed over `path`.
+Status write_file_atomic_from(const std::filesystem::path& path, const std::function<void(std::ostream&)>& produce) {
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   std::string name = ".";
   name.append(path.filename().string()).append(".tmp-XXXXXX");
   std::string temp = (dir / name).string();
   int fd = mkstemp(temp.data());
   if (fd < 0) return error(ErrorCode::kIoError, path.string() + ": cannot write: " + std::strerror(errno));
-  auto fail = [&](const char* what) {
-    int saved = errno;
+  auto fail = [&](const char* what, int saved) {
     ::close(fd);
     ::unlink(temp.c_str());
     return error(ErrorCode::kIoError, path.string() + ": " + what + ": " + std::strerror(saved));
   };
-  std::size_t done = 0;
-  while (done < content.size()) {
-    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return fail("write failed");
+  {
+    FdStreambuf buffer(fd);
+    std::ostream stream(&buffer);
+    try {
+      produce(stream);
+      stream.flush();
+    } catch (...) {
+      ::close(fd);
+      ::unlink(temp.c_str());
+      throw;
     }
-    done += static_cast<std::size_t>(n);
+    if (!stream) return fail("write failed", buffer.error != 0 ? buffer.error : EIO);
   }
   // Keep the permissions of the file being replaced; a new file gets 0644.
   struct stat existing;
   const mode_t mode = ::stat(path.c_str(), &existing) == 0 ? (existing.st_mode & 07777) : 0644;
-  if (::fchmod(fd, mode) != 0) return fail("chmod failed");
-  if (::fsync(fd) != 0) return fail("fsync failed");
+  if (::fchmod(fd, mode) != 0) return fail("chmod failed", errno);
+  if (::fsync(fd) != 0) return fail("fsync failed", errno);
   if (::close(fd) != 0) {
     int saved = errno;
     ::unlink(temp.c_str());
@@ -582,10 +643,24 @@ Status write_file_atomic(const std::filesystem::path& path, std::string_view con
   return Status::ok();
 }
 
+}  // namespace
+
+std::string write_scene(scene::Scene& scene) {
+  std::ostringstream out;
+  write_scene_to(scene, nullptr, out);
+  return std::move(out).str();
+}
+
+Status write_file_atomic(const std::filesystem::path& path, std::string_view content) {
+  return write_file_atomic_from(path, [&](std::ostream& out) {
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  });
+}
+
 Status save_scene(scene::Scene& scene, const std::filesystem::path& path) {
   std::error_code ec;
   const std::filesystem::path folder = std::filesystem::absolute(path, ec).parent_path();
-  return write_file_atomic(path, write_scene_in(scene, &folder));
+  return write_file_atomic_from(path, [&](std::ostream& out) { write_scene_to(scene, &folder, out); });
 }
 
 }  // namespace rigel::io

@@ -4,10 +4,13 @@
 // atomic writes.
 
 #include "rigel/io/scene_file.h"
+#include "rigel/io/diffable_json.h"
 #include "rigel/ops/registry.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -1232,6 +1235,141 @@ TEST(SceneFileSave, write_file_atomic__writes_exact_bytes) {
   ASSERT_TRUE(write_file_atomic(path, "").is_ok()) << "an empty file can be written";
   EXPECT_EQ(fs::file_size(path), 0u) << "the empty content replaces the old";
   EXPECT_TRUE(temporaries(dir).empty()) << "no temporary file should be left";
+}
+
+// ---- streaming writes (issue 14: a baked shot's file is hundreds of MB) ----
+
+// Records the pieces a stream is handed.
+class PieceRecorder : public std::streambuf {
+ public:
+  std::string text;
+  std::size_t pieces = 0;
+  std::size_t largest = 0;
+
+ protected:
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    text.append(s, static_cast<std::size_t>(n));
+    ++pieces;
+    largest = std::max(largest, static_cast<std::size_t>(n));
+    return n;
+  }
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    const char ch = traits_type::to_char_type(c);
+    return xsputn(&ch, 1) == 1 ? c : traits_type::eof();
+  }
+};
+
+// A scene with long animation curves (keys a hair off the frames, values
+// over many magnitudes) beside a few transforms: nodes of every size.
+std::string long_curves_scene_text(int keys) {
+  std::mt19937_64 random(14);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-30, 30);
+  Json doc = {{"rigel", "scene"}, {"version", 1}, {"fps", 120.0}, {"time", 0.25}, {"nodes", Json::array()},
+              {"connections", Json::array()}};
+  doc["nodes"].push_back({{"name", "root"}, {"type", "transform"}, {"attrs", {{"translate", {0.1, 2.0, -3.5}}}}});
+  for (int c = 0; c < 3; ++c) {
+    Json times = Json::array(), values = Json::array();
+    for (int k = 0; k < keys; ++k) {
+      times.push_back(k / 120.0 + 1e-9 * c);
+      values.push_back(unit(random) * std::pow(10.0, exponent(random)));
+    }
+    const std::string name = "curve" + std::to_string(c);
+    doc["nodes"].push_back({{"name", name}, {"type", "animCurve"}, {"attrs", {{"keyTimes", times}, {"keyValues", values}}}});
+    doc["connections"].push_back({{"src", name + ".output"}, {"dst", std::string("root.translate") + "XYZ"[c]}});
+  }
+  doc["nodes"].push_back({{"name", "tip"}, {"type", "joint"}, {"parent", "root"}});
+  return doc.dump();
+}
+
+TEST(DiffableJson, scalars_are_written_as_json_dump_writes_them) {
+  // The writer formats scalars itself (no string per number); the text must
+  // stay that of nlohmann's dump, which the golden files were written with.
+  std::mt19937_64 random(7);
+  Json array = Json::array();
+  std::string expected = "[";
+  auto add = [&](const Json& v) {
+    expected += (array.empty() ? "" : ", ") + v.dump(-1, ' ', false, Json::error_handler_t::replace);
+    array.push_back(v);
+  };
+  for (int i = 0; i < 20000; ++i) {
+    const double d = std::bit_cast<double>(random());
+    if (std::isfinite(d)) add(d);
+  }
+  for (double d : {0.0, -0.0, 1.0, 0.1, 1e15, 1e16, 1e-5, 1e-4, 123456789012345678.0, 5e-324, 1.7976931348623157e308,
+                   -2.5, 1.0 / 3.0, 100.0, 1e21, 1e22})
+    add(d);
+  for (std::int64_t i : {std::int64_t{0}, std::int64_t{-1}, std::numeric_limits<std::int64_t>::min(),
+                         std::numeric_limits<std::int64_t>::max()})
+    add(i);
+  add(std::numeric_limits<std::uint64_t>::max());
+  add(true);
+  add(false);
+  add(nullptr);
+  add(kNaN);  // dump writes null
+  for (const char* text : {"", "plain ascii ~", "quote \" and \\ backslash", "tab\tnewline\n\x01\x1f\x7f", "épaule",
+                           "bad \xff utf-8"})
+    add(std::string(text));
+  expected += "]\n";
+  EXPECT_EQ(diffable_json(array), expected) << "each scalar should read as Json::dump writes it";
+  const Json object = {{"plain", 1}, {"needs \"escaping\"\n", 2}, {"épaule", 3}, {"bad \xfe", 4}};
+  EXPECT_EQ(diffable_json(object), "{\n  \"plain\": 1,\n  \"needs \\\"escaping\\\"\\n\": 2,\n  \"épaule\": 3,\n  \"bad \xef\xbf\xbd\": 4\n}\n")
+      << "keys are escaped as dump escapes strings";
+}
+
+TEST(DiffableJson, writer_hands_the_stream_bounded_pieces_of_the_same_text) {
+  Json doc = {{"keys", Json::array()}, {"objects", Json::array()}};
+  for (int i = 0; i < 100000; ++i) doc["keys"].push_back(i / 7.0);
+  for (int i = 0; i < 5000; ++i) doc["objects"].push_back({{"time", i / 3.0}, {"value", {i, i + 1}}});
+  for (bool inline_flat : {false, true}) {
+    const DiffableJsonOptions options{.inline_flat_objects_in_arrays = inline_flat, .scalar = nullptr};
+    const std::string whole = diffable_json(doc, options);
+    PieceRecorder recorder;
+    std::ostream out(&recorder);
+    write_diffable_json(out, doc, options);
+    EXPECT_EQ(recorder.text, whole) << "streamed and whole text should be the same (inline_flat " << inline_flat << ")";
+    EXPECT_GT(recorder.pieces, whole.size() / (2 * DiffableJsonWriter::kChunk))
+        << "a " << whole.size() << "-byte text should reach the stream in pieces, not at the end";
+    EXPECT_LE(recorder.largest, DiffableJsonWriter::kChunk + 4096)
+        << "no piece should be much larger than the writer's chunk, whatever the size of one array";
+  }
+}
+
+TEST(SceneFileSave, save__streams_long_curves_to_the_text_write_scene_gives) {
+  // save_scene writes node by node (no document, no whole text); the file
+  // must be the text of the whole-document layout all the same.
+  const int keys = 30000 / kSlowBuildDivisor;
+  std::unique_ptr<Scene> scene = load_or_fail(long_curves_scene_text(keys), "long.rigel");
+  ASSERT_NE(scene, nullptr) << "the scene should load (the reason is reported above)";
+  TempDir dir;
+  const fs::path path = dir.path() / "long.rigel";
+  Status s = save_scene(*scene, path);
+  ASSERT_TRUE(s.is_ok()) << "saving should succeed: " << s.message();
+  const std::string saved = read_text(path);
+  EXPECT_EQ(saved, write_scene(*scene)) << "the streamed file holds exactly what write_scene gives";
+  const Json parsed = Json::parse(saved);
+  EXPECT_EQ(saved, diffable_json(parsed)) << "the file should be laid out as diffable_json lays out the whole document: "
+                                          << first_difference(saved, diffable_json(parsed));
+  EXPECT_EQ(parsed["nodes"][1]["attrs"]["keyTimes"].size(), static_cast<std::size_t>(keys)) << "every key is written";
+  std::unique_ptr<Scene> loaded = load_or_fail(saved, "long.rigel");
+  ASSERT_NE(loaded, nullptr) << "the saved file should load (the reason is reported above)";
+  EXPECT_TRUE(graphs_identical(scene->graph(), loaded->graph())) << "the long curves should round-trip exactly";
+  EXPECT_TRUE(temporaries(dir).empty()) << "no temporary file should be left";
+}
+
+TEST(SceneFileSave, save__scenes_without_nodes_or_connections_keep_the_layout) {
+  TempDir dir;
+  Scene empty;
+  Scene nodes_only;
+  Builder(nodes_only).node("transform", "alone", 1);
+  for (Scene* scene : {&empty, &nodes_only}) {
+    const fs::path path = dir.path() / "scene.rigel";
+    ASSERT_TRUE(save_scene(*scene, path).is_ok()) << "saving should succeed";
+    const std::string saved = read_text(path);
+    EXPECT_EQ(saved, diffable_json(Json::parse(saved))) << "empty arrays are written [] as diffable_json writes them: "
+                                                        << saved;
+  }
 }
 
 TEST(SceneFileLoad, load__missing_file_is_an_io_error_naming_the_path) {
