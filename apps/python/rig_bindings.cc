@@ -848,8 +848,14 @@ one undo step; a failing step is rolled back and raises.)")
           "edits", [](const BuildRef& b) { return edits_record(unwrap(b.build->edits())); },
           "Rig edit mode: (definition, changed, ignored) with guides moved as the controls were.")
       .def(
-          "commit_edits", [](const BuildRef& b) { return edits_record(unwrap(b.build->commit_edits())); },
-          "edits(), then rebuild the moved components at their new guides.");
+          "commit_edits",
+          [](const BuildRef& b, const std::string& definition_path, bool leave_edit_mode) {
+            return edits_record(unwrap(b.build->commit_edits(definition_path, leave_edit_mode)));
+          },
+          py::arg("definition_path") = "", py::arg("leave_edit_mode") = false,
+          R"(edits(), then rebuild the moved components at their new guides. With definition_path (where
+you save the returned definition), the rig records it as its definition, so it is up to date with
+that file; leave_edit_mode builds it again for animation (as `rigel edit` does).)");
 
   // ---- metadata network ------------------------------------------------------------------------
   auto scene_cls = py::reinterpret_borrow<py::class_<scene::Scene, SceneRef>>(m.attr("Scene"));

@@ -180,3 +180,14 @@ def test_edit_mode_writes_moves_back_into_guides(metarig):
     assert edits.definition.version == "1.1" and edits.definition.find("arm_L").version == "1.1"
     committed = b.commit_edits()
     assert committed.changed == [arm_id]
+    assert b.edit_mode  # by default edit mode stays on
+
+
+def test_commit_edits_can_record_the_definition_and_leave_edit_mode(metarig, tmp_path):
+    b = rigel.RigBuild.open(metarig, arm_definition(), edit_mode=True)
+    b.build_all()
+    metarig.resolve("arm_rig:arm_L/fk[1]")["translate"] = (0, 0.02, 0)
+    out = str(tmp_path / "moved.rig.xml")
+    committed = b.commit_edits(definition_path=out, leave_edit_mode=True)
+    assert committed.changed
+    assert not b.edit_mode
