@@ -41,13 +41,15 @@ inline std::ostream& operator<<(std::ostream& os, const CliRun& r) {
 }
 
 // Runs `rigel ARGS...` with stdin from /dev/null and stdout/stderr captured
-// in files (no pipes to drain, so large outputs cannot deadlock).
-inline CliRun rigel(const std::vector<std::string>& args) {
+// in files (no pipes to drain, so large outputs cannot deadlock); in folder
+// `cwd` when given (for tests where the current directory matters).
+inline CliRun rigel(const std::vector<std::string>& args, const std::filesystem::path& cwd = {}) {
   CliRun run;
   TempDir dir;
   const std::string out = (dir.path() / "stdout").string(), err = (dir.path() / "stderr").string();
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
+  if (!cwd.empty()) posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);

@@ -158,37 +158,8 @@ TEST(CliRig, edit_mode_writes_moved_guides_back_with_versions_bumped) {
 }
 
 // Runs `rigel ARGS...` in folder `dir` (the current directory matters to
-// the test), stdout and stderr captured.
-CliRun rigel_in(const fs::path& dir, const std::vector<std::string>& args) {
-  TempDir files;
-  const std::string out = (files.path() / "stdout").string(), err = (files.path() / "stderr").string();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<std::string> words = {RIGEL_CLI_PATH};
-  words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  CliRun run;
-  const int spawned = posix_spawn(&pid, RIGEL_CLI_PATH, &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  EXPECT_EQ(spawned, 0);
-  if (spawned != 0) return run;
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  run.exited = WIFEXITED(status);
-  run.exit_code = run.exited ? WEXITSTATUS(status) : -1;
-  run.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
-  run.out = read_text(out);
-  run.err = read_text(err);
-  return run;
-}
+// the test).
+CliRun rigel_in(const fs::path& dir, const std::vector<std::string>& args) { return rigel(args, dir); }
 
 TEST(CliRig, the_definition_path_does_not_depend_on_the_current_directory) {
   TempDir dir;
