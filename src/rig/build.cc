@@ -1071,8 +1071,16 @@ Status restore_world_keys(scene::Scene& scene, NodeId root, const std::vector<Ke
         // A free channel that keeps one value stays free.
         if (!same_value(n.value(attr), values[0])) s = g.set_value(Plug{item.node, attr, -1}, values[0]);
       } else {
-        for (std::size_t i = 0; i < values.size() && s; ++i)
-          s = ops::anim::write_channel_key(g, item.node, attr, values[i], c.times[i], true);
+        // All of a channel's keys in one pass (linear in the keys: a long
+        // shot's update does not copy the key arrays once per key).
+        std::vector<math::Vec3> vectors;
+        std::vector<math::Quat> quats;
+        for (const Value& v : values) {
+          if (const auto* q = std::get_if<math::Quat>(&v)) quats.push_back(*q);
+          else vectors.push_back(std::get<math::Vec3>(v));
+        }
+        s = quats.empty() ? ops::anim::write_channel_keys(g, item.node, attr, c.times, vectors, true)
+                          : ops::anim::write_channel_keys(g, item.node, attr, c.times, quats, true);
       }
       if (!s) break;
     }
