@@ -1,8 +1,10 @@
 #include "rigel/io/diffable_json.h"
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <ostream>
 
 namespace rigel::io {
@@ -31,10 +33,13 @@ bool is_plain(const std::string& s) {
   });
 }
 
+constexpr std::size_t kNumberSlotBits = 16;
+constexpr std::size_t kNumberSlots = std::size_t{1} << kNumberSlotBits;
+
 }  // namespace
 
 DiffableJsonWriter::DiffableJsonWriter(std::ostream& out, DiffableJsonOptions options)
-    : out_(&out), options_(std::move(options)) {
+    : out_(&out), options_(std::move(options)), numbers_(kNumberSlots) {
   buffer_.reserve(kChunk + kChunk / 4);
 }
 
@@ -83,9 +88,7 @@ void DiffableJsonWriter::scalar(const Json& j) {
     case Json::value_t::number_float: {
       const double v = j.get_ref<const Json::number_float_t&>();
       if (!std::isfinite(v)) break;  // dump writes null
-      char digits[64];
-      const char* end = nlohmann::detail::to_chars(digits, digits + sizeof digits, v);
-      buffer_.append(digits, static_cast<std::size_t>(end - digits));
+      number(v);
       return;
     }
     case Json::value_t::number_integer:
@@ -112,6 +115,31 @@ void DiffableJsonWriter::scalar(const Json& j) {
       break;
   }
   buffer_ += default_scalar(j);
+}
+
+void DiffableJsonWriter::number(double v) {
+  char digits[64];
+  if (numbers_.empty()) {
+    const char* end = nlohmann::detail::to_chars(digits, digits + sizeof digits, v);
+    buffer_.append(digits, static_cast<std::size_t>(end - digits));
+    return;
+  }
+  // A direct-mapped memo of the text by bit pattern: the text is a function
+  // of the bits, so a hit gives the same bytes as formatting again.
+  const auto bits = std::bit_cast<std::uint64_t>(v);
+  NumberText& slot = numbers_[(bits * 0x9E3779B97F4A7C15ull) >> (64 - kNumberSlotBits)];
+  if (slot.size != 0 && slot.bits == bits) {
+    buffer_.append(slot.text, slot.size);
+    return;
+  }
+  const char* end = nlohmann::detail::to_chars(digits, digits + sizeof digits, v);
+  const auto size = static_cast<std::size_t>(end - digits);
+  buffer_.append(digits, size);
+  if (size <= sizeof slot.text) {
+    slot.bits = bits;
+    slot.size = static_cast<std::uint8_t>(size);
+    std::memcpy(slot.text, digits, size);
+  }
 }
 
 void DiffableJsonWriter::emit(const Json& j, int indent, bool in_array) {

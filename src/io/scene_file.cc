@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -496,40 +497,63 @@ Result<std::unique_ptr<scene::Scene>> load_scene(const std::filesystem::path& pa
 
 namespace {
 
-// One node as the file holds it (the whole file is never a JSON document:
-// a baked shot's is hundreds of MB).
-Json node_json(const Graph& g, NodeId id, const std::filesystem::path* folder) {
+// One node, as diffable_json() lays out an object at 4 columns in the
+// "nodes" array, written as it is read from the graph (the whole file is
+// never a JSON document: a baked shot's is hundreds of MB, mostly arrays of
+// doubles, which are written element by element).
+void write_node(DiffableJsonWriter& w, const Graph& g, NodeId id, const std::filesystem::path* folder) {
   const graph::Node& n = *g.node(id);
-  Json jn;
-  jn["name"] = n.name();
-  jn["type"] = n.type().name();
-  jn["uuid"] = n.uuid().str();
-  if (NodeId p = g.parent(id); p.is_valid()) jn["parent"] = g.node(p)->name();
-  Json attrs = Json::object();
+  w.text("{\n      \"name\": ");
+  w.value(Json(n.name()), 6, false);
+  w.text(",\n      \"type\": ");
+  w.value(Json(n.type().name()), 6, false);
+  w.text(",\n      \"uuid\": ");
+  w.value(Json(n.uuid().str()), 6, false);
+  if (NodeId p = g.parent(id); p.is_valid()) {
+    w.text(",\n      \"parent\": ");
+    w.value(Json(g.node(p)->name()), 6, false);
+  }
+  bool any_attr = false;
   for (AttrIndex a = 0; a < n.type().attr_count(); ++a) {
     const AttrSpec& spec = n.type().attr(a);
     if (!(spec.flags & graph::kInput) || !(spec.flags & graph::kStorable)) continue;
     if (spec.type.value == ValueType::kMessage) continue;
     if (g.source(Plug{id, a, -1})) continue;  // the connection restores it
-    if (graph::values_identical(n.value(a), spec.default_value)) continue;
-    Json v = encode_value(n.value(a), spec);
+    const Value& value = n.value(a);
+    if (graph::values_identical(value, spec.default_value)) continue;
+    w.text(any_attr ? ",\n        " : ",\n      \"attrs\": {\n        ");
+    any_attr = true;
+    w.key(spec.name);
+    w.text(": ");
+    if (const auto* doubles = std::get_if<std::vector<double>>(&value); doubles && spec.type.array) {
+      // An array of scalars: one line.
+      w.text("[");
+      for (std::size_t i = 0; i < doubles->size(); ++i) {
+        if (i) w.text(", ");
+        w.value(encode_double((*doubles)[i]), 8, false);
+      }
+      w.text("]");
+      continue;
+    }
+    Json v = encode_value(value, spec);
     if (folder && v.is_string() && !v.get_ref<const std::string&>().empty() && is_path_attribute(n.type().name(), spec.name))
       v = path_relative_to(v.get<std::string>(), *folder);
-    attrs[spec.name] = std::move(v);
+    w.value(v, 8, false);
   }
-  if (!attrs.empty()) jn["attrs"] = std::move(attrs);
+  if (any_attr) w.text("\n      }");
   if (!n.tags().empty()) {
     Json tags = Json::object();
     for (const auto& [k, v] : n.tags()) tags[k] = v;
-    jn["tags"] = std::move(tags);
+    w.text(",\n      \"tags\": ");
+    w.value(tags, 6, false);
   }
-  return jn;
+  w.text("\n    }");
 }
 
 // Writes the file node by node, in the layout diffable_json() gives the
 // whole document (tests/data/scenes/golden_v1.rigel holds it to the byte):
 //   { "rigel", "version", "fps", "time", "nodes": [ ... ], "connections": [ ... ] }
-// What is held at a time is one node's JSON and the writer's chunk.
+// What is held at a time is the writer's chunk (and one small value).
 void write_scene_to(scene::Scene& scene, const std::filesystem::path* folder, std::ostream& out) {
   Graph& g = scene.graph();
   g.evaluate_all();
@@ -542,17 +566,19 @@ void write_scene_to(scene::Scene& scene, const std::filesystem::path* folder, st
   w.value(Json(g.time()), 2, false);
   // An array of objects: one element per line, "[]" when empty.
   bool any = false;
-  auto element = [&](const Json& j) {
+  auto next = [&] {
     w.text(any ? ",\n    " : "[\n    ");
     any = true;
-    w.value(j, 4, true);
   };
   auto close = [&] {
     w.text(any ? "\n  ]" : "[]");
     any = false;
   };
   w.text(",\n  \"nodes\": ");
-  for (NodeId id : g.nodes()) element(node_json(g, id, folder));
+  for (NodeId id : g.nodes()) {
+    next();
+    write_node(w, g, id, folder);
+  }
   close();
   w.text(",\n  \"connections\": ");
   for (const graph::Connection& c : g.connections()) {
@@ -560,7 +586,8 @@ void write_scene_to(scene::Scene& scene, const std::filesystem::path* folder, st
     Json jc;
     jc["src"] = g.plug_name(c.src);
     jc["dst"] = g.plug_name(c.dst);
-    element(jc);
+    next();
+    w.value(jc, 4, true);
   }
   close();
   w.text("\n}\n");

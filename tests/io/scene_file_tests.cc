@@ -1322,6 +1322,13 @@ TEST(DiffableJson, writer_hands_the_stream_bounded_pieces_of_the_same_text) {
   Json doc = {{"keys", Json::array()}, {"objects", Json::array()}};
   for (int i = 0; i < 100000; ++i) doc["keys"].push_back(i / 7.0);
   for (int i = 0; i < 5000; ++i) doc["objects"].push_back({{"time", i / 3.0}, {"value", {i, i + 1}}});
+  // Repeated and colliding doubles (the writer keeps the text of recent ones).
+  std::mt19937_64 random(3);
+  doc["random"] = Json::array();
+  for (int i = 0; i < 200000; ++i)
+    if (const double d = std::bit_cast<double>(random()); std::isfinite(d)) doc["random"].push_back(d);
+  doc["again"] = doc["keys"];
+  doc["random again"] = doc["random"];
   for (bool inline_flat : {false, true}) {
     const DiffableJsonOptions options{.inline_flat_objects_in_arrays = inline_flat, .scalar = nullptr};
     const std::string whole = diffable_json(doc, options);

@@ -13,10 +13,12 @@
 // invalid UTF-8 replaced, when none is given). The text ends with a newline.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -33,7 +35,8 @@ std::string diffable_json(const nlohmann::ordered_json& value, const DiffableJso
 // large to hold as one text (a .rigel scene of thousands of baked frames):
 // the writer keeps at most about kChunk bytes of text and hands them to the
 // stream in pieces of about that size. A document is written as pieces:
-// `text` copies layout text as it is ("{\n", "  \"nodes\": [\n"), `value`
+// `text` copies layout text as it is ("{\n", "  \"nodes\": [\n"), `key` writes
+// an object's key, `value`
 // lays out one value starting `indent` columns in (its first line is not
 // padded; `in_array`: it is an element of an array, which decides how an
 // object is laid out with `inline_flat_objects_in_arrays`). `write_diffable_json`
@@ -50,6 +53,8 @@ class DiffableJsonWriter {
 
   void text(std::string_view layout);
   void value(const nlohmann::ordered_json& value, int indent, bool in_array);
+  // An object's key as the layout writes it (quoted, escaped; no colon).
+  void key(const std::string& k);
   // Hands what is held to the stream.
   void flush();
 
@@ -64,11 +69,20 @@ class DiffableJsonWriter {
   // Holds the whole text, for diffable_json().
   explicit DiffableJsonWriter(DiffableJsonOptions options);
   friend std::string diffable_json(const nlohmann::ordered_json& value, const DiffableJsonOptions& options);
-  void key(const std::string& k);
+
+  void number(double v);
 
   std::ostream* out_ = nullptr;  // null: the text stays in buffer_
   DiffableJsonOptions options_;
   std::string buffer_;
+  // The text of recently written doubles, by bit pattern (streamed
+  // documents repeat them: every baked curve holds the same key times).
+  struct NumberText {
+    std::uint64_t bits = 0;
+    std::uint8_t size = 0;  // 0: empty
+    char text[27];
+  };
+  std::vector<NumberText> numbers_;
 };
 
 void write_diffable_json(std::ostream& out, const nlohmann::ordered_json& value, const DiffableJsonOptions& options = {});
