@@ -4,6 +4,8 @@ package, build/<dir>/apps/python)."""
 
 import math
 import pathlib
+import shutil
+import subprocess
 
 import pytest
 
@@ -13,6 +15,25 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 DATA = REPO / "tests" / "data"
 METARIG = DATA / "gltf" / "rigify_human_metarig.glb"
 BIPED = REPO / "examples" / "biped.rig.xml"
+
+
+def gltf_validator_errors(path):
+    """What the Khronos glTF-Validator (tools/validate-gltf.mjs, the npm
+    package gltf-validator in web/) finds wrong in `path`: "" when nothing,
+    None when the validator is not installed (node or the package missing)."""
+    node = shutil.which("node")
+    if node is None:
+        return None
+    run = subprocess.run([node, str(REPO / "tools" / "validate-gltf.mjs"), str(path)],
+                         capture_output=True, text=True)
+    if run.returncode == 3:
+        return None
+    return "" if run.returncode == 0 else (run.stdout + run.stderr or f"exit {run.returncode}")
+
+
+def assert_valid_gltf(path):
+    errors = gltf_validator_errors(path)
+    assert errors in (None, ""), f"the Khronos glTF-Validator finds errors in {path}:\n{errors}"
 
 
 @pytest.fixture

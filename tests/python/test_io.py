@@ -3,7 +3,7 @@
 import pytest
 
 import rigel
-from conftest import DATA, METARIG, close, translation
+from conftest import DATA, METARIG, assert_valid_gltf, close, translation
 
 
 def test_load_save_round_trip(tmp_path):
@@ -69,10 +69,12 @@ def test_export_gltf_round_trip(tmp_path, metarig):
     report = metarig.export_gltf(str(out))
     # The imported mesh node goes back on the glTF node it came from (tag gltf.node).
     assert report["nodes"] == len(metarig.hierarchy()) - 1 and not report["baked"]
+    assert_valid_gltf(out)
     back = rigel.open(str(out))
     assert close(translation(back.world_matrix("hand.L")), translation(metarig.world_matrix("hand.L")), 1e-6)
     baked = metarig.export_gltf(str(tmp_path / "baked.gltf"), frames=(0, 2))
     assert baked["baked"] and baked["last_frame"] == 2
+    assert_valid_gltf(tmp_path / "baked.gltf")
 
 
 def test_file_errors_name_the_file(tmp_path):
