@@ -64,6 +64,10 @@ TEST(ServerApi, CharacterGlbCarriesTheMaterialAndTexture) {
   const Json& primitive = served.json["meshes"][0]["primitives"][0];
   EXPECT_EQ(primitive["material"], 0);
   EXPECT_TRUE(primitive["attributes"].contains("TEXCOORD_0"));
+  // What the page loads is a valid glTF file.
+  const fs::path file = s.root / "served.glb";
+  io::testing::write_text(file, r.body);
+  EXPECT_VALID_GLTF(file);
 }
 
 }  // namespace

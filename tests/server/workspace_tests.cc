@@ -239,6 +239,9 @@ TEST(ServerApi, CharacterGlbCarriesUuids) {
   ASSERT_GT(r.body.size(), 20u);
   EXPECT_EQ(r.body.substr(0, 4), "glTF");
   EXPECT_NE(r.body.find(s.control("hand.L")), std::string::npos);
+  const fs::path file = s.root / "served.glb";
+  io::testing::write_text(file, r.body);
+  EXPECT_VALID_GLTF(file);
 }
 
 // The Rig Manager: add a rig from a definition, see it out of date when the
