@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rigel/io/diffable_json.h"
+#include "rigel/io/json_depth.h"
 #include "rigel/ops/registry.h"
 
 namespace rigel::io {
@@ -427,26 +428,11 @@ namespace {
 // deeper text is refused before it is parsed, at the bracket that passes
 // the limit (strings skipped; the text need not be valid JSON).
 constexpr std::size_t kMaxSceneDepth = 256;
-std::size_t too_deep(std::string_view text) {
-  std::size_t depth = 0;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '"') {
-      for (++i; i < text.size() && text[i] != '"'; ++i)
-        if (text[i] == '\\') ++i;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxSceneDepth) return i;
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return std::string_view::npos;
-}
 
 Result<std::unique_ptr<scene::Scene>> parse_scene_in(std::string_view text, const std::string& source,
                                                      std::shared_ptr<const graph::Registry> registry,
                                                      const std::filesystem::path* folder) {
-  if (const std::size_t deep = too_deep(text); deep != std::string_view::npos)
+  if (const std::size_t deep = json_too_deep(text, kMaxSceneDepth); deep != std::string_view::npos)
     return error(ErrorCode::kParseError, source + ":" + line_column(text, deep) +
                                              ": arrays and objects nest deeper than " +
                                              std::to_string(kMaxSceneDepth) + " levels (the limit)");

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "definition_io_internal.h"
+#include "rigel/io/json_depth.h"
 #include "rigel/io/diffable_json.h"
 
 namespace rigel::rig::detail {
@@ -231,23 +232,6 @@ class JsonPositions {
   std::vector<Duplicate> duplicates_;
 };
 
-// The offset of the first '[' or '{' past kMaxTextDepth levels, or npos
-// (strings skipped; the text need not be valid JSON).
-std::size_t too_deep(std::string_view text) {
-  std::size_t depth = 0;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '"') {
-      for (++i; i < text.size() && text[i] != '"'; ++i)
-        if (text[i] == '\\') ++i;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxTextDepth) return i;
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return std::string_view::npos;
-}
 
 std::string list_text(std::initializer_list<const char*> names) {
   std::string out;
@@ -595,7 +579,7 @@ std::string scalar_text(const Json& j) {
 
 ParseResult parse_json(std::string_view text, const std::string& source, const SchemaRegistry& schemas, bool* fatal) {
   ParseResult result;
-  if (const std::size_t deep = too_deep(text); deep != std::string_view::npos) {
+  if (const std::size_t deep = io::json_too_deep(text, kMaxTextDepth); deep != std::string_view::npos) {
     result.errors.push_back({source, LineIndex(text).at(deep),
                              "JSON arrays and objects nest deeper than " + std::to_string(kMaxTextDepth) +
                                  " levels (the limit)"});

@@ -5,6 +5,7 @@
 
 #include "rigel/io/scene_file.h"
 #include "rigel/io/diffable_json.h"
+#include "rigel/io/json_depth.h"
 #include "rigel/ops/registry.h"
 
 #include <gtest/gtest.h>
@@ -1439,6 +1440,28 @@ TEST(SceneFile, round_trip__animated_scene_loads_with_ops_node_types) {
   const Mat4 world = loaded->world_matrix(loaded->graph().find("hip"));
   EXPECT_NEAR(world(0, 3), 0.5, 1e-12) << "the track is evaluated at the stored time (a quarter of the way)";
   EXPECT_NEAR(world(2, 3), 1.5, 1e-12) << "z a quarter of the way to 6";
+}
+
+}  // namespace
+}  // namespace rigel::io
+
+namespace rigel::io {
+namespace {
+
+// The depth check both JSON readers run before parsing (json_depth.h).
+TEST(JsonDepth, finds_the_bracket_that_passes_the_limit_skipping_strings) {
+  EXPECT_EQ(json_too_deep("[[[]]]", 3), std::string_view::npos);
+  EXPECT_EQ(json_too_deep("[[[]]]", 2), 2u);
+  EXPECT_EQ(json_too_deep(R"({"a": [1, {"b": []}]})", 4), std::string_view::npos);
+  EXPECT_EQ(json_too_deep(R"({"a": [1, {"b": []}]})", 3), 16u);
+  EXPECT_EQ(json_too_deep(R"({"a": [1, {"b": []}]})", 2), 10u);
+  // Brackets in strings, and escaped quotes, do not count.
+  EXPECT_EQ(json_too_deep(R"(["[[[[", "\"[[[", []])", 2), std::string_view::npos);
+  EXPECT_EQ(json_too_deep(R"(["\\", [[]]])", 2), 8u);
+  // Closing brackets never go below zero; unbalanced text is fine.
+  EXPECT_EQ(json_too_deep("]]][[", 1), 4u);
+  EXPECT_EQ(json_too_deep(std::string(100000, '['), 256), 256u);
+  EXPECT_EQ(json_too_deep("", 0), std::string_view::npos);
 }
 
 }  // namespace

@@ -1,0 +1,18 @@
+// How deep JSON text nests, checked before it is parsed: nlohmann-json
+// parses recursively, so a file of a few megabytes of '[' would exhaust the
+// stack (and grow its memory with the square of the depth). The .rigel
+// loader and the .rig.json parser refuse text past their limits with the
+// place of the bracket that passes it.
+#pragma once
+
+#include <cstddef>
+#include <string_view>
+
+namespace rigel::io {
+
+// The offset of the first '[' or '{' that opens a level deeper than `limit`
+// in `text`, or std::string_view::npos. Strings are skipped (their escapes
+// too); the text need not be valid JSON. Linear in the text, no allocation.
+std::size_t json_too_deep(std::string_view text, std::size_t limit);
+
+}  // namespace rigel::io
