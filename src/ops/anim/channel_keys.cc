@@ -41,6 +41,7 @@ std::optional<Plug> source_of(const graph::Node& node, const Plug& dst) {
 }
 
 
+
 // The arrays of a curve node that hold one entry per key, and its clips.
 struct CurveLayout {
   AttrIndex times, values;
@@ -244,6 +245,23 @@ Status curve_create(Graph& graph, const std::string& name, CurveKind kind, doubl
 
 std::string channel_name(const Graph& graph, NodeId control, AttrIndex attr, int component = -1) {
   return graph.plug_name(Plug{control, attr, -1, static_cast<std::int8_t>(component)});
+}
+
+// The curve keying each component of double3 channel `attr` (nullopt where
+// the component is free); `any` tells whether one is keyed. Fails naming
+// the component when something other than a scalar curve drives it.
+Status component_curves(const Graph& graph, const graph::Node& n, NodeId control, AttrIndex attr,
+                        std::optional<Plug> (&comp)[3], bool& any) {
+  any = false;
+  for (int i = 0; i < 3; ++i) {
+    comp[i] = source_of(n, Plug{control, attr, -1, static_cast<std::int8_t>(i)});
+    if (!comp[i]) continue;
+    any = true;
+    if (curve_kind(graph, comp[i]->node) != CurveKind::kScalar)
+      return error(ErrorCode::kInvalidArgument, channel_name(graph, control, attr, i) + " is driven by " +
+                                                    graph.plug_name(*comp[i]) + ", not by a curve; it cannot be keyed");
+  }
+  return Status::ok();
 }
 
 // ---- many keys at once (write_channel_keys) ----------------------------------
@@ -465,14 +483,7 @@ Status write_keys(Graph& graph, NodeId control, AttrIndex attr, std::span<const 
     static constexpr const char* kAxis[3] = {"X", "Y", "Z"};
     std::optional<Plug> comp[3];
     bool any = false;
-    for (int i = 0; i < 3; ++i) {
-      comp[i] = source_of(*n, Plug{control, attr, -1, static_cast<std::int8_t>(i)});
-      if (!comp[i]) continue;
-      any = true;
-      if (curve_kind(graph, comp[i]->node) != CurveKind::kScalar)
-        return error(ErrorCode::kInvalidArgument, channel_name(graph, control, attr, i) + " is driven by " +
-                                                      graph.plug_name(*comp[i]) + ", not by a curve; it cannot be keyed");
-    }
+    if (Status s = component_curves(graph, *n, control, attr, comp, any); !s) return s;
     if (!any && !insert) return graph.set_value(Plug{control, attr, -1}, values.back());
     graph::Transaction tx(graph, "key " + channel);
     Status s;
@@ -551,14 +562,7 @@ Status write_channel_key(Graph& graph, NodeId control, AttrIndex attr, const Val
   static constexpr const char* kAxis[3] = {"X", "Y", "Z"};
   std::optional<Plug> comp[3];
   bool any = false;
-  for (int i = 0; i < 3; ++i) {
-    comp[i] = source_of(*n, Plug{control, attr, -1, static_cast<std::int8_t>(i)});
-    if (!comp[i]) continue;
-    any = true;
-    if (curve_kind(graph, comp[i]->node) != CurveKind::kScalar)
-      return error(ErrorCode::kInvalidArgument, channel_name(graph, control, attr, i) + " is driven by " +
-                                                    graph.plug_name(*comp[i]) + ", not by a curve; it cannot be keyed");
-  }
+  if (Status s = component_curves(graph, *n, control, attr, comp, any); !s) return s;
   if (!any && !insert) return graph.set_value(Plug{control, attr, -1}, value);
   graph::Transaction tx(graph, "key " + channel_name(graph, control, attr));
   Status s;
