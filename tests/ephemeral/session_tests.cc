@@ -84,9 +84,17 @@ TEST(EphemeralSession, many_drags_of_one_grab_match_drags_with_fresh_reads) {
       sb.release();
       b.scene->graph().select({});
     }
+    // Inverse chains of four or more controls go through FABRIK, which stops
+    // at its tolerance: the two paths start each drag from poses equal to
+    // rounding, and where FABRIK stops for one it may take one more step for
+    // the other, so the middle of the chain drifts by the solver's tolerance
+    // over the 25 drags (1.5e-8 seen in the -O1 sanitizer build). A stale
+    // matrix in the plan would be off by the drags' size (1e-2).
+    const double tolerance = mode == Mode::kInverse ? 1e-7 : 1e-9;
     for (std::size_t k = 0; k < a.rig.controls.size(); ++k)
-      EXPECT_TRUE(math::is_near(world(*a.scene, a.rig.controls[k]), world(*b.scene, b.rig.controls[k]), 1e-9))
-          << mode_name(mode) << " control " << k;
+      EXPECT_TRUE(math::is_near(world(*a.scene, a.rig.controls[k]), world(*b.scene, b.rig.controls[k]), tolerance))
+          << mode_name(mode) << " control " << k << ": off by "
+          << (world(*a.scene, a.rig.controls[k]) - world(*b.scene, b.rig.controls[k])).cwiseAbs().maxCoeff();
   }
 }
 
