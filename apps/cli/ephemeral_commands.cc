@@ -1,3 +1,6 @@
+// Over 800 lines: these commands still hold logic that belongs in the service
+// layer (issue 15 moves it to `app`, shared with the server and Python); split
+// then, not now, so it moves once.
 // The ephemeral-rig commands of `rigel` (see ephemeral_commands.h): setup,
 // relations, keys, keying scopes, merged characters and posing.
 

@@ -1,3 +1,5 @@
+// Over 800 lines: bind_rig splits by concept (definitions, builds, metadata)
+// with the service layer of issue 15, which these bindings will call instead.
 // Rig definitions (.rig.xml / .rig.json), component schemas, builds
 // (rig::Build: stepping, update, remove, edit mode) and the metadata network
 // (rigs, components, addresses).

@@ -1,3 +1,5 @@
+// Over 800 lines: the routes still carry logic the service layer of issue 15
+// takes out (build-or-rebuild, saves, drags of built rigs); split with it.
 // The JSON API of `rigel serve` (workspace.h, docs/SERVER.md).
 
 #include "workspace.h"

@@ -1,3 +1,5 @@
+// Over 800 lines: Session::solve and plan_build split by mode with issue 15
+// (its own two-bone solver and decomposition move to ops and scene).
 #include "rigel/ephemeral/session.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// Over 800 lines: connections, evaluation, undo and observers split into
+// their own files with issue 15 (listed there); no behaviour depends on it.
 #include "rigel/graph/graph.h"
 
 #include <algorithm>
