@@ -1,8 +1,5 @@
-// Over 800 lines: these commands still hold logic that belongs in the service
-// layer (issue 15 moves it to `app`, shared with the server and Python); split
-// then, not now, so it moves once.
 // The ephemeral-rig commands of `rigel` (see ephemeral_commands.h): setup,
-// relations, keys, keying scopes, merged characters and posing.
+// relations, keys, keying scopes and merged characters.
 
 #include "ephemeral_commands.h"
 
@@ -99,7 +96,7 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
   return 0;
 }
 
-// ---- ephemeral: names, keys and scopes (shared by pose and the key commands) ----
+// ---- ephemeral: names, keys and scopes (shared by the key commands) ----------------
 
 // A key time in seconds as a frame: a whole frame when within
 // kKeyFrameTolerance of one (the key is that frame's key: glTF's float
@@ -122,17 +119,12 @@ std::vector<NodeId> rigs_of(const rigel::graph::Graph& g, const std::vector<Node
   return out;
 }
 
-// "RIG=SCOPE, ..." and {RIG: SCOPE} for `rigs`.
+// "RIG=SCOPE, ..." for `rigs`.
 std::string scopes_text(const rigel::graph::Graph& g, const std::vector<NodeId>& rigs) {
   std::string text;
   for (NodeId r : rigs)
     text += (text.empty() ? "" : ", ") + g.node(r)->name() + "=" + rigel::ephemeral::key_scope_name(rigel::ephemeral::key_scope(g, r));
   return text;
-}
-nlohmann::ordered_json scopes_json(const rigel::graph::Graph& g, const std::vector<NodeId>& rigs) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  for (NodeId r : rigs) out[g.node(r)->name()] = rigel::ephemeral::key_scope_name(rigel::ephemeral::key_scope(g, r));
-  return out;
 }
 
 nlohmann::ordered_json names_json(const rigel::graph::Graph& g, const std::vector<NodeId>& ids) {
@@ -154,196 +146,6 @@ std::string frames_text(const std::vector<double>& frames) {
   for (double f : frames) text += (text.empty() ? "" : ", ") + number_text(f);
   return text;
 }
-// ---- pose --------------------------------------------------------------------
-
-struct PoseArgs {
-  std::string scene;
-  std::string output;
-  std::string control;
-  std::string mode;
-  std::optional<std::string> translate, rotate, scale, pivot;
-  std::vector<std::string> select;
-  std::optional<double> frame;
-  std::optional<double> time;
-  std::optional<double> magnet_fraction;
-  std::optional<double> magnet_radius;
-  std::optional<int> max_chain;
-  bool auto_key = false;
-  bool key = false;
-  bool json = false;
-};
-
-int run_pose(const PoseArgs& args) {
-  namespace eph = rigel::ephemeral;
-  using rigel::math::Mat4;
-  using rigel::math::Quat;
-  using rigel::math::Vec3;
-  // Usage errors first (exit 2), before the scene is read.
-  const std::optional<eph::Mode> mode = eph::mode_from_name(args.mode);
-  if (!mode) {
-    std::string modes;
-    for (int m = 0; m < eph::kModeCount; ++m)
-      modes += std::string(m ? ", " : "") + eph::mode_name(static_cast<eph::Mode>(m));
-    return usage_error("--mode '" + args.mode + "': unknown mode; modes: " + modes);
-  }
-  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time)))
-    return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
-  eph::Delta delta;
-  std::optional<Vec3> pivot;
-  struct VecOption {
-    const char* name;
-    const std::optional<std::string>& text;
-  };
-  for (const VecOption& o : {VecOption{"--translate", args.translate}, VecOption{"--rotate", args.rotate},
-                             VecOption{"--scale", args.scale}, VecOption{"--pivot", args.pivot}}) {
-    if (!o.text) continue;
-    const std::optional<Vec3> v = parse_vec3(*o.text);
-    if (!v) return usage_error(std::string(o.name) + " '" + *o.text + "': expected X,Y,Z, three numbers such as 0,1.5,-2");
-    const std::string name = o.name;
-    if (name == "--translate") {
-      delta.translate = *v;
-    } else if (name == "--rotate") {
-      // Degrees, XYZ Euler: x applied first (rotation = Rz * Ry * Rx), world axes.
-      const Vec3 r = *v * (std::numbers::pi / 180.0);
-      delta.rotate = Quat(Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
-                          Eigen::AngleAxisd(r.x(), Vec3::UnitX()));
-    } else if (name == "--scale") {
-      delta.scale = *v;
-    } else {
-      pivot = *v;
-    }
-  }
-  eph::SessionOptions options;
-  options.auto_key = args.auto_key;
-  if (args.magnet_fraction) {
-    if (!(*args.magnet_fraction > 0.0 && *args.magnet_fraction <= 1.0))
-      return usage_error("--magnet-fraction must be a number in (0, 1]");
-    options.magnet_fraction = *args.magnet_fraction;
-  }
-  if (args.magnet_radius) {
-    if (!(*args.magnet_radius > 0.0) || !std::isfinite(*args.magnet_radius))
-      return usage_error("--magnet-radius must be a positive number");
-    options.magnet_radius = *args.magnet_radius;
-  }
-  if (args.max_chain) {
-    if (*args.max_chain < 0) return usage_error("--max-chain must be 0 (no limit) or more");
-    options.max_chain = *args.max_chain;
-  }
-  for (const std::string& name : args.select)
-    if (name.empty()) return usage_error("--select: empty control name (expected A,B,...)");
-  if (args.scale && *mode != eph::Mode::kBody) return usage_error("--scale applies in body mode only (--mode body)");
-  if (args.pivot && *mode != eph::Mode::kBody) return usage_error("--pivot applies in body mode only (--mode body)");
-
-  auto scene = load(args.scene);
-  if (!scene) return fail(scene.status());
-  rigel::scene::Scene& s = **scene;
-  rigel::graph::Graph& g = s.graph();
-  const std::vector<NodeId> rigs = eph::rigs_find(g);
-  if (rigs.empty()) {
-    return fail(Status(rigel::ErrorCode::kNotFound,
-                       args.scene + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + args.scene +
-                           " -o OUT.rigel` first"));
-  }
-  if (args.frame) s.set_frame(*args.frame);
-  if (args.time) g.set_time(*args.time);
-
-  eph::Session session(s, options);
-  session.set_mode(*mode);
-  // Each name must be a control of an ephemeral rig, or a joint driven by one
-  // (it stands for its control, as in Session::select).
-  std::vector<NodeId> selection;
-  NodeId primary;
-  auto resolve = [&](const std::string& option, const std::string& name) -> std::optional<Status> {
-    const NodeId id = g.find(name);
-    if (!id.is_valid())
-      return Status(rigel::ErrorCode::kNotFound, args.scene + ": " + option + ": no node named '" + name + "'");
-    session.select({id});
-    const std::vector<NodeId> grabbed = session.grabbed();
-    if (grabbed.empty()) {
-      return Status(rigel::ErrorCode::kInvalidArgument,
-                    args.scene + ": " + option + ": '" + name + "' is not a control of an ephemeral rig (nor a joint driven by one)");
-    }
-    if (!primary.is_valid()) primary = grabbed.front();
-    selection.push_back(id);
-    return std::nullopt;
-  };
-  if (auto st = resolve("--control", args.control)) return fail(*st);
-  for (const std::string& name : args.select)
-    if (auto st = resolve("--select", name)) return fail(*st);
-  session.select(selection);
-  const std::vector<NodeId> grabbed = session.grabbed();
-  if (*mode == eph::Mode::kBody) {
-    // The motion is given for --control: the pivot is at it by default.
-    Mat4 world = rigel::math::rigid_part(s.world_matrix(primary));
-    if (pivot) world = rigel::math::translation_matrix(*pivot);
-    session.set_body_pivot(world);
-  }
-
-  // Every control of every rig, before and after (world space).
-  std::vector<NodeId> controls;
-  for (NodeId rig : rigs)
-    for (NodeId c : eph::rig_controls(g, rig)) controls.push_back(c);
-  std::vector<Mat4> before;
-  for (NodeId c : controls) before.push_back(s.world_matrix(c));
-  // A keyed channel off its keys is refused (the message names the channel
-  // and the frame) unless --auto-key.
-  if (Status st = session.drag(delta); !st) {
-    const int code = fail(st.with_context(args.scene + ": " + args.mode));
-    if (!args.auto_key && st.message().find("auto-key") != std::string::npos) {
-      std::cerr << "rigel: note: --auto-key keys the character at frame " << number_text(s.frame())
-                << " first; or key it there with `rigel ephemeral key`\n";
-    }
-    return code;
-  }
-  session.release();
-  // --key: key the grabbed controls' keying group at the pose time.
-  std::vector<NodeId> key_set;
-  if (args.key) {
-    key_set = eph::keying_set(g, grabbed);
-    if (Status st = eph::set_key(g, grabbed); !st) return fail(st.with_context(args.scene + ": --key"));
-  }
-  std::vector<NodeId> keyed;
-  for (NodeId c : controls)
-    if (eph::has_key_now(g, c)) keyed.push_back(c);
-  const std::vector<NodeId> grabbed_rigs = rigs_of(g, grabbed);
-  nlohmann::ordered_json moved = nlohmann::ordered_json::object();
-  std::size_t moved_count = 0;
-  for (std::size_t i = 0; i < controls.size(); ++i) {
-    const Mat4 after = s.world_matrix(controls[i]);
-    if (rigel::math::is_near(before[i], after, 1e-12)) continue;
-    ++moved_count;
-    const rigel::math::Decomposed d = rigel::math::decompose(after);
-    const Quat& q = d.rotation;
-    moved[g.node(controls[i])->name()] = {{"t", {d.translate.x(), d.translate.y(), d.translate.z()}},
-                                          {"q", {q.x(), q.y(), q.z(), q.w()}}};
-  }
-  if (Status st = rigel::io::save_scene(s, args.output); !st) return fail(st);
-  if (args.json) {
-    nlohmann::ordered_json out;
-    out["mode"] = eph::mode_name(*mode);
-    out["frame"] = s.frame();
-    out["grabbed"] = nlohmann::ordered_json::array();
-    for (NodeId id : grabbed) out["grabbed"].push_back(g.node(id)->name());
-    out["moved"] = std::move(moved);
-    out["keyScope"] = scopes_json(g, grabbed_rigs);
-    out["keyed"] = names_json(g, keyed);
-    out["notes"] = session.notes();
-    std::cout << out.dump() << "\n";
-  }
-  std::string names;
-  for (NodeId id : grabbed) names += (names.empty() ? "" : ", ") + g.node(id)->name();
-  std::cerr << "rigel: posed " << names << " (" << eph::mode_name(*mode) << ", frame " << s.frame() << "): "
-            << moved_count << (moved_count == 1 ? " control" : " controls") << " moved; wrote " << args.output << "\n";
-  std::cerr << "rigel: keying scope: " << scopes_text(g, grabbed_rigs);
-  if (args.key) std::cerr << "; keyed " << key_set.size() << (key_set.size() == 1 ? " control" : " controls");
-  std::cerr << "; " << keyed.size() << (keyed.size() == 1 ? " control has" : " controls have") << " a key at frame "
-            << number_text(s.frame()) << "\n";
-  // What the drag could not do (an inverse chain out of reach, a bone that
-  // would stretch), so that "0 controls moved" is never silent.
-  for (const std::string& note : session.notes()) std::cerr << "rigel: note: " << note << "\n";
-  return 0;
-}
-
 // ---- ephemeral key, keys, scope, merge, unmerge ----------------------------------
 
 // A scene read for the key commands: it must hold an ephemeral rig.
@@ -841,7 +643,6 @@ struct EphemeralCommands::State {
   EphemeralScopeArgs scope;
   EphemeralMergeArgs merge;
   EphemeralUnmergeArgs unmerge;
-  PoseArgs pose;
   CLI::App* setup_cmd = nullptr;
   CLI::App* relations_cmd = nullptr;
   CLI::Option* relations_add = nullptr;
@@ -853,7 +654,6 @@ struct EphemeralCommands::State {
   CLI::App* scope_cmd = nullptr;
   CLI::App* merge_cmd = nullptr;
   CLI::App* unmerge_cmd = nullptr;
-  CLI::App* pose_cmd = nullptr;
 
   // The relation edits in command-line order: CLI11 keeps each option's
   // values apart; its parse order (one entry per value) interleaves them.
@@ -986,46 +786,6 @@ void add_ephemeral_commands(CLI::App& app, EphemeralCommands& commands) {
   s.unmerge_cmd->add_option("-o,--output", s.unmerge.output, "Scene file to write (.rigel)")->required();
   s.unmerge_cmd->add_option("--rig", s.unmerge.rig, "The ephemeralRig node, by name")->required();
   s.unmerge_cmd->add_flag("--json", s.unmerge.json, "Print {\"rig\", \"unmergedFrom\": [RIG...]}");
-
-  s.pose_cmd = app.add_subcommand(
-      "pose", "Grab controls of an ephemeral rig, move them in a mode (forward, inverse, ...) and write the scene");
-  s.pose_cmd->add_option("SCENE", s.pose.scene, "Scene file with an ephemeral rig (.rigel; see `rigel ephemeral setup`)")
-      ->required();
-  s.pose_cmd->add_option("-o,--output", s.pose.output, "Scene file to write (.rigel)")->required();
-  s.pose_cmd->add_option("--control", s.pose.control,
-                       "The control the motion is given for (a joint name stands for its control)")
-      ->required();
-  s.pose_cmd->add_option("--mode", s.pose.mode,
-                       "forward, suspended, pseudo-inverse, pseudo-inverse-length, inverse, magnet, magnet-radius, "
-                       "body (docs/EPHEMERAL.md)")
-      ->required();
-  s.pose_cmd->add_option("--translate", s.pose.translate, "World-space translation X,Y,Z in scene units");
-  s.pose_cmd->add_option("--rotate", s.pose.rotate,
-                       "World-space rotation X,Y,Z in degrees, XYZ Euler (x applied first: rotation = Rz*Ry*Rx), about "
-                       "each grabbed control's own pivot (body mode: the body pivot)");
-  s.pose_cmd->add_option("--select", s.pose.select, "More controls grabbed with --control: A,B,... (all move together)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  CLI::Option* pose_frame = s.pose_cmd->add_option("--frame", s.pose.frame, "Frame to pose at (default: the scene's current time)");
-  CLI::Option* pose_time = s.pose_cmd->add_option("--time", s.pose.time, "Time in seconds to pose at");
-  pose_frame->excludes(pose_time);
-  s.pose_cmd->add_option("--scale", s.pose.scale, "Body mode: scale X,Y,Z about the body pivot, in its axes");
-  s.pose_cmd->add_option("--pivot", s.pose.pivot,
-                       "Body mode: the body pivot's world position X,Y,Z, world axes (default: --control's position and axes)");
-  s.pose_cmd->add_option("--magnet-fraction", s.pose.magnet_fraction, "Magnet mode: share of the motion per hop (default 0.65)");
-  s.pose_cmd->add_option("--magnet-radius", s.pose.magnet_radius, "Magnet-radius mode: world distance of the falloff (default 1)");
-  s.pose_cmd->add_option("--max-chain", s.pose.max_chain,
-                       "Inverse modes: most controls in a chain, grabbed and top included (default 0: to a branch or root)");
-  s.pose_cmd->add_flag("--auto-key", s.pose.auto_key,
-                     "A keyed control moved off its keys keys its keying group at this frame first (default: refused)");
-  s.pose_cmd->add_flag("--key", s.pose.key,
-                     "After the motion, key the grabbed controls at this frame (their keying group: the whole "
-                     "character unless its keying scope is controls)");
-  s.pose_cmd->add_flag("--json", s.pose.json,
-                     "Print {\"mode\", \"frame\", \"grabbed\": [NAME...], \"moved\": {NAME: {\"t\", \"q\"}}, "
-                     "\"keyScope\": {RIG: SCOPE}, \"keyed\": [NAME...], \"notes\": [TEXT...]} (moved: world space, "
-                     "every control whose world matrix changed; keyed: controls with a key at this frame; notes: what "
-                     "the motion could not do, e.g. a target out of an inverse chain's reach)");
 }
 
 std::optional<int> run_ephemeral_commands(const EphemeralCommands& commands) {
@@ -1037,7 +797,6 @@ std::optional<int> run_ephemeral_commands(const EphemeralCommands& commands) {
   if (*s.scope_cmd) return run_ephemeral_scope(s.scope);
   if (*s.merge_cmd) return run_ephemeral_merge(s.merge);
   if (*s.unmerge_cmd) return run_ephemeral_unmerge(s.unmerge);
-  if (*s.pose_cmd) return run_pose(s.pose);
   return std::nullopt;
 }
 

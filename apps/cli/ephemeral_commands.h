@@ -1,7 +1,7 @@
 #pragma once
 // The ephemeral-rig commands of `rigel`: `ephemeral setup|relations|key|keys|
-// scope|merge|unmerge` and `pose` (docs/EPHEMERAL.md, README "Posing with
-// ephemeral rigs"). main.cc registers them with add_ephemeral_commands() and
+// scope|merge|unmerge` (docs/EPHEMERAL.md, README "Posing with ephemeral
+// rigs"; `pose` is pose_command.h). main.cc registers them with add_ephemeral_commands() and
 // runs the chosen one with run_ephemeral_commands().
 
 #include <memory>

@@ -20,6 +20,7 @@
 #include "cli_util.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
+#include "pose_command.h"
 #include "rig_commands.h"
 #include "serve_command.h"
 #include "rigel/io/bvh_import.h"
@@ -402,9 +403,12 @@ int main(int argc, char** argv) {
   bake_cmd->add_option("-o,--output", bake.output, "Scene file to write (.rigel)")->required();
   bake_cmd->add_flag("--json", bake.json, "Print a JSON report on stdout");
 
-  // `ephemeral setup|relations|key|keys|scope|merge|unmerge` and `pose`.
+  // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
+  // `pose`: one drag of an ephemeral or a built rig's controls.
+  rigel::cli::PoseArgs pose;
+  rigel::cli::add_pose_command(app, pose);
   // `validate`, `components`, `schema`, `diff`: rig definitions.
   rigel::cli::DefinitionCommands definition;
   rigel::cli::add_definition_commands(app, definition);
@@ -456,6 +460,7 @@ int main(int argc, char** argv) {
     if (*export_cmd) return run_export(export_args);
     if (*bake_cmd) return run_bake(bake);
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
+    if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;
     if (const std::optional<int> code = rigel::cli::run_rig_commands(rig)) return *code;
     if (*serve_cmd) return rigel::cli::run_serve(serve);

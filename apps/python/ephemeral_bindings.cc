@@ -1,6 +1,8 @@
 // Ephemeral rigs (docs/EPHEMERAL.md): setup, relations, the posing session
 // (modes, select, drag, release) and keys.
 
+#include <cctype>
+
 #include "common.h"
 #include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
@@ -41,6 +43,21 @@ py::list relation_list(const SceneRef& s, const std::vector<eph::Relation>& rela
   for (const eph::Relation& r : relations)
     out.append(py::make_tuple(eph::relation_kind_name(r.kind), node_ref(s, r.from), node_ref(s, r.to)));
   return out;
+}
+
+// The options' one range check (SessionOptions::validate), its message naming
+// the Python argument: magnet_fraction, not magnetFraction.
+void check_options(const eph::SessionOptions& options) {
+  const Status s = options.validate();
+  if (s) return;
+  std::string arg;
+  for (char c : s.field()) {
+    if (std::isupper(static_cast<unsigned char>(c))) arg += '_', arg += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    else arg += c;
+  }
+  std::string message = s.message();
+  if (message.rfind(s.field() + ": ", 0) == 0) message = arg + ": " + message.substr(s.field().size() + 2);
+  raise(s.code(), message);
 }
 
 }  // namespace
@@ -144,6 +161,7 @@ drags between a selection and release() are one undo step.)")
              options.magnet_radius = magnet_radius;
              options.max_chain = max_chain;
              options.auto_key = auto_key;
+             check_options(options);
              const eph::Mode m = mode_from(mode);
              SessionRef r{s, std::make_unique<eph::Session>(*s, options)};
              r.session->set_mode(m);

@@ -12,7 +12,7 @@ namespace {
 
 // Exception classes by ErrorCode (index = code); [0] is rigel.Error itself.
 // Owned by the module (module attributes), so plain pointers here are fine.
-std::array<PyObject*, 8> exception_classes{};
+std::array<PyObject*, 9> exception_classes{};
 PyObject* definition_error = nullptr;
 
 struct ExceptionSpec {
@@ -43,6 +43,7 @@ void define_exceptions(py::module_& m) {
       {ErrorCode::kParseError, "ParseError", PyExc_ValueError, "A file that is not well-formed."},
       {ErrorCode::kIoError, "IoError", PyExc_OSError, "The operating system refused a read or write."},
       {ErrorCode::kUnsupported, "UnsupportedError", PyExc_NotImplementedError, "A version or feature this build does not know."},
+      {ErrorCode::kFailedPrecondition, "StateError", PyExc_RuntimeError, "Well-formed, but the scene cannot do it in its state (nothing selected, nothing to undo)."},
   };
   for (const ExceptionSpec& s : specs) {
     py::tuple bases = py::make_tuple(py::handle(base), py::handle(s.builtin));

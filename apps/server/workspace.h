@@ -1,7 +1,8 @@
 #pragma once
-// What `rigel serve` holds and answers: one scene, its ephemeral posing
-// session and its rigs, behind the JSON API of docs/SERVER.md. The HTTP
-// side (http_server.h) only moves bytes; every request is answered here, so
+// What `rigel serve` holds and answers: an app::Workspace (one scene, its
+// posing session and its rigs) behind the JSON API of docs/SERVER.md. This
+// file only turns JSON into app calls and app answers into JSON: every rule
+// is the app layer's. The HTTP side (http_server.h) only moves bytes, so
 // tests drive the API without sockets and the server adds nothing to it.
 //
 // Requests are served one at a time (a mutex), so every answer is a
@@ -17,8 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rigel/app/workspace.h"
 #include "rigel/base/status.h"
-#include "rigel/ephemeral/session.h"
 #include "rigel/rig/component.h"
 #include "rigel/scene/scene.h"
 
@@ -44,7 +45,7 @@ struct Response {
 inline constexpr std::size_t kMaxBody = 4u << 20;
 // The farthest a request may move the current time from 0, in frames
 // (POST /api/time; 400 beyond it).
-inline constexpr double kMaxFrame = 1e6;
+inline constexpr double kMaxFrame = app::kMaxFrame;
 
 class Workspace {
  public:
@@ -64,20 +65,19 @@ class Workspace {
   // The character file the scene was opened from (GET /api/scene's
   // `character`: the geometry of a definition the editor starts).
   void set_character(fs::path file);
-  // For tests and the CLI: the scene, under the caller's care (no request
-  // must be running).
-  scene::Scene& scene() { return *scene_; }
+  // For tests and the CLI: the workspace and its scene, under the caller's
+  // care (no request must be running).
+  app::Workspace& workspace() { return *app_; }
+  scene::Scene& scene() { return app_->scene(); }
 
  private:
   struct Impl;
-  std::unique_ptr<scene::Scene> scene_;
+  std::unique_ptr<app::Workspace> app_;
   std::unique_ptr<Impl> impl_;
   mutable std::mutex mutex_;
 };
 
-// `path` (relative, from a request) resolved inside `root`: absolute paths,
-// paths that leave the root through ".." or a symbolic link, and empty
-// paths are refused (kInvalidArgument naming `field`).
-Result<fs::path> confined_path(const fs::path& root, const std::string& path, const std::string& field);
+// `path` (relative, from a request) resolved inside `root` (app::confined_path).
+using app::confined_path;
 
 }  // namespace rigel::server

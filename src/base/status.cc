@@ -12,6 +12,7 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::kParseError: return "parse error";
     case ErrorCode::kIoError: return "i/o error";
     case ErrorCode::kUnsupported: return "unsupported";
+    case ErrorCode::kFailedPrecondition: return "failed precondition";
   }
   return "unknown";
 }

@@ -38,7 +38,7 @@ std::string frame_text(const Graph& graph) {
 
 // The rotation channel a control uses.
 AttrIndex rotation_attr(const graph::Node& control) {
-  return std::get<std::int64_t>(control.value(xform::kRotateMode)) == 1 ? xform::kRotateQuaternion : xform::kRotate;
+  return xform::rotation_channel(control);
 }
 
 

@@ -1136,7 +1136,7 @@ Status Session::solve(const Delta& delta) {
     }
     if (!(rotation.transpose() * rotation).isIdentity(1e-10)) exact = false;
     Scratch::Write write{static_cast<int>(e), same_t ? t0 : t, Quat::Identity(), Vec3::Zero(), !same_t, false};
-    if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1) {
+    if (xform::is_quaternion_mode(node)) {
       const Quat& q0 = std::get<Quat>(node.value(xform::kRotateQuaternion));
       Quat qs = Quat(rotation).normalized();
       if (qs.dot(q0) < 0) qs.coeffs() = -qs.coeffs();  // sign-continuous
@@ -1197,7 +1197,7 @@ Status Session::solve(const Delta& delta) {
     if (wr.set_t) status = write(id, xform::kTranslate, wr.translate);
     if (!status) break;
     if (!wr.set_r) continue;
-    if (std::get<std::int64_t>(node.value(xform::kRotateMode)) == 1)
+    if (xform::is_quaternion_mode(node))
       status = write(id, xform::kRotateQuaternion, wr.rotation);
     else
       status = write(id, xform::kRotate, wr.euler);

@@ -852,7 +852,7 @@ class Exporter {
   std::pair<NodeId, Path> track_feeding(const Node& n, const graph::Connection& c) const {
     const bool whole = c.dst.element < 0 && c.dst.component < 0 && c.src.element < 0 && c.src.component < 0;
     if (!whole || c.src.attr != anim::track_attr::kOutput) return {NodeId{}, Path::kTranslation};
-    const bool quaternion_mode = std::get<std::int64_t>(n.value(xf::kRotateMode)) == 1;
+    const bool quaternion_mode = xf::is_quaternion_mode(n);
     const std::string& type = type_of(g_, c.src.node);
     if (type == anim::kAnimCurveVec3Type && c.dst.attr == xf::kTranslate) return {c.src.node, Path::kTranslation};
     if (type == anim::kAnimCurveVec3Type && c.dst.attr == xf::kScale) return {c.src.node, Path::kScale};
@@ -920,7 +920,7 @@ class Exporter {
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       const ExportNode& en = nodes_[i];
       const Node& n = *g_.node(en.id);
-      const bool quaternion_mode = std::get<std::int64_t>(n.value(xf::kRotateMode)) == 1;
+      const bool quaternion_mode = xf::is_quaternion_mode(n);
       bool animated = false;
       for (const graph::Connection& c : n.inputs()) {
         const AttrIndex attr = c.dst.attr;

@@ -1717,7 +1717,7 @@ Status Importer::build_nodes() {
     ids_[i] = *id;
     namespace x = scene::xform;
     Status s = set(*id, x::kTranslate, rest_translate_[i]);
-    if (s) s = set(*id, x::kRotateMode, std::int64_t{static_cast<std::int64_t>(math::RotateMode::kQuaternion)});
+    if (s) s = set(*id, x::kRotateMode, x::kQuaternionMode);
     if (s) s = set(*id, x::kRotateQuaternion, rest_rotate_[i]);
     if (s) s = set(*id, x::kScale, rest_scale_[i]);
     if (s && !n.matrix.empty()) s = set(*id, x::kShear, math::decompose(Eigen::Map<const Mat4>(n.matrix.data())).shear);

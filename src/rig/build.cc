@@ -1638,8 +1638,8 @@ Result<NodeId> BuildContext::constrain(const ConstraintSpec& spec, NodeId driven
   if (s) s = g.set_value(plug(*c, "restTranslate"), d->value(xform::kTranslate));
   if (s) s = g.set_value(plug(*c, "restRotate"), d->value(xform::kRotate));
   if (s) s = g.set_value(plug(*c, "restScale"), d->value(xform::kScale));
-  if (s && std::get<std::int64_t>(d->value(xform::kRotateMode)) != 0)
-    s = g.set_value(Plug{driven, xform::kRotateMode, -1}, Value(std::int64_t{0}));
+  if (s && xform::is_quaternion_mode(*d))
+    s = g.set_value(Plug{driven, xform::kRotateMode, -1}, Value(xform::kEulerMode));
   for (const char* ch : spec.channels) {
     if (!s) break;
     const Plug dst = plug(driven, ch);

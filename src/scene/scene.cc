@@ -131,7 +131,7 @@ Result<Scene::LocalChannels> Scene::channels_for_world(NodeId node, const Mat4& 
   out.translate = parts.translate;
   out.scale = parts.scale;
   out.shear = parts.shear;
-  if (std::get<std::int64_t>(n.value(xform::kRotateMode)) == static_cast<std::int64_t>(math::RotateMode::kQuaternion)) {
+  if (xform::is_quaternion_mode(n)) {
     out.rotation_attr = xform::kRotateQuaternion;
     out.rotation = math::euler_to_quat(parts.rotate, order);
   } else {

@@ -187,4 +187,13 @@ bool is_transform_type(const graph::NodeType& type) {
          type.attr_count() >= xform::kCount && type.attr(xform::kTranslate).name == "translate";
 }
 
+bool xform::is_quaternion_mode(const graph::Node& node) {
+  const auto* mode = std::get_if<std::int64_t>(&node.value(kRotateMode));
+  return mode && *mode == kQuaternionMode;
+}
+
+AttrIndex xform::rotation_channel(const graph::Node& node) {
+  return is_quaternion_mode(node) ? kRotateQuaternion : kRotate;
+}
+
 }  // namespace rigel::scene

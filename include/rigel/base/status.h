@@ -22,6 +22,7 @@ enum class ErrorCode {
   kParseError,       // a file that is not well-formed
   kIoError,          // the operating system refused a read or write
   kUnsupported,      // a version or feature this build does not know
+  kFailedPrecondition,  // well-formed, but the scene cannot do it in its state (nothing selected, nothing to undo)
 };
 
 const char* error_code_name(ErrorCode code);
@@ -41,12 +42,26 @@ class [[nodiscard]] Status {
   // Prepends a location ("scene.rigel: nodes[3]") to the message.
   Status with_context(const std::string& where) const {
     if (is_ok()) return *this;
-    return Status(code_, where + ": " + message_);
+    Status s(code_, where + ": " + message_);
+    s.field_ = field_;
+    return s;
+  }
+
+  // The input at fault, named as the API names it ("controls", "to.q",
+  // "magnetFraction"): the service layer (app) sets it, and each driver
+  // spells it its own way (an HTTP answer's "field", a CLI option, a Python
+  // argument). Empty when no one input is to blame.
+  const std::string& field() const { return field_; }
+  Status with_field(std::string field) const {
+    Status s = *this;
+    if (!is_ok()) s.field_ = std::move(field);
+    return s;
   }
 
  private:
   ErrorCode code_ = ErrorCode::kOk;
   std::string message_;
+  std::string field_;
 };
 
 inline Status error(ErrorCode code, std::string message) { return Status(code, std::move(message)); }

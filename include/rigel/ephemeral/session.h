@@ -65,6 +65,14 @@ struct SessionOptions {
   // FABRIK (chains of 4 or more).
   int fabrik_iterations = 64;
   double fabrik_tolerance = 1e-10;
+
+  // The one check of the ranges above, run by every driver before a session
+  // takes the options: kInvalidArgument naming the option (its API name,
+  // Status::field(): "magnetFraction", "magnetMinWeight", "magnetRadius",
+  // "maxChain", "fabrikIterations", "fabrikTolerance").
+  Status validate() const;
+  // The most controls a chain may be limited to (max_chain).
+  static constexpr int kMaxChainLimit = 1000;
 };
 
 // A rigid motion in world space. Rotation turns about each grabbed control's

@@ -7,6 +7,11 @@
 
 #include "rigel/base/status.h"
 #include "rigel/graph/node_type.h"
+#include "rigel/math/transform.h"
+
+namespace rigel::graph {
+class Node;
+}
 
 namespace rigel::scene {
 
@@ -34,6 +39,15 @@ enum : AttrIndex {
   kWorldMatrix,            // output: parentMatrix * offsetParentMatrix * matrix
   kCount
 };
+
+// kRotateMode's values (math::RotateMode) as the attribute stores them.
+inline constexpr std::int64_t kEulerMode = static_cast<std::int64_t>(math::RotateMode::kEuler);
+inline constexpr std::int64_t kQuaternionMode = static_cast<std::int64_t>(math::RotateMode::kQuaternion);
+// Whether `node` (a transform of any type) keeps its rotation in
+// rotateQuaternion, and the channel that holds it (kRotateQuaternion or
+// kRotate): the one test of the rotate mode.
+bool is_quaternion_mode(const graph::Node& node);
+AttrIndex rotation_channel(const graph::Node& node);
 }  // namespace xform
 
 namespace joint_attr {

@@ -676,7 +676,7 @@ enum Drive : unsigned { kRotation = 1, kTranslation = 2, kScaleShear = 4 };
 
 Status drive(graph::Graph& g, NodeId ik, NodeId joint, std::int32_t i, unsigned what) {
   if (what & kRotation) {
-    if (Status s = g.set_value(plug_of(joint, xform::kRotateMode), std::int64_t{1}); !s) return s;
+    if (Status s = g.set_value(plug_of(joint, xform::kRotateMode), xform::kQuaternionMode); !s) return s;
     if (Status s = g.connect(plug_of(ik, ik_attr::kOutRotations, i), plug_of(joint, xform::kRotateQuaternion)); !s)
       return s;
   }

@@ -280,7 +280,7 @@ class FootComponent : public ComponentClass {
                                                                    {sw::kOutRotations, xform::kRotateQuaternion},
                                                                    {sw::kOutScales, xform::kScale},
                                                                    {sw::kOutShears, xform::kShear}};
-               s = g.set_value(plug(ball, xform::kRotateMode), Value(std::int64_t{1}));
+               s = g.set_value(plug(ball, xform::kRotateMode), Value(xform::kQuaternionMode));
                for (const auto& [src, dst] : channels) {
                  if (!s) break;
                  s = reconnect(g, plug(blend, src, 0), plug(ball, dst));

@@ -213,7 +213,7 @@ Status drive_joints(BuildContext& ctx, const std::vector<NodeId>& joints, NodeId
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const auto e = static_cast<std::int32_t>(i);
     const NodeId joint = joints[i];
-    Status s = g.set_value(plug(joint, xform::kRotateMode), Value(std::int64_t{1}));
+    Status s = g.set_value(plug(joint, xform::kRotateMode), Value(xform::kQuaternionMode));
     for (const auto& [src, dst] : channels) {
       if (!s) break;
       if (g.source(plug(joint, dst))) s = g.disconnect_input(plug(joint, dst));
@@ -423,7 +423,7 @@ class Twist : public ComponentClass {
                  if (!joint) return joint.status();
                  const double f = double(i + 1) / double(count + 1);
                  s = g.set_value(plug(*joint, xform::kTranslate), Value(Vec3(end_local * f)));
-                 if (s) s = g.set_value(plug(*joint, xform::kRotateMode), Value(std::int64_t{1}));
+                 if (s) s = g.set_value(plug(*joint, xform::kRotateMode), Value(xform::kQuaternionMode));
                  if (s) s = g.connect(plug(*share, t::kOutRotations, index), plug(*joint, xform::kRotateQuaternion));
                  if (!s) return s.with_context(ctx.full_name() + " twistJoint" + std::to_string(i));
                }
@@ -493,7 +493,7 @@ Status set_world(scene::Scene& scene, NodeId control, const Mat4& world) {
   const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(g.evaluate(control, xform::kRotateOrder)));
   const math::TransformParts parts = math::decompose_to_parts(local, order);
   Status s = g.set_value(plug(control, xform::kTranslate), Value(parts.translate));
-  if (s && std::get<std::int64_t>(g.evaluate(control, xform::kRotateMode)) == 1)
+  if (s && xform::is_quaternion_mode(*g.node(control)))
     s = g.set_value(plug(control, xform::kRotateQuaternion), Value(math::euler_to_quat(parts.rotate, order)));
   else if (s)
     s = g.set_value(plug(control, xform::kRotate), Value(Vec3(math::to_degrees(parts.rotate))));

@@ -1,0 +1,330 @@
+#pragma once
+// The service layer (ARCHITECTURE.md "app"): everything a user can do to a
+// held scene, once, for every driver. The CLI opens a Workspace on a file,
+// runs one operation and saves; `rigel serve` holds one and turns each HTTP
+// request into a call; Python wraps it. No JSON, HTTP or pybind11 here: the
+// drivers translate their input into these calls and the answers into their
+// output, and every rule, range check and conversion lives here or below.
+//
+// Errors are Status / Result with the input at fault in Status::field() (the
+// API's name of it: "controls", "to.q", "magnetFraction"). The codes say
+// whose fault it is: kInvalidArgument and kParseError: the input;
+// kNotFound: a node, rig or file it names; kFailedPrecondition (and the
+// library's other codes): the scene cannot do it in its state; kIoError:
+// the system refused a read or write.
+//
+// A Workspace is not thread-safe: a driver serving several clients
+// serialises the calls (the server holds a mutex).
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/ephemeral/session.h"
+#include "rigel/graph/graph.h"
+#include "rigel/math/types.h"
+#include "rigel/rig/build.h"
+#include "rigel/rig/component.h"
+#include "rigel/rig/definition.h"
+#include "rigel/rig/manager.h"
+#include "rigel/scene/scene.h"
+
+namespace rigel::app {
+
+namespace fs = std::filesystem;
+using graph::NodeId;
+using math::Mat4;
+using math::Quat;
+using math::Vec3;
+
+// The farthest the current time may move from 0, in frames.
+inline constexpr double kMaxFrame = 1e6;
+
+// A rotation given as Euler angles in degrees, x applied first about world
+// axes (R = Rz * Ry * Rx): what the CLI's --rotate, the API's {"euler": ...}
+// and Python's euler= mean.
+Quat rotation_from_euler_degrees(const Vec3& degrees);
+
+// `path` resolved inside `root` (what a user who named `root` allows to be
+// read or written): absolute paths, paths that leave the root through ".."
+// or a symbolic link, and empty paths are refused (kInvalidArgument naming
+// `field`).
+Result<fs::path> confined_path(const fs::path& root, const std::string& path, const std::string& field);
+
+// One transform's translation, rotation and scale (a decomposed matrix).
+struct Trs {
+  NodeId node;
+  Vec3 translate = Vec3::Zero();
+  Quat rotate = Quat::Identity();
+  Vec3 scale = Vec3::Ones();
+  bool operator==(const Trs& o) const {
+    return node == o.node && translate == o.translate && rotate.coeffs() == o.rotate.coeffs() && scale == o.scale;
+  }
+};
+enum class Space { kLocal, kWorld };
+
+// A node of the hierarchy and, for controls, what the viewport draws.
+struct NodeEntry {
+  NodeId node;
+  NodeId parent;  // invalid for roots
+};
+struct ControlEntry {
+  NodeId node;
+  std::string rig;         // the ephemeral or built rig's name ("" for none)
+  bool ephemeral = false;  // of an ephemeral rig (posed through the session)
+  std::vector<Vec3> points;
+  bool closed = true;
+  Vec3 color{1, 1, 0};
+};
+
+// The scene's summary: what a client shows before anything else.
+struct SceneSummary {
+  double fps = 24;
+  double frame = 0, time = 0;
+  std::array<double, 2> range{0, 0};  // first and last keyed frame (0, 0 with no keys)
+  ephemeral::Mode mode = ephemeral::Mode::kForward;
+  bool auto_key = false;
+  std::vector<std::pair<std::string, std::string>> key_scopes;  // ephemeral rig -> keying scope name
+  bool can_undo = false, can_redo = false;
+  std::string undo_label, redo_label;
+  std::vector<NodeId> selection;
+};
+
+// The keys of some controls: their keying set's key times.
+struct KeyReport {
+  std::string scope;  // the ephemeral rig's keying scope, "controls" for built rigs, "" for no controls
+  std::vector<NodeId> set;     // the keying set: the controls keyed together with them
+  std::vector<double> times;   // seconds
+  std::vector<double> frames;  // the same, as frames rounded to 1e-6
+};
+
+// A drag's answer: the controls it dragged (an ephemeral rig's grab, or the
+// built rigs' controls), what it moved (the transforms whose local values
+// changed, hierarchy order; and the controls whose world matrix moved, with
+// their world values) and what it could not do (a target out of reach, a
+// bone that would stretch).
+struct DragReport {
+  std::vector<NodeId> dragged;
+  std::vector<Trs> moved;
+  std::vector<Trs> moved_controls;  // world space
+  std::vector<std::string> notes;
+};
+
+// A rig's build position after a step.
+struct StepReport {
+  std::string rig;
+  int position = 0, steps = 0;
+  std::string step;  // the label of the last step built ("" at 0)
+};
+// A feature of a rig's steps (seed 003), with its rig-level state.
+struct FeatureState {
+  std::string feature, switch_name;
+  bool enabled = true;
+};
+struct FeatureReport {
+  std::string rig;
+  std::vector<FeatureState> features;
+  int position = 0, steps = 0;
+};
+// What committing a rig's edit-mode changes did.
+struct CommitReport {
+  std::string rig, version;
+  std::vector<std::string> changed, ignored;
+  fs::path definition;  // where the definition was saved (empty when nothing changed)
+  bool edit_mode = false;
+};
+// A rig the workspace lists: built, or stepped back to step 0 (nothing of
+// it in the scene; the workspace keeps its definition).
+struct RigEntry {
+  std::string name;
+  bool unbuilt = false;
+  int steps = 0;
+  std::vector<FeatureState> features;
+  // For unbuilt rigs (built ones: rig::rigs_report and rig::rig_state).
+  std::string version;
+  std::string definition;                        // its file ("" when none)
+  std::optional<std::string> definition_version;  // the file's version, when it can be read
+  bool edit_mode = false;
+};
+// A definition parsed and checked: every problem, none when it can build.
+struct CheckedDefinition {
+  rig::Definition definition;
+  std::vector<rig::Diagnostic> problems;
+};
+// A build (or live rebuild) from a definition.
+struct BuildReport {
+  std::string rig;
+  std::vector<std::string> rebuilt;  // rig ids, build order
+};
+struct SavedDefinition {
+  fs::path path;
+  std::string version;
+};
+
+class Workspace {
+ public:
+  // `scene_path`: where save() without a path writes (may be empty).
+  // `root`: the folder the paths of confined() calls are relative to and
+  // confined in (empty: paths are taken as given, for the CLI and Python,
+  // whose users name their files themselves). `factory`: the component
+  // classes builds use (it must outlive the workspace).
+  Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
+            const rig::ComponentFactory& factory, ephemeral::SessionOptions options = {});
+  ~Workspace();
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+
+  scene::Scene& scene() { return *scene_; }
+  const scene::Scene& scene() const { return *scene_; }
+  graph::Graph& graph() { return scene_->graph(); }
+  const graph::Graph& graph() const { return scene_->graph(); }
+  ephemeral::Session& session() { return *session_; }
+  const rig::ComponentFactory& factory() const { return factory_; }
+  const fs::path& scene_path() const { return scene_path_; }
+  const fs::path& root() const { return root_; }
+  // The character file the scene was opened from ("" when unknown).
+  const fs::path& character() const { return character_; }
+  void set_character(fs::path file) { character_ = std::move(file); }
+
+  // Counts changes: every call that changed the scene, the session or the
+  // workspace's rigs increments it (clients poll it to see others' edits).
+  std::uint64_t revision() const { return revision_; }
+  void bump_revision() { ++revision_; }
+
+  // `path` inside root() (confined_path), or as given when there is no root.
+  Result<fs::path> resolve_path(const std::string& path, const std::string& field) const;
+
+  // ---- nodes -----------------------------------------------------------------
+  // A node by uuid or name (kNotFound naming `field`).
+  Result<NodeId> node(const std::string& ref, const std::string& field) const;
+  // A control: a control node, or a joint standing for its ephemeral control.
+  Result<NodeId> control(const std::string& ref, const std::string& field) const;
+  Result<NodeId> control_of(NodeId id, const std::string& field) const;
+  bool is_control(NodeId id) const;
+  // Every control: the ephemeral rigs' (rig by rig, each rig's order), then
+  // the others (built rigs'), hierarchy order.
+  std::vector<NodeId> all_controls() const;
+  NodeId parent_of(NodeId id) const;
+  // The live nodes of the selection, in order.
+  std::vector<NodeId> selection() const;
+  std::vector<NodeEntry> nodes() const;
+  std::vector<ControlEntry> controls() const;
+  SceneSummary summary() const;
+  // Local (offsetParentMatrix * matrix, what a glTF node holds) or world
+  // values of every transform, hierarchy order.
+  std::vector<Trs> pose(Space space) const;
+
+  // ---- posing ----------------------------------------------------------------
+  // Selects `controls` (or adds them to the selection).
+  void select(std::vector<NodeId> controls, bool add = false);
+  void set_mode(ephemeral::Mode mode);
+  // Body mode's pivot: at `control` (its world matrix without scale or
+  // shear), or at the world point `at` in world axes.
+  void set_body_pivot(NodeId control, const std::optional<Vec3>& at = std::nullopt);
+  // Checks the options (SessionOptions::validate) before the session takes them.
+  Status set_options(const ephemeral::SessionOptions& options);
+  // Moves the selected controls by a world delta: ephemeral rigs' through
+  // the session (a grab), built rigs' directly (each about its own pivot,
+  // into its channels, keys as the session does; scale refused).
+  Result<DragReport> drag(const ephemeral::Delta& delta);
+  // Drags `control` so that its world translation / rotation become the
+  // given ones (unset: unchanged); it is selected when it is not. An
+  // ephemeral control moves its rig through the session, a built rig's
+  // moves with the other selected built-rig controls by the same delta.
+  Result<DragReport> drag_to(NodeId control, const std::optional<Vec3>& translate, const std::optional<Quat>& rotate);
+  // Ends the gesture: the next drag is a new undo step.
+  void release();
+  // The label of what was undone / redone; kFailedPrecondition when there is nothing.
+  Result<std::string> undo();
+  Result<std::string> redo();
+  // The current time, as a frame or in seconds (|frame| <= kMaxFrame).
+  Status set_frame(double frame);
+  Status set_time(double seconds);
+
+  // ---- keys ------------------------------------------------------------------
+  KeyReport keys(const std::vector<NodeId>& controls) const;
+  // Keys (or deletes the keys of) the controls' keying set at the current time.
+  Result<KeyReport> set_key(const std::vector<NodeId>& controls);
+  Result<KeyReport> delete_key(const std::vector<NodeId>& controls);
+
+  // ---- files -----------------------------------------------------------------
+  // Saves the scene (atomically) at `path`, or at scene_path() when empty;
+  // the path becomes scene_path(). Folders are made as needed.
+  Result<fs::path> save(const fs::path& path = {});
+
+  // ---- rigs ------------------------------------------------------------------
+  // The rigs the workspace lists: the scene's, then those at step 0.
+  std::vector<RigEntry> rigs();
+  // A rig the scene holds or one at step 0 (with `unbuilt_too`); kNotFound /
+  // kFailedPrecondition naming `field` otherwise.
+  Status check_rig(const std::string& name, bool unbuilt_too, const std::string& field = "rig");
+  Result<rig::AddedRig> add_rig(const fs::path& definition, rig::BuildOptions options = {});
+  Result<rig::UpdateReport> update_rig(const std::string& name, const fs::path& definition = {}, bool force = false,
+                                       rig::Build::KeepKeys keep = rig::Build::KeepKeys::kLocal);
+  Status remove_rig(const std::string& name);
+  // Moves the rig's build to step `to`, or `by` steps (clamped).
+  Result<StepReport> step_rig(const std::string& name, std::optional<int> to, int by = 0);
+  Result<FeatureReport> set_feature(const std::string& name, const std::string& feature, const std::string& switch_name,
+                                    bool enabled);
+  Result<bool> set_edit_mode(const std::string& name, bool on);
+  // Commits the guides moved in edit mode to the definition, saved at `out`
+  // (default: the rig's definition file); leaves edit mode unless `keep_editing`.
+  Result<CommitReport> commit_edits(const std::string& name, const fs::path& out = {}, bool keep_editing = false);
+  // The rig's definition as built (its source path included).
+  Result<rig::Definition> definition(const std::string& name);
+  std::vector<std::string> component_types() const;
+
+  // ---- definitions -----------------------------------------------------------
+  // Parses (the .rig.json or .rig.xml text) and validates a definition.
+  CheckedDefinition check_definition(const std::string& text, rig::Syntax syntax, const std::string& where) const;
+  // Builds the definition, or live-rebuilds the components that changed when
+  // the scene has its rig already. One undo step.
+  Result<BuildReport> build_definition(rig::Definition definition);
+  // Saves the definition at `path` (.rig.xml or .rig.json by its name); over
+  // a file with other content the version moves to the next one.
+  Result<SavedDefinition> save_definition(rig::Definition definition, const fs::path& path);
+
+  // Drops the rigs at step 0 whose step an undo took back and that the new
+  // edit just made can no longer redo. Drivers call it around each mutating
+  // call (the server around every request but undo/redo).
+  std::vector<std::uint64_t> unbuilt_undone() const;
+  void drop_unbuilt(const std::vector<std::uint64_t>& undone);
+
+ private:
+  struct Unbuilt {
+    rig::Definition definition;
+    rig::BuildOptions options;
+    std::size_t since = 0;     // undo_count() after the step to 0
+    std::uint64_t serial = 0;  // which entry (a name may be stepped to 0 again)
+  };
+  const Unbuilt* unbuilt_rig(const std::string& name) const;
+  Result<std::unique_ptr<rig::Build>> open_rig(const std::string& name);
+  Status drag_direct(const std::vector<NodeId>& controls, const Vec3& dt, const Quat& dq);
+  struct Before {
+    std::vector<Trs> local;
+    std::vector<std::pair<NodeId, Mat4>> controls;  // world
+  };
+  Before before_drag() const;
+  DragReport drag_report(const Before& before, std::vector<NodeId> dragged, bool session_dragged) const;
+  static std::vector<FeatureState> features_of(const rig::Build& build);
+
+  std::unique_ptr<scene::Scene> scene_;
+  std::unique_ptr<ephemeral::Session> session_;
+  fs::path scene_path_;
+  fs::path root_;
+  fs::path character_;
+  const rig::ComponentFactory& factory_;
+  std::uint64_t revision_ = 1;
+  std::uint64_t gesture_ = 0;  // undo merge key of the current direct (non-ephemeral) drag
+  std::map<std::string, Unbuilt> unbuilt_;
+  std::uint64_t unbuilt_serial_ = 0;
+};
+
+}  // namespace rigel::app

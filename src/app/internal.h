@@ -1,0 +1,24 @@
+#pragma once
+// What the workspace's source files share (private to src/app).
+
+#include <filesystem>
+#include <string>
+
+#include "rigel/base/status.h"
+
+namespace rigel::app::internal {
+
+// A library refusal of a well-formed call: the scene cannot do it in its
+// state (kFailedPrecondition); not-found, parse and I/O errors keep their
+// codes. `field` (when given) names the input it concerns.
+Status conflict(const Status& s, const std::string& field = {});
+
+// Makes the folder a file is about to be saved in; a folder (or anything
+// else that is not a file) where the file goes is the caller's fault.
+Status make_parent(const std::filesystem::path& file, const std::string& field);
+
+// A save that failed: where the caller said to write cannot take it
+// (kFailedPrecondition naming `field`).
+Status saved(const Status& s, const std::string& field);
+
+}  // namespace rigel::app::internal
