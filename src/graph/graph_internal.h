@@ -1,0 +1,127 @@
+// Private to rigel_graph: what the files implementing Graph share. The
+// undo records, the compiled schedule and the observer fan-out are declared
+// in graph.h as incomplete private types; they are defined here.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <unordered_map>
+#include <vector>
+
+#include "rigel/graph/graph.h"
+
+namespace rigel::graph {
+
+// Element indices above this are refused: they would allocate huge arrays.
+inline constexpr std::int32_t kMaxElement = 1 << 20;
+
+// Two plugs of one attribute that share data: whole vs element or
+// component, or the same element/component.
+inline bool overlaps(const Plug& a, const Plug& b) {
+  return a.node == b.node && a.attr == b.attr && (a.element < 0 || b.element < 0 || a.element == b.element) &&
+         (a.component < 0 || b.component < 0 || a.component == b.component);
+}
+
+// Writes `part` into the attribute value `whole` at the plug's element or
+// component (or replaces it for a whole plug).
+inline void write_part(Value& whole, AttrType type, const Plug& plug, const Value& part) {
+  if (plug.component >= 0) std::get<Vec3>(whole)[plug.component] = std::get<double>(part);
+  else if (plug.element >= 0) array_set_element(whole, type, static_cast<std::size_t>(plug.element), part);
+  else whole = part;
+}
+
+// A node by UUID, so that undo/redo survive the node being deleted and
+// recreated (NodeIds change; UUIDs do not).
+struct PlugRef {
+  Uuid node;
+  AttrIndex attr = kNoAttr;
+  std::int32_t element = -1;
+  std::int8_t component = -1;
+};
+
+struct NodeSnapshot {
+  Uuid uuid;
+  const NodeType* type = nullptr;
+  std::string name;
+  std::vector<Value> values;
+  std::map<std::string, std::string> tags;
+  std::uint64_t order = 0;
+};
+
+// Value sets are most edits (an interactive drag writes hundreds per event),
+// so an Edit is kept small and what only node, rename and tag edits need
+// lives behind a pointer.
+struct EditExtra {
+  NodeSnapshot snapshot;                               // create, delete
+  std::string key;                                     // tag key
+  std::optional<std::string> text_before, text_after;  // rename (names), tag (values)
+};
+
+struct Graph::Edit {
+  enum class Kind { kCreate, kDelete, kConnect, kDisconnect, kSet, kRename, kTag };
+  Kind kind = Kind::kSet;
+  PlugRef src, dst;     // connect, disconnect; dst is the plug for set
+  Value before, after;  // set: whole attribute; connect: dst before; disconnect: dst after
+  std::unique_ptr<EditExtra> extra;
+  EditExtra& x() {
+    if (!extra) extra = std::make_unique<EditExtra>();
+    return *extra;
+  }
+  const EditExtra& x() const { return *extra; }
+};
+static_assert(std::is_nothrow_move_constructible_v<Value>, "edit vectors must grow by moving");
+
+struct Graph::Step {
+  std::string label;
+  std::vector<Edit> edits;
+  std::uint64_t merge_key = 0;
+  // Merging steps only: where each plug's kSet edit is, built on first merge.
+  struct PlugKey {
+    Uuid node;
+    AttrIndex attr;
+    bool operator==(const PlugKey&) const = default;
+  };
+  struct PlugKeyHash {
+    std::size_t operator()(const PlugKey& k) const { return UuidHash{}(k.node) * 31 + k.attr; }
+  };
+  std::unordered_map<PlugKey, std::size_t, PlugKeyHash> set_at;
+  // Merging folds only into the sets after the last other edit (a later
+  // set must not move before a create or connect it followed).
+  bool indexed = false;
+  bool only_sets() const {
+    return std::all_of(edits.begin(), edits.end(), [](const Edit& e) { return e.kind == Edit::Kind::kSet; });
+  }
+};
+
+struct Graph::Schedule {
+  std::uint64_t generation = ~std::uint64_t{0};
+  std::vector<NodeId> order;             // parents before children, grouped by level
+  std::vector<std::size_t> level_begin;  // offsets into order, plus a final end
+  std::vector<std::uint32_t> position;   // node slot index -> index in order
+  std::vector<std::uint32_t> level;      // index in order -> level
+};
+
+template <typename Fn>
+void Graph::notify(Fn&& fn) {
+  if (observers_.empty()) return;
+  // Observers may add or remove observers while notified: iterate a copy,
+  // on the stack for the usual few (set_value notifies on every edit).
+  constexpr std::size_t kInline = 8;
+  if (observers_.size() <= kInline) {
+    std::array<Observer*, kInline> copy{};
+    const std::size_t n = observers_.size();
+    std::copy(observers_.begin(), observers_.end(), copy.begin());
+    for (std::size_t i = 0; i < n; ++i) fn(*copy[i]);
+    return;
+  }
+  auto observers = observers_;
+  for (Observer* o : observers) fn(*o);
+}
+
+}  // namespace rigel::graph
