@@ -1,11 +1,26 @@
-// The JSON API of `rigel serve` (docs/SERVER.md): typed answers and one
-// client that every panel goes through, so that every error reaches the
-// status bar and every change the tab makes is recorded as its own revision.
+// The JSON API of `rigel serve` (docs/SERVER.md), one typed method per
+// route with its request and answer types next to it: no other file names a
+// route or declares what an answer holds. Every request goes through one
+// client (http.ts), so every error reaches the status bar and every change
+// the tab makes is recorded as its own revision.
+
+import { ApiError, Http } from './http';
+import type { ApiEvents, RequestOptions } from './http';
+
+export { ApiError };
+export type { ApiEvents, RequestOptions };
 
 export type Vec3 = [number, number, number];
 export type Quat = [number, number, number, number];
 /** Local (or world) TRS of a node: [tx, ty, tz, qx, qy, qz, qw, sx, sy, sz]. */
 export type Trs = [number, number, number, number, number, number, number, number, number, number];
+
+/** What every answer of a change carries: the scene's new revision. */
+export interface Revised {
+  revision: number;
+}
+
+// ------------------------------------------------------------------ the scene
 
 export interface SceneInfo {
   revision: number;
@@ -63,7 +78,57 @@ export interface PoseAnswer {
   frame?: number;
   time?: number;
   space?: string;
+  /** Every transform node (GET /api/pose), or only those a drag changed. */
   nodes: Record<string, Trs>;
+}
+
+// ---------------------------------------------------------- posing and time
+
+export interface SelectRequest {
+  /** Uuids (or names) of controls. */
+  controls: string[];
+  /** Add to the selection instead of replacing it. */
+  add?: boolean;
+}
+export interface SelectAnswer extends Revised {
+  selection: string[];
+}
+
+export interface ModeAnswer extends Revised {
+  mode: string;
+}
+
+export interface OptionsRequest {
+  autoKey?: boolean;
+  magnetFraction?: number;
+  magnetRadius?: number;
+  maxChain?: number;
+}
+export interface OptionsAnswer {
+  autoKey?: boolean;
+  magnetFraction?: number;
+  magnetRadius?: number;
+  maxChain?: number;
+}
+
+export interface DragRequest {
+  control: string;
+  /** Where the grabbed control goes, in world space. */
+  to: { t: Vec3; q: Quat };
+}
+/** The nodes whose local transform the drag changed. */
+export interface DragAnswer extends PoseAnswer {
+  notes?: string[];
+}
+
+export interface HistoryAnswer extends Revised {
+  label: string;
+}
+
+export type TimeRequest = { frame: number } | { time: number };
+export interface TimeAnswer extends Revised {
+  frame: number;
+  time: number;
 }
 
 export interface KeysAnswer {
@@ -72,6 +137,17 @@ export interface KeysAnswer {
   frames: number[];
   times: number[];
 }
+
+export interface KeyRequest {
+  /** Default: the selection. */
+  controls?: string[];
+  delete?: boolean;
+}
+export interface KeyAnswer extends Revised {
+  frames: number[];
+}
+
+// ---------------------------------------------------------------------- rigs
 
 export interface RigComponentInfo {
   name: string;
@@ -85,6 +161,12 @@ export interface RigComponentInfo {
   /** current, changed (its definition differs), removed (gone from the definition), added. */
   state?: 'current' | 'changed' | 'removed' | 'added';
   outOfDate?: boolean;
+}
+
+export interface RigFeature {
+  feature: string;
+  switch: string;
+  enabled: boolean;
 }
 
 export interface RigInfo {
@@ -106,11 +188,88 @@ export interface RigInfo {
   definitionProblem?: string | null;
 }
 
-export interface RigFeature {
-  feature: string;
-  switch: string;
-  enabled: boolean;
+export interface RigsAnswer {
+  rigs: RigInfo[];
 }
+
+export interface RigAddRequest {
+  /** A definition file, relative to the server root. */
+  definition: string;
+  editMode?: boolean;
+}
+export interface RigAddAnswer extends Revised {
+  rig: string;
+  version: string;
+  steps?: number;
+  components?: unknown[];
+}
+
+export interface RigUpdateRequest {
+  rig: string;
+  keepKeys?: 'local' | 'world';
+  force?: boolean;
+}
+export interface RigUpdateAnswer extends Revised {
+  from: string;
+  to: string;
+  rebuilt?: string[];
+}
+
+export interface RigRequest {
+  rig: string;
+}
+
+export interface RigEditRequest {
+  rig: string;
+  /** Where the committed definition goes (default: the rig's own file). */
+  definitionOut?: string;
+  keepEditing?: boolean;
+}
+export interface RigEditAnswer {
+  rig: string;
+  version: string;
+  changed?: unknown;
+  ignored?: unknown;
+  definition?: string;
+  editMode?: boolean;
+}
+
+export interface RigEditModeRequest {
+  rig: string;
+  on: boolean;
+}
+export interface RigEditModeAnswer extends Revised {
+  rig: string;
+  editMode: boolean;
+}
+
+export interface RigFeatureRequest {
+  rig: string;
+  feature: string;
+  enabled: boolean;
+  switch?: string;
+}
+export interface RigFeatureAnswer extends Revised {
+  rig: string;
+  features?: RigFeature[];
+  position?: number;
+  steps?: number;
+}
+
+export interface StepRequest {
+  rig: string;
+  /** Go to this step (0: nothing built). */
+  to?: number;
+  /** Or move by ±1. */
+  by?: number;
+}
+export interface StepAnswer extends Revised {
+  position: number;
+  steps: number;
+  step: string;
+}
+
+// --------------------------------------------------------------- definitions
 
 export interface ParamSchema {
   name: string;
@@ -134,162 +293,225 @@ export interface ComponentSchema {
   needsParent: boolean;
 }
 
-export interface StepAnswer {
-  revision: number;
-  position: number;
-  steps: number;
-  step: string;
+export interface ComponentsAnswer {
+  components: ComponentSchema[];
 }
 
-/** An answer of the API with a 4xx/5xx status, or a request that never got one. */
-export class ApiError extends Error {
-  constructor(
-    readonly route: string,
-    readonly status: number,
-    message: string,
-    readonly field: string | null,
-  ) {
-    super(message);
-    this.name = 'ApiError';
-  }
-
-  /**
-   * The text the status bar shows: route, status, message and field, with
-   * the message in the user's words (`rename`, e.g. names.ts's userText).
-   */
-  describe(rename: (text: string) => string = (t) => t): string {
-    const field = this.field ? ` (field ${this.field})` : '';
-    const status = this.status > 0 ? ` ${this.status}` : '';
-    return `${this.route}${status}: ${rename(this.message)}${field}`;
-  }
+/** A component in the `.rig.json` form of a definition. */
+export interface ComponentJson {
+  type?: string;
+  name?: string;
+  side?: string;
+  version?: string;
+  rigId?: string;
+  attach?: string;
+  guiLocation?: [number, number];
+  guides?: { name?: string; joint?: string; translate?: [number, number, number]; [k: string]: unknown }[];
+  controls?: { role: string; shape?: string; color?: string; size?: number }[];
+  params?: Record<string, unknown>;
+  children?: ComponentJson[];
+  [k: string]: unknown;
 }
 
-export interface ApiEvents {
-  /** Every failed request, reported once here (callers may ignore the rejection). */
-  error(err: ApiError): void;
-  /** A revision this tab caused (the answer of a POST). */
-  ownRevision(revision: number): void;
-  /** A request reached the server (true) or could not (false: network error). */
-  connection(up: boolean, err?: ApiError): void;
+/** A definition in its `.rig.json` form (what the definition routes take and give). */
+export interface RigJson {
+  rig: {
+    name?: string;
+    version?: string;
+    guiLocation?: [number, number];
+    geometry?: { file: string; name?: string }[];
+    components?: ComponentJson[];
+    [k: string]: unknown;
+  };
 }
 
-export interface RequestOptions {
-  /** Not counted in `pending` (the revision poller, periodic refetches). */
-  background?: boolean;
-  /** Statuses the caller handles itself: rejected, but not reported as errors. */
-  expected?: number[];
+export interface DefinitionAnswer {
+  rig: string;
+  /** The definition's file, relative to the root (or absolute), '' when none. */
+  path: string;
+  definition: RigJson;
 }
 
-/**
- * The client. GETs and POSTs are plain fetches; every POST carries
- * `Content-Type: application/json` (the server refuses writes without it)
- * and the token of the page's `?token=` as a bearer token. `pendingWrites`
- * counts POSTs in flight so that the revision poller never mistakes this
- * tab's own change (whose answer has not arrived yet) for another tab's;
- * `pending` counts every request but the background ones (for tests: the
- * page is settled when it is 0).
- *
- * A request that gets no answer at all (network error: the server is gone)
- * is reported through `connection(false)`, not as an error: the app shows
- * one "connection lost" state, not one error per request.
- */
+export interface Problem {
+  where: string;
+  message: string;
+}
+
+export interface DefinitionRequest {
+  definition: RigJson;
+}
+export interface ValidateAnswer {
+  ok: boolean;
+  problems: Problem[];
+}
+
+export interface BuildAnswer extends Revised {
+  rig: string;
+  /** docs/SERVER.md says `components`; the server answers `rebuilt` (rigIds). */
+  components?: unknown[];
+  rebuilt?: string[];
+}
+
+export interface SaveDefinitionRequest {
+  definition: RigJson;
+  /** `.rig.xml` or `.rig.json`, relative to the root. */
+  path: string;
+}
+export interface SaveDefinitionAnswer {
+  /** Absolute. */
+  path: string;
+  version: string;
+}
+
+// -------------------------------------------------------------------- routes
+
+const q = encodeURIComponent;
+
+/** The client: one method per route of docs/SERVER.md that the page uses. */
 export class Api {
-  pendingWrites = 0;
-  pending = 0;
+  private readonly http: Http;
 
-  constructor(
-    private readonly base: string,
-    private readonly token: string | null,
-    private readonly events: ApiEvents,
-  ) {}
-
-  async get<T>(path: string, options: RequestOptions = {}): Promise<T> {
-    return this.request<T>('GET', path, undefined, options);
+  constructor(base: string, token: string | null, events: ApiEvents) {
+    this.http = new Http(base, token, events);
   }
 
-  async post<T>(path: string, body: unknown = {}, options: RequestOptions = {}): Promise<T> {
-    this.pendingWrites++;
-    try {
-      const answer = await this.request<T>('POST', path, body, options);
-      const revision = (answer as { revision?: unknown } | null)?.revision;
-      if (typeof revision === 'number') this.events.ownRevision(revision);
-      return answer;
-    } finally {
-      this.pendingWrites--;
-    }
+  /** Requests in flight but the background ones (the page is settled at 0). */
+  get pending(): number {
+    return this.http.pending;
   }
 
-  /** The scene as binary glTF. */
-  async glb(): Promise<ArrayBuffer> {
-    const route = 'GET /api/character.glb';
-    this.pending++;
-    try {
-      let res: Response;
-      try {
-        res = await fetch(this.base + '/api/character.glb', { cache: 'no-store' });
-      } catch (e) {
-        throw this.lost(new ApiError(route, 0, `network error: ${String(e)}`, null));
-      }
-      this.events.connection(true);
-      if (!res.ok) throw this.fail(await this.errorOf(route, res), {});
-      return await res.arrayBuffer();
-    } finally {
-      this.pending--;
-    }
+  /** POSTs in flight (the revision poller waits for them). */
+  get pendingWrites(): number {
+    return this.http.pendingWrites;
   }
 
-  private async request<T>(method: 'GET' | 'POST', path: string, body: unknown, options: RequestOptions): Promise<T> {
-    const route = `${method} ${path.split('?')[0]}`;
-    const headers: Record<string, string> = {};
-    if (method === 'POST') {
-      headers['Content-Type'] = 'application/json';
-      if (this.token) headers['Authorization'] = `Bearer ${this.token}`;
-    }
-    if (!options.background) this.pending++;
-    try {
-      let res: Response;
-      try {
-        res = await fetch(this.base + path, {
-          method,
-          headers,
-          body: method === 'POST' ? JSON.stringify(body ?? {}) : undefined,
-          cache: 'no-store',
-        });
-      } catch (e) {
-        throw this.lost(new ApiError(route, 0, `network error: ${String(e)}`, null));
-      }
-      this.events.connection(true);
-      if (!res.ok) throw this.fail(await this.errorOf(route, res), options);
-      const text = await res.text();
-      try {
-        return (text.length ? JSON.parse(text) : {}) as T;
-      } catch {
-        throw this.fail(new ApiError(route, res.status, `answer is not JSON: ${text.slice(0, 120)}`, null), options);
-      }
-    } finally {
-      if (!options.background) this.pending--;
-    }
+  // the scene
+
+  /** The revision poller's question: always in the background. */
+  revision(): Promise<Revised> {
+    return this.http.get('/api/revision', { background: true });
   }
 
-  private async errorOf(route: string, res: Response): Promise<ApiError> {
-    const text = await res.text().catch(() => '');
-    try {
-      const body = JSON.parse(text) as { error?: unknown; field?: unknown };
-      const message = typeof body.error === 'string' ? body.error : text || res.statusText;
-      const field = typeof body.field === 'string' && body.field.length ? body.field : null;
-      return new ApiError(route, res.status, message, field);
-    } catch {
-      return new ApiError(route, res.status, text.slice(0, 200) || res.statusText, null);
-    }
+  scene(): Promise<SceneInfo> {
+    return this.http.get('/api/scene');
   }
 
-  private fail(err: ApiError, options: RequestOptions): ApiError {
-    if (!options.expected?.includes(err.status)) this.events.error(err);
-    return err;
+  /** The scene as binary glTF (every node's `extras.uuid` names its rigel node). */
+  characterGlb(): Promise<ArrayBuffer> {
+    return this.http.bytes('/api/character.glb');
   }
 
-  private lost(err: ApiError): ApiError {
-    this.events.connection(false, err);
-    return err;
+  nodes(): Promise<NodesAnswer> {
+    return this.http.get('/api/nodes');
+  }
+
+  /** The local pose of every transform node. */
+  pose(): Promise<PoseAnswer> {
+    return this.http.get('/api/pose');
+  }
+
+  // posing
+
+  select(req: SelectRequest): Promise<SelectAnswer> {
+    return this.http.post('/api/select', req);
+  }
+
+  mode(mode: string): Promise<ModeAnswer> {
+    return this.http.post('/api/mode', { mode });
+  }
+
+  options(req: OptionsRequest): Promise<OptionsAnswer> {
+    return this.http.post('/api/options', req);
+  }
+
+  drag(req: DragRequest): Promise<DragAnswer> {
+    return this.http.post('/api/drag', req);
+  }
+
+  /** Ends the gesture: one undo step. */
+  release(): Promise<Revised> {
+    return this.http.post('/api/release', {});
+  }
+
+  /** 409 when there is nothing to undo (`options.expected` keeps it off the status bar). */
+  undo(options: RequestOptions = {}): Promise<HistoryAnswer> {
+    return this.http.post('/api/undo', {}, options);
+  }
+
+  redo(options: RequestOptions = {}): Promise<HistoryAnswer> {
+    return this.http.post('/api/redo', {}, options);
+  }
+
+  // time and keys
+
+  time(req: TimeRequest): Promise<TimeAnswer> {
+    return this.http.post('/api/time', req);
+  }
+
+  /** The keys of the keying set of `controls` (uuids or names). */
+  keys(controls: string[]): Promise<KeysAnswer> {
+    return this.http.get(`/api/keys?controls=${controls.map(q).join(',')}`);
+  }
+
+  key(req: KeyRequest): Promise<KeyAnswer> {
+    return this.http.post('/api/key', req);
+  }
+
+  // rigs
+
+  rigs(options: RequestOptions = {}): Promise<RigsAnswer> {
+    return this.http.get('/api/rigs', options);
+  }
+
+  rigAdd(req: RigAddRequest): Promise<RigAddAnswer> {
+    return this.http.post('/api/rigs/add', req);
+  }
+
+  rigUpdate(req: RigUpdateRequest): Promise<RigUpdateAnswer> {
+    return this.http.post('/api/rigs/update', req);
+  }
+
+  rigRemove(req: RigRequest): Promise<Revised> {
+    return this.http.post('/api/rigs/remove', req);
+  }
+
+  /** Commits rig edit mode (moved controls become guides). */
+  rigEdit(req: RigEditRequest): Promise<RigEditAnswer> {
+    return this.http.post('/api/rigs/edit', req);
+  }
+
+  rigEditMode(req: RigEditModeRequest): Promise<RigEditModeAnswer> {
+    return this.http.post('/api/rigs/edit-mode', req);
+  }
+
+  rigFeature(req: RigFeatureRequest): Promise<RigFeatureAnswer> {
+    return this.http.post('/api/rigs/feature', req);
+  }
+
+  rigStep(req: StepRequest): Promise<StepAnswer> {
+    return this.http.post('/api/rigs/step', req);
+  }
+
+  // definitions
+
+  components(): Promise<ComponentsAnswer> {
+    return this.http.get('/api/components');
+  }
+
+  /** The definition rig `rig` was built from. */
+  definition(rig: string): Promise<DefinitionAnswer> {
+    return this.http.get(`/api/definition?rig=${q(rig)}`);
+  }
+
+  validateDefinition(req: DefinitionRequest): Promise<ValidateAnswer> {
+    return this.http.post('/api/definition/validate', req);
+  }
+
+  buildDefinition(req: DefinitionRequest): Promise<BuildAnswer> {
+    return this.http.post('/api/definition/build', req);
+  }
+
+  saveDefinition(req: SaveDefinitionRequest): Promise<SaveDefinitionAnswer> {
+    return this.http.post('/api/definition/save', req);
   }
 }

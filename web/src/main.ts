@@ -1,6 +1,7 @@
-// Entry point: lays out the page, wires the panels to the App and the
-// keyboard, and exposes `window.rigel`, the hook the end-to-end tests use to
-// find where controls are on screen and to read the frame rate.
+// Entry point: lays out the page, makes the store, the app and the views
+// that subscribe to the store, wires the keyboard to the app's commands, and
+// exposes `window.rigel`, the hook the end-to-end tests use to find where
+// controls are on screen and to read the frame rate.
 
 import { Api } from './api';
 import { userText } from './names';
@@ -10,6 +11,7 @@ import { DefinitionEditor } from './defeditor';
 import { h, fill, typingTarget } from './dom';
 import { RigManager } from './rigs';
 import { StatusBar, run, setStatusBar } from './status';
+import { Store } from './store';
 import { Timeline } from './timeline';
 import { Viewport } from './viewport';
 import type { FrameStats } from './viewport';
@@ -23,7 +25,8 @@ function byId(id: string): HTMLElement {
 const statusBar = new StatusBar(byId('statusbar'));
 setStatusBar(statusBar);
 // Messages name channels and nodes as the page does (names.ts).
-statusBar.rename = (text) => userText(text, (u) => app?.names.get(u));
+const store = new Store((e) => statusBar.caught(e));
+statusBar.rename = (text) => userText(text, (u) => store.names.get(u));
 window.addEventListener('error', (e) => statusBar.error(`script error: ${e.message}`));
 window.addEventListener('unhandledrejection', (e) => statusBar.caught(e.reason));
 
@@ -31,17 +34,17 @@ const token = new URLSearchParams(location.search).get('token');
 let app: App | null = null;
 const api = new Api('', token, {
   error: (err) => statusBar.error(err.describe()),
-  ownRevision: (r) => app?.noteRevision(r),
+  ownRevision: (r) => store.noteRevision(r),
   connection: (up, err) => app?.connection(up, err),
 });
 
-const viewport = new Viewport(byId('viewport'), {
+const viewport = new Viewport(byId('viewport'), store, {
   pick: (uuid, additive) => app && run(app.pick(uuid, additive)),
   gestureStart: () => app?.drag.start(),
   gestureMove: (control, t, q) => app?.drag.move(control, t, q),
   gestureEnd: () => app && run(app.drag.end()),
 });
-app = new App(api, viewport, statusBar);
+app = new App(api, store, statusBar);
 const theApp = app;
 
 // ------------------------------------------------------------------ toolbar
@@ -74,7 +77,7 @@ fill(byId('history'), undoBtn, redoBtn);
 
 const info = byId('info');
 function renderToolbar(): void {
-  const s = theApp.scene;
+  const s = store.scene;
   for (const [mode, b] of modeButtons) {
     b.classList.toggle('active', s?.mode === mode);
     b.hidden = !!s?.modes?.length && !s.modes.includes(mode);
@@ -85,18 +88,20 @@ function renderToolbar(): void {
   redoBtn.title = s?.canRedo ? `Redo ${statusBar.rename(s.redo ?? '')} (Ctrl+Shift+Z)` : 'Nothing to redo';
   const label = kModeKeys.find((m) => m[0] === s?.mode)?.[2] ?? s?.mode ?? '—';
   const sel = s?.selection ?? [];
-  const names = sel.map((u) => theApp.names.get(u) ?? u);
-  const scope = theApp.keys?.scope ?? theApp.scope;
+  const names = sel.map((u) => store.names.get(u) ?? u);
+  const scope = store.shownScope();
   fill(
     info,
     h('span.pill', { testid: 'current-mode' }, 'Mode: ', h('b', {}, label)),
     h('span.pill', { testid: 'current-scope' }, 'Keying: ', h('b', {}, scope || '—')),
     h('span.pill', { testid: 'selection', title: names.join(', ') }, `Selected: ${names.length > 2 ? `${names.slice(0, 2).join(', ')} +${names.length - 2}` : names.join(', ') || 'none'}`),
-    h('span.pill.dim', { testid: 'revision' }, `rev ${theApp.knownRevision}`),
+    h('span.pill.dim', { testid: 'revision' }, `rev ${store.knownRevision}`),
   );
 }
-theApp.on('scene', renderToolbar);
-theApp.on('keys', renderToolbar);
+store.signals.sceneChanged.add(renderToolbar);
+store.signals.selectionChanged.add(renderToolbar);
+store.signals.timeChanged.add(renderToolbar);
+store.signals.keysChanged.add(renderToolbar);
 
 // -------------------------------------------------------------------- panels
 
@@ -166,7 +171,7 @@ window.addEventListener('keydown', (e) => {
       run(theApp.key(e.shiftKey));
       break;
     case 'k':
-      run(theApp.setAutoKey(!theApp.scene?.autoKey));
+      run(theApp.setAutoKey(!store.scene?.autoKey));
       break;
     case ' ':
       if ((e.target as HTMLElement | null)?.closest?.('#def-panel')) return;
@@ -198,6 +203,7 @@ interface RigelHook {
   /** True when no request, refresh, gesture or definition build is in flight. */
   settled: () => boolean;
   app: App;
+  store: Store;
   viewport: Viewport;
   timeline: Timeline;
   editor: DefinitionEditor;
@@ -217,12 +223,13 @@ declare global {
   }
 }
 
-const uuidOf = (name: string): string | null => theApp.byName.get(name) ?? (theApp.names.has(name) ? name : null);
+const uuidOf = (name: string): string | null => store.byName.get(name) ?? (store.names.has(name) ? name : null);
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
   settled: () => theApp.settled() && editor.idle() && !timeline.busy(),
   app: theApp,
+  store,
   viewport,
   timeline,
   editor,
@@ -239,7 +246,7 @@ window.rigel = {
 
 async function boot(): Promise<void> {
   statusBar.info('Loading the scene…');
-  await theApp.start();
+  await theApp.start(() => viewport.frameAll());
   await editor.loadSchemas();
 }
 boot().catch((e: unknown) => {

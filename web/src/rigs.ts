@@ -1,13 +1,15 @@
 // The Rig Manager (seed 002 §4.3.1): the scene's rigs with their definition
 // file and versions, Add from a definition, Remove, Update (keeping keys in
-// local or world space), rig edit mode, and build stepping.
+// local or world space), rig edit mode, and build stepping. It renders the
+// store's rigs (rigsChanged) and runs its changes as commands.
 //
 // A definition edited on disk changes no revision, so while the panel is
 // shown it refetches GET /api/rigs every two seconds to notice a rig that
 // went out of date.
 
 import type { App } from './app';
-import type { RigInfo, StepAnswer } from './api';
+import type { RigInfo } from './api';
+import * as commands from './commands';
 import { h, fill } from './dom';
 import { run } from './status';
 
@@ -55,7 +57,7 @@ export class RigManager {
       this.list,
       this.details,
     );
-    app.on('rigs', () => this.render());
+    app.store.signals.rigsChanged.add(() => this.render());
     window.setInterval(() => {
       if (this.visible && this.app.isReady && !this.app.offline && !this.app.drag.active && document.visibilityState === 'visible') {
         run(this.app.refreshRigs(true));
@@ -65,11 +67,11 @@ export class RigManager {
   }
 
   private rig(): RigInfo | undefined {
-    return this.app.rigs.find((r) => r.name === this.selected);
+    return this.app.store.rigs.find((r) => r.name === this.selected);
   }
 
   render(): void {
-    const rigs = this.app.rigs;
+    const rigs = this.app.store.rigs;
     // The periodic refetch re-renders only when something changed.
     const key = JSON.stringify([rigs, this.selected]);
     if (key === this.shown) return;
@@ -244,61 +246,30 @@ export class RigManager {
       this.app.status.error('Add rig: enter the path of a definition (relative to the server root)');
       return;
     }
-    const a = await this.app.api.post<{ revision: number; rig: string; version: string; components: unknown[] }>('/api/rigs/add', {
-      definition: path,
-      editMode: this.addEdit.checked,
-    });
-    this.selected = a.rig;
-    this.app.succeeded();
-    this.app.status.info(`Added rig ${a.rig} v${a.version} (${a.components?.length ?? 0} components)`);
-    await this.app.refreshAll();
+    await this.app.execute(commands.also(commands.addRig(path, this.addEdit.checked), (a) => (this.selected = a.rig)));
   }
 
   async update(rig: string, keepKeys: 'local' | 'world', force: boolean): Promise<void> {
-    const body: Record<string, unknown> = { rig, keepKeys };
-    if (force) body.force = true;
-    const a = await this.app.api.post<{ revision: number; from: string; to: string; rebuilt: string[] }>('/api/rigs/update', body);
-    this.app.succeeded();
-    this.app.status.info(`Updated ${rig} ${a.from} → ${a.to}; rebuilt: ${(a.rebuilt ?? []).join(', ') || 'nothing'}`);
-    await this.app.refreshAll();
+    await this.app.execute(commands.updateRig(rig, keepKeys, force));
   }
 
   async remove(rig: string): Promise<void> {
-    await this.app.api.post('/api/rigs/remove', { rig });
-    this.app.succeeded();
-    this.app.status.info(`Removed rig ${rig}`);
-    await this.app.refreshAll();
+    await this.app.execute(commands.removeRig(rig));
   }
 
   async commitEdit(rig: string, out: string): Promise<void> {
-    const body: Record<string, unknown> = { rig };
-    if (out) body.definitionOut = out;
-    await this.app.api.post('/api/rigs/edit', body);
-    this.app.succeeded();
-    this.app.status.info(`Committed rig edit mode of ${rig}`);
-    await this.app.refreshAll();
+    await this.app.execute(commands.commitEdit(rig, out));
   }
 
   async setFeature(rig: string, feature: string, switchName: string, enabled: boolean): Promise<void> {
-    const body: Record<string, unknown> = { rig, feature, enabled };
-    if (switchName) body.switch = switchName;
-    await this.app.api.post('/api/rigs/feature', body);
-    this.app.succeeded();
-    this.app.status.info(`${rig}: feature ${feature}${switchName ? '/' + switchName : ''} ${enabled ? 'on' : 'off'}`);
-    await this.app.refreshAll();
+    await this.app.execute(commands.setFeature(rig, feature, switchName, enabled));
   }
 
   async setEditMode(rig: string, on: boolean): Promise<void> {
-    await this.app.api.post('/api/rigs/edit-mode', { rig, on });
-    this.app.succeeded();
-    this.app.status.info(on ? `${rig} is in rig edit mode: move its controls, then commit` : `${rig} left rig edit mode`);
-    await this.app.refreshAll();
+    await this.app.execute(commands.setEditMode(rig, on));
   }
 
-  async step(rig: string, body: { to?: number; by?: number }): Promise<void> {
-    const a = await this.app.api.post<StepAnswer>('/api/rigs/step', { rig, ...body });
-    this.app.succeeded();
-    this.app.status.info(`${rig}: step ${a.position}/${a.steps}${a.step ? ` (${a.step})` : ''}`);
-    await this.app.refreshAll();
+  async step(rig: string, target: { to?: number; by?: number }): Promise<void> {
+    await this.app.execute(commands.step(rig, target));
   }
 }

@@ -1,5 +1,6 @@
 // The timeline: current frame (slider and field), key ticks of the
-// selection's keying set, set/delete key, auto-key, play/stop.
+// selection's keying set, set/delete key, auto-key, play/stop. It renders
+// from the store (scene, time and keys signals).
 //
 // Playing steps the scene's time one frame at a time through POST /api/time
 // and refetches the pose after each step, at most at the scene's frame rate
@@ -8,6 +9,7 @@
 import type { App } from './app';
 import { h, fill } from './dom';
 import { run } from './status';
+import type { Store } from './store';
 
 export class Timeline {
   playing = false;
@@ -23,11 +25,13 @@ export class Timeline {
   private scrubbing: Promise<void> | null = null;
   /** Frames shown while playing, for tests: every frame the pose was fetched at. */
   readonly playedFrames: number[] = [];
+  private readonly store: Store;
 
   constructor(
     el: HTMLElement,
     private readonly app: App,
   ) {
+    this.store = app.store;
     this.playBtn = h('button.icon', { title: 'Play / stop (Space)', testid: 'play', onclick: () => this.toggle() }, '▶');
     const prevKey = h('button.icon', { title: 'Previous key', testid: 'prev-key', onclick: () => this.jumpKey(-1) }, '|◀');
     const nextKey = h('button.icon', { title: 'Next key', testid: 'next-key', onclick: () => this.jumpKey(1) }, '▶|');
@@ -56,8 +60,10 @@ export class Timeline {
       h('div.track-wrap', {}, track, this.rangeEl),
       h('div.key-tools', {}, setKey, delKey, autoLabel, this.scopeEl, this.keysEl),
     );
-    app.on('scene', () => this.render());
-    app.on('keys', () => this.render());
+    const signals = this.store.signals;
+    signals.sceneChanged.add(() => this.render());
+    signals.timeChanged.add(() => this.render());
+    signals.keysChanged.add(() => this.render());
   }
 
   /** True while a move to a frame is in flight or playing. */
@@ -66,13 +72,13 @@ export class Timeline {
   }
 
   private range(): [number, number] {
-    const r = this.app.scene?.range;
+    const r = this.store.scene?.range;
     if (r && r.length === 2 && r[1] > r[0]) return [Math.round(r[0]), Math.round(r[1])];
     return [0, 100];
   }
 
   render(): void {
-    const s = this.app.scene;
+    const s = this.store.scene;
     const [first, last] = this.range();
     this.slider.min = String(first);
     this.slider.max = String(last);
@@ -82,10 +88,10 @@ export class Timeline {
       if (document.activeElement !== this.field) this.field.value = String(Math.round(s.frame * 100) / 100);
     }
     this.autoKey.checked = !!s?.autoKey;
-    const scope = this.app.keys?.scope ?? this.app.scope;
+    const scope = this.store.shownScope();
     this.scopeEl.textContent = `Keying: ${scope || '—'}`;
-    const frames = this.app.keys?.frames ?? [];
-    this.keysEl.textContent = this.app.keys ? `Keys: ${frames.length ? frames.join(', ') : 'none'}` : 'Keys: (no selection)';
+    const frames = this.store.keys?.frames ?? [];
+    this.keysEl.textContent = this.store.keys ? `Keys: ${frames.length ? frames.join(', ') : 'none'}` : 'Keys: (no selection)';
     this.ticks.replaceChildren(
       ...frames
         .filter((f) => f >= first && f <= last)
@@ -129,8 +135,8 @@ export class Timeline {
   }
 
   private jumpKey(dir: 1 | -1): void {
-    const frames = this.app.keys?.frames ?? [];
-    const cur = this.app.scene?.frame ?? 0;
+    const frames = this.store.keys?.frames ?? [];
+    const cur = this.store.scene?.frame ?? 0;
     const target = dir > 0 ? frames.find((f) => f > cur + 1e-6) : [...frames].reverse().find((f) => f < cur - 1e-6);
     if (target === undefined) {
       this.app.status.info(dir > 0 ? 'No key after this frame' : 'No key before this frame');
@@ -140,7 +146,7 @@ export class Timeline {
   }
 
   stepFrame(dir: 1 | -1): void {
-    this.scrub((this.app.scene?.frame ?? 0) + dir);
+    this.scrub((this.store.scene?.frame ?? 0) + dir);
   }
 
   toggle(): void {
@@ -157,13 +163,13 @@ export class Timeline {
     if (this.playing) return;
     this.playing = true;
     this.render();
-    const fps = this.app.scene?.fps && this.app.scene.fps > 0 ? this.app.scene.fps : 24;
+    const fps = this.store.scene?.fps && this.store.scene.fps > 0 ? this.store.scene.fps : 24;
     const period = 1000 / fps;
     const loop = async (): Promise<void> => {
       while (this.playing) {
         const t0 = performance.now();
         const [first, last] = this.range();
-        const cur = Math.round(this.app.scene?.frame ?? first);
+        const cur = Math.round(this.store.scene?.frame ?? first);
         const next = cur + 1 > last || cur < first ? first : cur + 1;
         try {
           await this.app.setFrame(next);

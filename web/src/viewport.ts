@@ -1,6 +1,9 @@
-// The 3D viewport: the character from GET /api/character.glb, its joints
-// drawn as lines and points, control shapes as lines in each control's local
-// space, orbit/pan/zoom, picking of controls and the transform gizmo.
+// The 3D viewport: the store's character (the glTF of GET
+// /api/character.glb), its joints drawn as lines and points, control shapes
+// as lines in each control's local space, orbit/pan/zoom, picking of
+// controls and the transform gizmo. It renders from the store, following
+// its signals (character, pose, selection, rigs in edit mode); what the
+// user does with the mouse goes out through ViewportEvents.
 //
 // Picking is done in screen space (the distance in pixels from the pointer
 // to each projected shape segment) rather than with Raycaster's world-space
@@ -8,10 +11,10 @@
 // for the tiny finger controls as for the global control.
 
 import * as THREE from 'three';
-import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
-import type { ControlInfo, NodesAnswer, Quat, Trs, Vec3 } from './api';
+import type { ControlInfo, Quat, RigInfo, Trs, Vec3 } from './api';
+import type { Character, Store } from './store';
 
 /** How near (CSS pixels) the pointer must be to a control's shape to pick it. */
 const kPickRadiusPx = 8;
@@ -95,6 +98,7 @@ export class Viewport {
 
   constructor(
     private readonly container: HTMLElement,
+    private readonly store: Store,
     private readonly events: ViewportEvents,
   ) {
     // A software rasteriser (SwiftShader, llvmpipe: a browser without a GPU,
@@ -195,6 +199,12 @@ export class Viewport {
       }
     });
 
+    const signals = store.signals;
+    signals.characterChanged.add((c) => this.load(c));
+    signals.poseChanged.add((nodes) => this.applyPose(nodes));
+    signals.selectionChanged.add((uuids) => this.setSelection(uuids));
+    signals.rigsChanged.add((rigs) => this.showEditMode(rigs));
+
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
     const loop = (): void => {
@@ -204,9 +214,9 @@ export class Viewport {
     requestAnimationFrame(loop);
   }
 
-  /** Replaces the character with the glTF scene and draws the controls of `nodes`. */
-  async load(buffer: ArrayBuffer, nodes: NodesAnswer): Promise<void> {
-    const gltf = await new GLTFLoader().parseAsync(buffer, '');
+  /** Replaces the character with the store's and draws its controls. */
+  private load(character: Character): void {
+    const nodes = character.nodes;
     if (this.root) {
       this.scene.remove(this.root);
       disposeTree(this.root);
@@ -221,7 +231,7 @@ export class Viewport {
     }
     this.byUuid.clear();
     this.controls.clear();
-    this.root = gltf.scene;
+    this.root = character.root;
     this.scene.add(this.root);
 
     this.root.traverse((o) => {
@@ -235,7 +245,7 @@ export class Viewport {
           // A material from the file (its colours, textures, alpha) is drawn as
           // the file says; only GLTFLoader's default grey gets the see-through
           // look that keeps the joints and controls inside visible.
-          if (gltf.parser.associations.get(m)?.materials !== undefined) continue;
+          if (character.fileMaterials.has(m)) continue;
           const std = m as THREE.MeshStandardMaterial;
           if (std.isMeshStandardMaterial) {
             std.transparent = true;
@@ -299,6 +309,7 @@ export class Viewport {
     this.scene.add(this.jointLines, this.jointPoints);
 
     this.setControls(nodes.controls);
+    this.setSelection(this.store.selection);
     this.dirty = true;
   }
 
@@ -347,11 +358,10 @@ export class Viewport {
   }
 
   /** Applies local TRS (what glTF nodes hold) per uuid; unknown uuids are skipped. */
-  applyPose(nodes: Record<string, Trs>): void {
-    for (const uuid in nodes) {
+  private applyPose(nodes: ReadonlyMap<string, Trs>): void {
+    for (const [uuid, v] of nodes) {
       const o = this.byUuid.get(uuid);
       if (!o) continue;
-      const v = nodes[uuid]!;
       o.position.set(v[0], v[1], v[2]);
       o.quaternion.set(v[3], v[4], v[5], v[6]);
       o.scale.set(v[7], v[8], v[9]);
@@ -362,7 +372,7 @@ export class Viewport {
     if (!this.dragging) this.syncProxy();
   }
 
-  setSelection(uuids: string[]): void {
+  private setSelection(uuids: readonly string[]): void {
     this.selection = uuids.filter((u) => this.controls.has(u));
     this.refreshColors();
     const primary = this.primary();
@@ -390,7 +400,10 @@ export class Viewport {
     return this.dragging;
   }
 
-  setLabel(text: string): void {
+  /** The label over the view names the rigs in rig edit mode. */
+  private showEditMode(rigs: readonly RigInfo[]): void {
+    const edit = rigs.filter((x) => x.editMode).map((x) => x.name);
+    const text = edit.length ? `Rig Edit Mode: ${edit.join(', ')}` : '';
     this.label.textContent = text;
     this.label.style.display = text ? '' : 'none';
   }

@@ -1,0 +1,187 @@
+// The changes a user makes, as commands (three.js's editor runs every edit
+// as a Command through `editor.execute`): each sends one request of api.ts,
+// puts what its answer says into the store, says what the status bar
+// shows, and names what the change can affect, which App.execute re-reads
+// after it. Undo and redo are the server's (one history for every client),
+// so a command needs no undo of its own here.
+
+import type {
+  Api,
+  BuildAnswer,
+  HistoryAnswer,
+  KeyAnswer,
+  ModeAnswer,
+  OptionsAnswer,
+  Revised,
+  RigAddAnswer,
+  RigEditAnswer,
+  RigEditModeAnswer,
+  RigFeatureAnswer,
+  RigJson,
+  RigUpdateAnswer,
+  SaveDefinitionAnswer,
+  SelectAnswer,
+  StepAnswer,
+  TimeAnswer,
+} from './api';
+import type { Store } from './store';
+
+/**
+ * What a change can affect: re-read after it. `everything` is a change of
+ * the node set (a rig built, rebuilt or removed, an undo that may be any of
+ * those): everything is read again, one such refresh at a time.
+ */
+export type Reread = 'scene' | 'pose' | 'keys' | 'rigs' | 'everything';
+
+export interface Command<A> {
+  /** Sends the request (a failure is reported by the client and rejects). */
+  send(api: Api): Promise<A>;
+  /** Puts what the answer says into the store, before anything is re-read. */
+  apply?(answer: A, store: Store): void;
+  /** What the status bar says once it succeeded (nothing: an error shown is only cleared). */
+  message?(answer: A, store: Store): string;
+  affects: readonly Reread[];
+}
+
+/** `base` with `extra` added to its `apply` (a panel's own state from the answer). */
+export function also<A>(base: Command<A>, extra: (answer: A) => void): Command<A> {
+  return {
+    ...base,
+    apply: (a, store) => {
+      base.apply?.(a, store);
+      extra(a);
+    },
+  };
+}
+
+// ------------------------------------------------------------------ posing
+
+export function select(controls: string[], add: boolean): Command<SelectAnswer> {
+  return {
+    send: (api) => api.select({ controls, add }),
+    apply: (a, store) => store.setSelection(a.selection),
+    affects: ['keys'],
+  };
+}
+
+export function setMode(mode: string): Command<ModeAnswer> {
+  return {
+    send: (api) => api.mode(mode),
+    apply: (a, store) => store.patchScene({ mode: a.mode ?? mode }),
+    affects: [],
+  };
+}
+
+export function setAutoKey(on: boolean): Command<OptionsAnswer> {
+  return {
+    send: (api) => api.options({ autoKey: on }),
+    apply: (a, store) => store.patchScene({ autoKey: typeof a.autoKey === 'boolean' ? a.autoKey : on }),
+    affects: [],
+  };
+}
+
+export function undo(redo: boolean): Command<HistoryAnswer> {
+  return {
+    // 409 (nothing to take: another client took it first) is the caller's: a state, not an error.
+    send: (api) => (redo ? api.redo({ expected: [409] }) : api.undo({ expected: [409] })),
+    message: (a) => `${redo ? 'Redo' : 'Undo'}: ${a.label ?? ''}`,
+    affects: ['everything'],
+  };
+}
+
+// ------------------------------------------------------------ time and keys
+
+export function setFrame(frame: number): Command<TimeAnswer> {
+  return {
+    send: (api) => api.time({ frame }),
+    apply: (a, store) => store.setTime({ frame: a.frame, time: a.time }),
+    affects: ['pose'],
+  };
+}
+
+export function key(remove: boolean): Command<KeyAnswer> {
+  return {
+    send: (api) => api.key(remove ? { delete: true } : {}),
+    message: (a, store) =>
+      `${remove ? 'Deleted key' : 'Keyed'} at frame ${store.scene?.frame ?? ''}; keys: ${(a.frames ?? []).join(', ') || 'none'}`,
+    affects: ['keys', 'scene'],
+  };
+}
+
+// --------------------------------------------------------------------- rigs
+
+export function addRig(definition: string, editMode: boolean): Command<RigAddAnswer> {
+  return {
+    send: (api) => api.rigAdd({ definition, editMode }),
+    message: (a) => `Added rig ${a.rig} v${a.version} (${a.components?.length ?? 0} components)`,
+    affects: ['everything'],
+  };
+}
+
+export function updateRig(rig: string, keepKeys: 'local' | 'world', force: boolean): Command<RigUpdateAnswer> {
+  return {
+    send: (api) => api.rigUpdate(force ? { rig, keepKeys, force: true } : { rig, keepKeys }),
+    message: (a) => `Updated ${rig} ${a.from} → ${a.to}; rebuilt: ${(a.rebuilt ?? []).join(', ') || 'nothing'}`,
+    affects: ['everything'],
+  };
+}
+
+export function removeRig(rig: string): Command<Revised> {
+  return {
+    send: (api) => api.rigRemove({ rig }),
+    message: () => `Removed rig ${rig}`,
+    affects: ['everything'],
+  };
+}
+
+/** Commits rig edit mode, the definition written to `out` (empty: the rig's own file). */
+export function commitEdit(rig: string, out: string): Command<RigEditAnswer> {
+  return {
+    send: (api) => api.rigEdit(out ? { rig, definitionOut: out } : { rig }),
+    message: () => `Committed rig edit mode of ${rig}`,
+    affects: ['everything'],
+  };
+}
+
+export function setFeature(rig: string, feature: string, switchName: string, enabled: boolean): Command<RigFeatureAnswer> {
+  return {
+    send: (api) => api.rigFeature(switchName ? { rig, feature, enabled, switch: switchName } : { rig, feature, enabled }),
+    message: () => `${rig}: feature ${feature}${switchName ? '/' + switchName : ''} ${enabled ? 'on' : 'off'}`,
+    affects: ['everything'],
+  };
+}
+
+export function setEditMode(rig: string, on: boolean): Command<RigEditModeAnswer> {
+  return {
+    send: (api) => api.rigEditMode({ rig, on }),
+    message: () => (on ? `${rig} is in rig edit mode: move its controls, then commit` : `${rig} left rig edit mode`),
+    affects: ['everything'],
+  };
+}
+
+export function step(rig: string, target: { to?: number; by?: number }): Command<StepAnswer> {
+  return {
+    send: (api) => api.rigStep({ rig, ...target }),
+    message: (a) => `${rig}: step ${a.position}/${a.steps}${a.step ? ` (${a.step})` : ''}`,
+    affects: ['everything'],
+  };
+}
+
+// -------------------------------------------------------------- definitions
+
+/** Builds (or live-rebuilds) the definition into the scene. */
+export function buildDefinition(definition: RigJson): Command<BuildAnswer> {
+  return {
+    send: (api) => api.buildDefinition({ definition }),
+    message: (a) => `Built ${a.rig} (${a.components ? `${a.components.length} components` : `${a.rebuilt?.length ?? 0} rebuilt`})`,
+    affects: ['everything'],
+  };
+}
+
+/** Saves the definition to `path` (relative to the root); a rig built from that file may now be out of date. */
+export function saveDefinition(definition: RigJson, path: string): Command<SaveDefinitionAnswer> {
+  return {
+    send: (api) => api.saveDefinition({ definition, path }),
+    affects: ['rigs'],
+  };
+}
