@@ -5,8 +5,6 @@
 #include <string>
 
 #include "rigel/graph/graph.h"
-#include "rigel/math/rotation.h"
-#include "rigel/math/transform.h"
 
 namespace rigel::ops::util {
 namespace {
@@ -23,80 +21,36 @@ constexpr AttrType kMatrixArray{ValueType::kMatrix, true};
 constexpr AttrType kVec3Array{ValueType::kDouble3, true};
 constexpr AttrType kQuatArray{ValueType::kQuat, true};
 
-template <typename T>
-const T& element_or(const std::vector<T>& v, std::size_t i, const T& fallback) {
-  return i < v.size() ? v[i] : fallback;
-}
-
-bool usable(const Mat4& m) {
-  if (!m.allFinite()) return false;
-  if (m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1) return false;
-  const double scale = m.topLeftCorner<3, 3>().cwiseAbs().maxCoeff();
-  const double det = m.topLeftCorner<3, 3>().determinant();
-  return scale > 0 && std::abs(det) > 1e-12 * scale * scale * scale;
-}
-
-Quat orient_quat(const Vec3& degrees) { return math::euler_to_quat(math::to_radians(degrees), math::RotateOrder::kXYZ); }
-
 void compute_switch(graph::ComputeContext& c) {
-  const double w = std::clamp(std::isfinite(c.get<double>(a::kFkIk)) ? c.get<double>(a::kFkIk) : 0.0, 0.0, 1.0);
-  const Mat4& parent = c.get<Mat4>(a::kParentMatrix);
-  const auto& fk = c.get<std::vector<Mat4>>(a::kFkMatrix);
-  const auto& ik = c.get<std::vector<Mat4>>(a::kIkMatrix);
-  const auto& offsets = c.get<std::vector<Mat4>>(a::kRestOffsetParentMatrix);
-  const auto& orients = c.get<std::vector<Vec3>>(a::kRestJointOrient);
-  const auto& axes = c.get<std::vector<Vec3>>(a::kRestRotateAxis);
-  const bool use_end = c.get<bool>(a::kUseIkEndMatrix);
-  const Mat4& end_matrix = c.get<Mat4>(a::kIkEndMatrix);
-  const std::size_t n = offsets.size();
-  const Mat4 identity = Mat4::Identity();
-  const Vec3 zero = Vec3::Zero();
-
-  std::vector<Vec3> translations(n, zero), scales(n, Vec3::Ones()), shears(n, zero);
+  const std::size_t n = c.get<std::vector<Mat4>>(a::kRestOffsetParentMatrix).size();
+  std::vector<Vec3> translations(n, Vec3::Zero()), scales(n, Vec3::Ones()), shears(n, Vec3::Zero());
   std::vector<Quat> rotations(n, Quat::Identity());
-  std::vector<Mat4> worlds(n, identity);
+  std::vector<Mat4> worlds(n, Mat4::Identity());
+  FkIkBlendJob job;
+  job.fk_ik = std::clamp(std::isfinite(c.get<double>(a::kFkIk)) ? c.get<double>(a::kFkIk) : 0.0, 0.0, 1.0);
+  job.parent = c.get<Mat4>(a::kParentMatrix);
+  job.fk_world = c.get<std::vector<Mat4>>(a::kFkMatrix);
+  job.ik_world = c.get<std::vector<Mat4>>(a::kIkMatrix);
+  job.use_ik_end = c.get<bool>(a::kUseIkEndMatrix);
+  job.ik_end = c.get<Mat4>(a::kIkEndMatrix);
+  job.rest_offset_parent = c.get<std::vector<Mat4>>(a::kRestOffsetParentMatrix);
+  job.rest_joint_orient = c.get<std::vector<Vec3>>(a::kRestJointOrient);
+  job.rest_rotate_axis = c.get<std::vector<Vec3>>(a::kRestRotateAxis);
+  job.translations = translations;
+  job.rotations = rotations;
+  job.scales = scales;
+  job.shears = shears;
+  job.worlds = worlds;
+  FkIkBlendResult result;
+  job.result = &result;
   std::string problem;
-  auto side = [&](const std::vector<Mat4>& mine, const std::vector<Mat4>& other, std::size_t i) -> const Mat4& {
-    return i < mine.size() ? mine[i] : element_or(other, i, identity);
-  };
-  Mat4 fk_prev = parent, ik_prev = parent, prev = parent;
-  if (!usable(parent)) problem = "parentMatrix is singular or not finite";
-  for (std::size_t i = 0; i < n; ++i) {
-    const Mat4& fk_world = side(fk, ik, i);
-    Mat4 ik_world = side(ik, fk, i);
-    if (use_end && i + 1 == n) ik_world = ik_end_world(ik_world, end_matrix);
-    const Mat4& offset = offsets[i];
-    const Mat4 fk_parent = fk_prev * offset, ik_parent = ik_prev * offset, blended_parent = prev * offset;
-    Mat4 local = identity;
-    if (problem.empty() && usable(fk_world) && usable(ik_world) && usable(fk_parent) && usable(ik_parent) &&
-        usable(blended_parent)) {
-      const math::Decomposed f = math::decompose(math::affine_inverse(fk_parent) * fk_world);
-      const math::Decomposed k = math::decompose(math::affine_inverse(ik_parent) * ik_world);
-      math::TransformParts p;
-      p.translate = (1 - w) * f.translate + w * k.translate;
-      p.rotate_mode = math::RotateMode::kQuaternion;
-      p.rotate_quaternion = f.rotation.slerp(w, k.rotation).normalized();  // Eigen's slerp takes the short way
-      p.scale = (1 - w) * f.scale + w * k.scale;
-      p.shear = (1 - w) * f.shear + w * k.shear;
-      local = math::compose(p);
-      translations[i] = p.translate;
-      scales[i] = p.scale;
-      shears[i] = p.shear;
-      const Vec3 jo = element_or(orients, i, zero), ra = element_or(axes, i, zero);
-      rotations[i] = (orient_quat(jo).conjugate() * p.rotate_quaternion * orient_quat(ra).conjugate()).normalized();
-      // The matrix the joint computes from these channels.
-      p.rotate_quaternion = rotations[i];
-      p.joint_orient = math::to_radians(jo);
-      p.rotate_axis = math::to_radians(ra);
-      local = math::compose(p);
-    } else if (problem.empty()) {
-      problem = "joint " + std::to_string(i) + ": fkMatrix, ikMatrix, ikEndMatrix or restOffsetParentMatrix is " +
-                "singular or not finite";
-    }
-    worlds[i] = blended_parent * local;
-    fk_prev = fk_world;
-    ik_prev = ik_world;
-    prev = worlds[i];
+  if (!job.run()) {
+    problem = "fkIkSwitch: the blend's inputs are not valid";  // unreachable: the node sizes and clamps them
+  } else if (result.unusable_parent) {
+    problem = "parentMatrix is singular or not finite";
+  } else if (result.unusable_joint >= 0) {
+    problem = "joint " + std::to_string(result.unusable_joint) +
+              ": fkMatrix, ikMatrix, ikEndMatrix or restOffsetParentMatrix is singular or not finite";
   }
   c.set(a::kOutTranslations, std::move(translations));
   c.set(a::kOutRotations, std::move(rotations));
@@ -107,12 +61,6 @@ void compute_switch(graph::ComputeContext& c) {
 }
 
 }  // namespace
-
-Mat4 ik_end_world(const Mat4& ik_world, const Mat4& end_control_world) {
-  Mat4 out = end_control_world;
-  out.topRightCorner<3, 1>() = ik_world.topRightCorner<3, 1>();
-  return out;
-}
 
 Status register_blend_types(graph::Registry& registry) {
   const std::vector<std::string> outs = {"outTranslations", "outRotations", "outScales", "outShears",

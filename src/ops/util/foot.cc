@@ -1,6 +1,5 @@
 #include "rigel/ops/util/foot.h"
 
-#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -19,24 +18,11 @@ constexpr AttrType kMatrix{ValueType::kMatrix, false};
 constexpr AttrType kDouble{ValueType::kDouble, false};
 constexpr AttrType kDouble3{ValueType::kDouble3, false};
 
-// The rotation by `degrees` about the line through `pivot` along the unit
-// `axis`; exactly the identity at 0, so a foot at rest gives its rest pose
-// bit for bit.
-Mat4 pivot_turn(const Vec3& pivot, const Vec3& axis, double degrees) {
-  Mat4 m = Mat4::Identity();
-  if (degrees == 0.0) return m;
-  const math::Mat3 r = Eigen::AngleAxisd(math::to_radians(degrees), axis).toRotationMatrix();
-  m.topLeftCorner<3, 3>() = r;
-  m.topRightCorner<3, 1>() = pivot - r * pivot;
-  return m;
-}
-
-void compute_reverse_foot(graph::ComputeContext& c) {
-  const Mat4& control = c.get<Mat4>(a::kControlMatrix);
-  const Mat4& rest_ankle = c.get<Mat4>(a::kRestAnkleMatrix);
-  const Mat4& rest_ball = c.get<Mat4>(a::kRestBallMatrix);
+// Reads the values, pivots and axes into `job` and names the first
+// attribute the job cannot take.
+std::string read_foot(graph::ComputeContext& c, ReverseFootJob& job) {
   std::string problem;
-  ReverseFootValues v;
+  ReverseFootValues& v = job.values;
   const std::pair<graph::AttrIndex, double*> values[] = {{a::kRoll, &v.roll},          {a::kRollBreak, &v.roll_break},
                                                          {a::kBank, &v.bank},          {a::kHeelTwist, &v.heel_twist},
                                                          {a::kToeTwist, &v.toe_twist}, {a::kBallTwist, &v.ball_twist},
@@ -45,7 +31,7 @@ void compute_reverse_foot(graph::ComputeContext& c) {
     *into = c.get<double>(attr);
     if (!std::isfinite(*into) && problem.empty()) problem = c.node().type().attr(attr).name + " is not finite";
   }
-  ReverseFootPivots p;
+  ReverseFootPivots& p = job.pivots;
   const std::pair<graph::AttrIndex, Vec3*> points[] = {{a::kHeelPivot, &p.heel},
                                                        {a::kToePivot, &p.toe},
                                                        {a::kBallPivot, &p.ball},
@@ -60,36 +46,33 @@ void compute_reverse_foot(graph::ComputeContext& c) {
   for (const auto& [attr, into] : axes) {
     *into = c.get<Vec3>(attr);
     const double length = into->norm();
-    if (!(std::isfinite(length) && length > 0)) {
-      if (problem.empty()) problem = c.node().type().attr(attr).name + " is zero or not finite";
-    } else {
-      *into /= length;
-    }
+    if (!(std::isfinite(length) && length > 0) && problem.empty())
+      problem = c.node().type().attr(attr).name + " is zero or not finite";
   }
-  ReverseFootChain chain;
-  if (problem.empty()) chain = reverse_foot_chain(p, v);
-  c.set(a::kOutAnkleMatrix, Mat4(control * chain.ankle * rest_ankle));
-  c.set(a::kOutBallMatrix, Mat4(control * chain.ball * rest_ball));
+  return problem;
+}
+
+void compute_reverse_foot(graph::ComputeContext& c) {
+  ReverseFootJob job;
+  job.control = c.get<Mat4>(a::kControlMatrix);
+  job.rest_ankle = c.get<Mat4>(a::kRestAnkleMatrix);
+  job.rest_ball = c.get<Mat4>(a::kRestBallMatrix);
+  Mat4 ankle, ball;
+  job.ankle = &ankle;
+  job.ball = &ball;
+  std::string problem = read_foot(c, job);
+  if (!problem.empty() || !job.run()) {
+    // The rest pose under the control.
+    const Mat4 identity = Mat4::Identity();
+    ankle = job.control * identity * job.rest_ankle;
+    ball = job.control * identity * job.rest_ball;
+  }
+  c.set(a::kOutAnkleMatrix, ankle);
+  c.set(a::kOutBallMatrix, ball);
   c.set(a::kError, std::move(problem));
 }
 
 }  // namespace
-
-ReverseFootChain reverse_foot_chain(const ReverseFootPivots& p, const ReverseFootValues& v) {
-  const double roll_break = std::max(v.roll_break, 0.0);
-  const double heel_roll = std::min(v.roll, 0.0);
-  const double ball_roll = std::clamp(v.roll, 0.0, roll_break);
-  const double toe_roll = std::max(v.roll - roll_break, 0.0);
-  // The pivots nest as the transforms of a Maya reverse foot would: heel,
-  // toe tip, bank, then the ball (ankle branch) or the toe tap (toe branch).
-  const Mat4 shared = pivot_turn(p.heel, p.twist_axis, v.heel_twist) * pivot_turn(p.heel, p.roll_axis, heel_roll) *
-                      pivot_turn(p.toe, p.twist_axis, v.toe_twist) * pivot_turn(p.toe, p.roll_axis, toe_roll) *
-                      pivot_turn(v.bank > 0 ? p.outer : p.inner, p.bank_axis, v.bank);
-  ReverseFootChain out;
-  out.ankle = shared * pivot_turn(p.ball, p.twist_axis, v.ball_twist) * pivot_turn(p.ball, p.roll_axis, ball_roll);
-  out.ball = shared * pivot_turn(p.ball, p.roll_axis, -v.toe_tap);
-  return out;
-}
 
 Status register_foot_types(graph::Registry& registry) {
   const std::vector<std::string> outs = {"outAnkleMatrix", "outBallMatrix", "error"};

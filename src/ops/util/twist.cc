@@ -5,7 +5,6 @@
 #include <string>
 
 #include "rigel/graph/graph.h"
-#include "rigel/math/transform.h"
 
 namespace rigel::ops::util {
 namespace {
@@ -18,44 +17,25 @@ namespace a = twist_attr;
 
 constexpr std::int64_t kMaxCount = 1024;
 
-bool usable(const Mat4& m) {
-  if (!m.allFinite()) return false;
-  const double scale = m.topLeftCorner<3, 3>().cwiseAbs().maxCoeff();
-  return scale > 0 && std::abs(m.topLeftCorner<3, 3>().determinant()) > 1e-12 * scale * scale * scale;
-}
-
 void compute_twist(graph::ComputeContext& c) {
   const std::int64_t count = std::clamp<std::int64_t>(c.get<std::int64_t>(a::kCount), 0, kMaxCount);
-  Vec3 axis = Vec3::Zero();
-  axis[std::clamp<std::int64_t>(c.get<std::int64_t>(a::kAxis), 0, 2)] = 1.0;
-  const Mat4& start = c.get<Mat4>(a::kStartMatrix);
-  const Mat4& end = c.get<Mat4>(a::kEndMatrix);
-  const Quat& rest = c.get<Quat>(a::kRestRelative);
   std::vector<Quat> out(static_cast<std::size_t>(count), Quat::Identity());
-  if (!usable(start) || !usable(end) || !rest.coeffs().allFinite() || rest.norm() < 1e-12) {
-    c.set(a::kOutRotations, std::move(out));
-    c.set(a::kTwist, 0.0);
-    c.set(a::kError, std::string("startMatrix, endMatrix or restRelative is singular or not finite"));
-    return;
-  }
-  const Quat relative = math::decompose(start).rotation.conjugate() * math::decompose(end).rotation;
-  const double angle = twist_angle(relative * rest.normalized().conjugate(), axis);
-  for (std::int64_t i = 0; i < count; ++i)
-    out[i] = Quat(Eigen::AngleAxisd(angle * double(i + 1) / double(count + 1), axis));
+  double angle = 0.0;
+  TwistShareJob job;
+  job.axis = Vec3::Zero();
+  job.axis[std::clamp<std::int64_t>(c.get<std::int64_t>(a::kAxis), 0, 2)] = 1.0;
+  job.start = c.get<Mat4>(a::kStartMatrix);
+  job.end = c.get<Mat4>(a::kEndMatrix);
+  job.rest_relative = c.get<Quat>(a::kRestRelative);
+  job.rotations = out;
+  job.twist = &angle;
+  const bool solved = job.run();
   c.set(a::kOutRotations, std::move(out));
-  c.set(a::kTwist, math::to_degrees(angle));
-  c.set(a::kError, std::string());
+  c.set(a::kTwist, solved ? math::to_degrees(angle) : 0.0);
+  c.set(a::kError, solved ? std::string() : std::string("startMatrix, endMatrix or restRelative is singular or not finite"));
 }
 
 }  // namespace
-
-double twist_angle(const Quat& q, const Vec3& axis) {
-  Quat u = q.normalized();
-  if (u.w() < 0) u.coeffs() = -u.coeffs();  // the short way: angle within (-pi, pi]
-  const double along = u.vec().dot(axis);
-  if (std::abs(along) < 1e-300 && std::abs(u.w()) < 1e-300) return 0.0;  // a half turn of swing: no twist
-  return 2.0 * std::atan2(along, u.w());
-}
 
 Status register_twist_types(graph::Registry& registry) {
   const std::vector<std::string> outs = {"outRotations", "twist", "error"};

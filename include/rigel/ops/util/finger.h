@@ -5,20 +5,8 @@
 // and writes each finger control's offsetParentMatrix, so the curl is a
 // layer under the animator's FK channels: at curl = spread = 0 every control
 // sits at its rest offset with zeroed channels, and its own rotate turns it
-// further from wherever the curl put it.
-//
-// Per control i (n = restOffsetParentMatrix's size), of finger k = finger[i]:
-//   curl_i   = curl + fingerCurl[k]                          (degrees)
-//   spread_i = spread * spreadWeight[i]                      (degrees)
-//   R_i      = rot(spreadAxis[i], spread_i) * rot(bendAxis[i], curl_i)
-//   outOffsetParentMatrix[i] = restOffsetParentMatrix[i] * R_i
-// rot(a, t): the rotation by t about the unit axis a (right-hand rule), in
-// the control's own frame (axes are given in that frame), so the control
-// turns about its own origin (the finger joint) and everything under it
-// follows. A zero angle gives restOffsetParentMatrix[i] exactly. Every
-// control of a finger gets that finger's curl; spreadWeight is usually
-// nonzero only on a finger's first control (rig::components hand: the
-// fingers fan out from the middle one).
+// further from wherever the curl put it. FingerCurlJob (finger_curl.h) does
+// the maths.
 //
 // Inputs:
 //   curl                    double    keyable, angle: curl of every finger
@@ -39,6 +27,7 @@
 #include "rigel/base/status.h"
 #include "rigel/graph/node_type.h"
 #include "rigel/math/types.h"
+#include "rigel/ops/util/finger_curl.h"
 
 namespace rigel::ops::util {
 
@@ -60,11 +49,6 @@ enum : graph::AttrIndex {
   kCount
 };
 }  // namespace finger_attr
-
-// restOffsetParentMatrix * rot(spread_axis, spread) * rot(bend_axis, curl),
-// angles in radians, axes unit length; a zero angle leaves its rotation out.
-math::Mat4 finger_offset(const math::Mat4& rest_offset, const math::Vec3& spread_axis, double spread,
-                         const math::Vec3& bend_axis, double curl);
 
 // Adds fingerCurl (called by register_util_types).
 Status register_finger_types(graph::Registry& registry);

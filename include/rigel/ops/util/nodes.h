@@ -1,6 +1,14 @@
 #pragma once
-// Utility node types (Maya's math nodes), for rigs that wire matrices and
-// values between operators.
+// ops/util: the rig operators the rig layer's components build with, and a
+// utility node (Maya's math nodes) for rigs that wire matrices between
+// operators. Each rig operator is a kernel (a job, where the maths lives)
+// and the node type that calls it:
+//
+//   node          node header  kernel (job)                   kernel header
+//   fkIkSwitch    blend.h      FkIkBlendJob, ik_end_world()   fk_ik_blend.h
+//   twistShare    twist.h      TwistShareJob, twist_angle()   twist_share.h
+//   reverseFoot   foot.h       ReverseFootJob                 reverse_foot.h
+//   fingerCurl    finger.h     FingerCurlJob                  finger_curl.h
 //
 //   inverseMatrix  inputMatrix, offsetMatrix (matrix inputs) ->
 //                  outputMatrix = (inputMatrix * offsetMatrix)^-1
@@ -17,6 +25,7 @@ namespace rigel::ops::util {
 
 inline constexpr const char* kInverseMatrixType = "inverseMatrix";
 
+// Adds inverseMatrix and the four rig operators' node types.
 Status register_util_types(graph::Registry& registry);
 
 }  // namespace rigel::ops::util
