@@ -251,4 +251,19 @@ py::object record(py::dict fields) {
   return py::module_::import("types").attr("SimpleNamespace")(**fields);
 }
 
+// ---- posing ------------------------------------------------------------------
+
+std::vector<std::string> mode_names() {
+  std::vector<std::string> out;
+  for (int i = 0; i < ephemeral::kModeCount; ++i) out.emplace_back(ephemeral::mode_name(static_cast<ephemeral::Mode>(i)));
+  return out;
+}
+
+ephemeral::Mode mode_from(const std::string& name) {
+  if (std::optional<ephemeral::Mode> mode = ephemeral::mode_from_name(name)) return *mode;
+  std::string modes;
+  for (const std::string& n : mode_names()) modes += (modes.empty() ? "" : ", ") + n;
+  raise(ErrorCode::kInvalidArgument, "mode '" + name + "': unknown mode; modes: " + modes);
+}
+
 }  // namespace rigel::python

@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -18,6 +19,7 @@
 #include <pybind11/stl.h>
 
 #include "rigel/base/status.h"
+#include "rigel/ephemeral/session.h"
 #include "rigel/graph/graph.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/scene/scene.h"
@@ -113,10 +115,50 @@ math::Quat rotation_from_python(py::handle object, const std::string& where);
 // types.SimpleNamespace(**fields): small result records.
 py::object record(py::dict fields);
 
-// ---- binding entry points (one per file) --------------------------------------
+// ---- scenes ------------------------------------------------------------------
 
-void bind_scene(py::module_& m);
-void bind_rig(py::module_& m);
-void bind_ephemeral(py::module_& m);
+// Every node type this build knows: scene, ops, the metadata network and
+// ephemeral rigs (what the CLI loads files with).
+std::shared_ptr<const graph::Registry> registry();
+// A scene from a file by its extension (rigel.open): .glb/.gltf and .bvh
+// imported, anything else loaded as .rigel.
+SceneRef open_any(const std::string& path);
+
+graph::Plug plug_of(const SceneRef& s, const std::string& path);
+graph::Plug plug_of(const SceneRef& s, NodeId node, const std::string& attr, int element);
+py::object get_plug(const SceneRef& s, const graph::Plug& plug);
+void set_plug(const SceneRef& s, const graph::Plug& plug, py::handle value);
+py::list connection_list(const SceneRef& s, std::span<const graph::Connection> connections);
+
+// `with scene.transaction("label"):` groups edits into one undo step; an
+// exception inside rolls them back.
+struct TransactionScope {
+  SceneRef scene;
+  std::string label;
+  bool open = false;
+};
+
+// ---- posing ------------------------------------------------------------------
+
+// A posing mode by name (InvalidArgumentError listing the modes).
+ephemeral::Mode mode_from(const std::string& name);
+std::vector<std::string> mode_names();
+// An ephemeralRig node (InvalidArgumentError for another node).
+NodeId ephemeral_rig(const SceneRef& s, const NodeArg& arg);
+
+// ---- binding entry points ------------------------------------------------------
+//
+// One file per bound class (wrap_<class>.cc), called in this order by
+// module.cc: a signature names the Python classes registered before it, so
+// Node is declared before Scene, whose methods take and return nodes.
+
+void declare_node(py::module_& m);   // wrap_node.cc: the class only
+void wrap_transaction(py::module_& m);
+void wrap_scene(py::module_& m);     // and rigel.open
+void wrap_node(py::module_& m);      // Node's methods
+void bind_rig(py::module_& m);       // rig_bindings.cc: definitions, builds, the metadata network
+void wrap_ephemeral(py::module_& m);  // ephemeral rigs and relations (module functions)
+void wrap_keys(py::module_& m);       // keys and keying scopes (module functions)
+void wrap_session(py::module_& m);
 
 }  // namespace rigel::python

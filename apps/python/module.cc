@@ -1,9 +1,11 @@
 // The extension `rigel._rigel` (the package `rigel` re-exports it;
 // docs/PYTHON.md). This file defines the exceptions: every failing rigel
 // call raises a subclass of rigel.Error chosen by its ErrorCode, with
-// rigel's message, which names the place (file:line, node.attr, component).
+// rigel's message, which names the place (file:line, node.attr, component),
+// and, when rigel names the input at fault, `field` (its Python name).
 
 #include <array>
+#include <cctype>
 
 #include "common.h"
 
@@ -21,6 +23,21 @@ struct ExceptionSpec {
   PyObject* builtin;  // the standard exception it also derives from
   const char* doc;
 };
+
+// An API name (Status::field(), camelCase: magnetFraction, definitionOut) as
+// Python spells it (magnet_fraction, definition_out).
+std::string python_name(const std::string& field) {
+  std::string out;
+  for (char c : field) {
+    if (std::isupper(static_cast<unsigned char>(c))) {
+      out += '_';
+      out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
 
 PyObject* make_exception(py::module_& m, const char* name, PyObject* bases, const char* doc) {
   const std::string qualified = std::string("rigel.") + name;
@@ -55,14 +72,28 @@ void define_exceptions(py::module_& m) {
   definition_error = make_exception(m, "DefinitionError", bases.ptr(),
                                     "Problems of a rig definition; `diagnostics` lists each with file, line and column.");
   PyObject_SetAttrString(definition_error, "code", py::str("definition").ptr());
+  // The input at fault (an argument's name) when rigel names one, else None.
+  PyObject_SetAttrString(base, "field", Py_None);
 
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const StatusError& e) {
-      const auto index = static_cast<std::size_t>(e.status().code());
+      const Status& s = e.status();
+      const auto index = static_cast<std::size_t>(s.code());
       PyObject* cls = index < exception_classes.size() ? exception_classes[index] : exception_classes[0];
-      PyErr_SetString(cls, e.status().message().c_str());
+      if (s.field().empty()) {
+        PyErr_SetString(cls, s.message().c_str());
+        return;
+      }
+      // The input at fault in Python's spelling, in `field` and in the
+      // message: "magnet_fraction: ...", not "magnetFraction: ...".
+      const std::string field = python_name(s.field());
+      std::string message = s.message();
+      if (message.rfind(s.field() + ": ", 0) == 0) message = field + ": " + message.substr(s.field().size() + 2);
+      py::object instance = py::reinterpret_borrow<py::object>(cls)(message);
+      instance.attr("field") = field;
+      PyErr_SetObject(cls, instance.ptr());
     } catch (const DefinitionError& e) {
       py::object instance = py::reinterpret_borrow<py::object>(definition_error)(e.what());
       instance.attr("diagnostics") = py::cast(e.diagnostics());
@@ -78,7 +109,12 @@ PYBIND11_MODULE(_rigel, m) {
   using namespace rigel::python;
   m.doc() = "rigel: a character-rigging engine (scene graph, rig definitions and builds, ephemeral rigs)";
   define_exceptions(m);
-  bind_scene(m);
+  declare_node(m);
+  wrap_transaction(m);
+  wrap_scene(m);
+  wrap_node(m);
   bind_rig(m);
-  bind_ephemeral(m);
+  wrap_ephemeral(m);
+  wrap_keys(m);
+  wrap_session(m);
 }

@@ -1,5 +1,6 @@
-// Scene and Node: nodes, attributes, connections, evaluation, time, undo,
-// hierarchy, and the files a scene is read from and written to.
+// rigel.Scene: the files a scene is read from and written to, its nodes,
+// attributes and connections, evaluation and time, undo and hierarchy; and
+// rigel.open.
 
 #include <cctype>
 #include <filesystem>
@@ -11,16 +12,12 @@
 #include "rigel/io/gltf_export.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
-#include "rigel/rig/meta.h"
 
 namespace rigel::python {
-namespace {
 
 // Every node type this build knows: scene, ops, the metadata network and
 // ephemeral rigs (what the CLI loads files with).
 std::shared_ptr<const graph::Registry> registry() { return ephemeral::default_registry(); }
-
-SceneRef new_scene() { return std::make_shared<scene::Scene>(registry()); }
 
 SceneRef load_scene(const std::string& path) { return SceneRef(unwrap(io::load_scene(path, registry()))); }
 
@@ -67,29 +64,11 @@ py::list connection_list(const SceneRef& s, std::span<const graph::Connection> c
   return out;
 }
 
-py::object attribute_info(const graph::AttrSpec& spec) {
-  py::dict d;
-  d["name"] = spec.name;
-  d["type"] = graph::type_name(spec.type);
-  d["input"] = (spec.flags & graph::kInput) != 0;
-  d["output"] = (spec.flags & graph::kOutput) != 0;
-  d["keyable"] = (spec.flags & graph::kKeyable) != 0;
-  d["storable"] = (spec.flags & graph::kStorable) != 0;
-  d["hidden"] = (spec.flags & graph::kHidden) != 0;
-  d["angle"] = (spec.flags & graph::kAngle) != 0;
-  d["enum_names"] = spec.enum_names;
-  d["default"] = to_python(std::holds_alternative<std::monostate>(spec.default_value) ? graph::zero_value(spec.type)
-                                                                                       : spec.default_value);
-  return record(d);
-}
+namespace {
 
-// `with scene.transaction("label"):` groups edits into one undo step; an
-// exception inside rolls them back.
-struct TransactionScope {
-  SceneRef scene;
-  std::string label;
-  bool open = false;
-};
+using SceneClass = py::class_<scene::Scene, SceneRef>;
+
+SceneRef new_scene() { return std::make_shared<scene::Scene>(registry()); }
 
 py::dict export_report(const io::GltfExportReport& r) {
   py::dict d;
@@ -106,22 +85,8 @@ py::dict export_report(const io::GltfExportReport& r) {
   return d;
 }
 
-}  // namespace
-
-void bind_scene(py::module_& m) {
-  py::class_<scene::Scene, SceneRef> scene_cls(m, "Scene", R"(A scene: a dependency graph of nodes with a transform hierarchy.
-
-Scene() is empty; Scene.load / Scene.import_gltf / Scene.import_bvh (or
-rigel.open) read files. Every node type rigel knows is available (scene,
-operators, rig metadata, ephemeral rigs). Plugs are named "node.attr",
-"node.attr[3]" (an element) or "node.translateX" (a component).)");
-  py::class_<NodeRef> node_cls(m, "Node", R"(A node of a scene, held by UUID.
-
-A handle survives renames and undo/redo of its deletion; using a handle to
-a node that no longer exists raises NotFoundError.)");
-
-  // ---- files ------------------------------------------------------------------
-  scene_cls.def(py::init(&new_scene))
+void def_files(py::module_& m, SceneClass& cls) {
+  cls.def(py::init(&new_scene))
       .def_static("load", &load_scene, py::arg("path"), "Reads a .rigel scene file.")
       .def_static("import_gltf", &import_gltf, py::arg("path"), py::arg("scale") = 1.0,
                   "Imports a .glb/.gltf (joints, meshes, skins, blend shapes, clips); `scale` changes units.")
@@ -147,12 +112,12 @@ a node that no longer exists raises NotFoundError.)");
           "Writes .glb or .gltf; `frames` = (first, last) bakes that range. Returns the export report as a dict.");
   m.def("open", &open_any, py::arg("path"),
         "A scene from a file by its extension: .glb/.gltf and .bvh are imported, anything else loaded as .rigel.");
+}
 
-  // ---- nodes --------------------------------------------------------------------
-  scene_cls
-      .def(
-          "node_types", [](const SceneRef& s) { return s->graph().registry().type_names(); },
-          "Names of the node types this scene can create.")
+void def_nodes(SceneClass& cls) {
+  cls.def(
+         "node_types", [](const SceneRef& s) { return s->graph().registry().type_names(); },
+         "Names of the node types this scene can create.")
       .def(
           "create_node",
           [](const SceneRef& s, const std::string& type, const std::string& name, std::optional<NodeArg> parent) {
@@ -195,12 +160,12 @@ a node that no longer exists raises NotFoundError.)");
             check(s->graph().rename(resolve(s, n), name));
           },
           py::arg("node"), py::arg("name"));
+}
 
-  // ---- attributes and connections --------------------------------------------------
-  scene_cls
-      .def(
-          "get", [](const SceneRef& s, const std::string& plug) { return get_plug(s, plug_of(s, plug)); },
-          py::arg("plug"), "The evaluated value of \"node.attr\" (pulls what it depends on).")
+void def_attributes(SceneClass& cls) {
+  cls.def(
+         "get", [](const SceneRef& s, const std::string& plug) { return get_plug(s, plug_of(s, plug)); },
+         py::arg("plug"), "The evaluated value of \"node.attr\" (pulls what it depends on).")
       .def(
           "get",
           [](const SceneRef& s, const NodeArg& n, const std::string& attr, int element) {
@@ -247,15 +212,15 @@ a node that no longer exists raises NotFoundError.)");
             return connection_list(s, c);
           },
           "Every connection as (src, dst) plug names, sorted by destination.");
+}
 
-  // ---- evaluation and time --------------------------------------------------------
-  scene_cls
-      .def(
-          "evaluate",
-          [](const SceneRef& s, bool parallel) {
-            s->graph().evaluate_all(parallel ? graph::Execution::kParallel : graph::Execution::kSerial);
-          },
-          py::arg("parallel") = true, "Evaluates every dirty node.")
+void def_evaluation(SceneClass& cls) {
+  cls.def(
+         "evaluate",
+         [](const SceneRef& s, bool parallel) {
+           s->graph().evaluate_all(parallel ? graph::Execution::kParallel : graph::Execution::kSerial);
+         },
+         py::arg("parallel") = true, "Evaluates every dirty node.")
       .def(
           "world_matrix", [](const SceneRef& s, const NodeArg& n) { return matrix_to_python(s->world_matrix(resolve(s, n))); },
           py::arg("node"), "Evaluated world matrix: 16 floats, column-major (translation at [12:15]).")
@@ -274,34 +239,14 @@ a node that no longer exists raises NotFoundError.)");
       .def_property(
           "selection", [](const SceneRef& s) { return node_list(s, s->graph().selection()); },
           [](const SceneRef& s, const std::vector<NodeArg>& nodes) { s->graph().select(resolve_all(s, nodes)); });
+}
 
-  // ---- undo ---------------------------------------------------------------------------
-  py::class_<TransactionScope>(m, "Transaction", "Context manager from Scene.transaction(label).")
-      .def(
-          "__enter__",
-          [](TransactionScope& t) -> TransactionScope& {
-            if (t.open) raise(ErrorCode::kInvalidArgument, "transaction '" + t.label + "' is already open");
-            t.scene->graph().begin_transaction(t.label);
-            t.open = true;
-            return t;
-          },
-          py::return_value_policy::reference_internal)
-      .def("__exit__", [](TransactionScope& t, py::object type, py::object, py::object) {
-        if (!t.open) return false;
-        t.open = false;
-        if (type.is_none()) {
-          t.scene->graph().commit_transaction();
-        } else {
-          t.scene->graph().rollback_transaction();
-        }
-        return false;
-      });
-  scene_cls
-      .def(
-          "transaction",
-          [](const SceneRef& s, const std::string& label) { return TransactionScope{s, label, false}; },
-          py::arg("label"),
-          "`with scene.transaction('label'):` makes the edits inside one undo step; an exception rolls them back.")
+void def_undo(SceneClass& cls) {
+  cls.def(
+         "transaction",
+         [](const SceneRef& s, const std::string& label) { return TransactionScope{s, label, false}; },
+         py::arg("label"),
+         "`with scene.transaction('label'):` makes the edits inside one undo step; an exception rolls them back.")
       .def(
           "undo", [](const SceneRef& s) { return s->graph().undo(); }, "Undoes one step; False when there is none.")
       .def(
@@ -312,11 +257,11 @@ a node that no longer exists raises NotFoundError.)");
       .def_property_readonly("redo_label", [](const SceneRef& s) { return s->graph().redo_label(); })
       .def_property_readonly("undo_count", [](const SceneRef& s) { return s->graph().undo_count(); })
       .def("clear_history", [](const SceneRef& s) { s->graph().clear_history(); });
+}
 
-  // ---- hierarchy ------------------------------------------------------------------------
-  scene_cls
-      .def(
-          "roots", [](const SceneRef& s) { return node_list(s, s->roots()); }, "Transforms without a parent.")
+void def_hierarchy(SceneClass& cls) {
+  cls.def(
+         "roots", [](const SceneRef& s) { return node_list(s, s->roots()); }, "Transforms without a parent.")
       .def(
           "hierarchy", [](const SceneRef& s) { return node_list(s, s->hierarchy()); },
           "Every transform, depth first, parents before children.")
@@ -327,116 +272,23 @@ a node that no longer exists raises NotFoundError.)");
           },
           py::arg("child"), py::arg("parent"), py::arg("keep_world") = true,
           "Parents `child` under `parent` (None: the world); keep_world rewrites its channels so it stays put.");
+}
 
-  // ---- Node -------------------------------------------------------------------------------
-  node_cls
-      .def_property_readonly("scene", [](const NodeRef& n) { return n.scene; })
-      .def_property(
-          "name", [](const NodeRef& n) { return n.scene->graph().node(n.id())->name(); },
-          [](NodeRef& n, const std::string& name) {
-            check(n.scene->graph().rename(n.id(), name));
-            n.last_name = name;
-          },
-          "The node's name; assigning renames it (one undo step).")
-      .def_property_readonly("uuid", [](const NodeRef& n) { return n.uuid.str(); })
-      .def_property_readonly("type", [](const NodeRef& n) { return n.scene->graph().node(n.id())->type().name(); })
-      .def_property_readonly("exists", &NodeRef::exists)
-      .def(
-          "rename",
-          [](NodeRef& n, const std::string& name) {
-            check(n.scene->graph().rename(n.id(), name));
-            n.last_name = name;
-          },
-          py::arg("name"))
-      .def(
-          "delete", [](const NodeRef& n) { check(n.scene->graph().delete_node(n.id())); }, "Deletes the node.")
-      .def(
-          "attributes",
-          [](const NodeRef& n, bool hidden) {
-            std::vector<std::string> names;
-            for (const graph::AttrSpec& a : n.scene->graph().node(n.id())->type().attrs())
-              if (hidden || (a.flags & graph::kHidden) == 0) names.push_back(a.name);
-            return names;
-          },
-          py::arg("hidden") = true, "Attribute names of the node's type.")
-      .def(
-          "attribute",
-          [](const NodeRef& n, const std::string& attr) {
-            const graph::NodeType& t = n.scene->graph().node(n.id())->type();
-            const graph::AttrIndex i = t.attr_find(attr);
-            if (i == graph::kNoAttr) raise(ErrorCode::kNotFound, t.name() + " '" + n.last_name + "' has no attribute '" + attr + "'");
-            return attribute_info(t.attr(i));
-          },
-          py::arg("attr"),
-          "What an attribute is: name, type, input/output, keyable, storable, hidden, angle, enum_names, default.")
-      .def(
-          "get",
-          [](const NodeRef& n, const std::string& attr, int element) {
-            return get_plug(n.scene, plug_of(n.scene, n.id(), attr, element));
-          },
-          py::arg("attr"), py::arg("element") = -1, "The evaluated value of an attribute (or one element).")
-      .def(
-          "set",
-          [](const NodeRef& n, const std::string& attr, py::object value, int element) {
-            set_plug(n.scene, plug_of(n.scene, n.id(), attr, element), value);
-          },
-          py::arg("attr"), py::arg("value"), py::arg("element") = -1)
-      .def("__getitem__",
-           [](const NodeRef& n, const std::string& attr) { return get_plug(n.scene, plug_of(n.scene, n.id(), attr, -1)); })
-      .def("__setitem__",
-           [](const NodeRef& n, const std::string& attr, py::object value) {
-             set_plug(n.scene, plug_of(n.scene, n.id(), attr, -1), value);
-           })
-      .def(
-          "plug",
-          [](const NodeRef& n, const std::string& attr) {
-            return n.scene->graph().plug_name(plug_of(n.scene, n.id(), attr, -1));
-          },
-          py::arg("attr"), "\"node.attr\" (checks that the attribute exists).")
-      .def(
-          "inputs", [](const NodeRef& n) { return connection_list(n.scene, n.scene->graph().node(n.id())->inputs()); },
-          "Connections into this node as (src, dst).")
-      .def(
-          "outputs", [](const NodeRef& n) { return connection_list(n.scene, n.scene->graph().node(n.id())->outputs()); },
-          "Connections out of this node as (src, dst).")
-      .def_property_readonly(
-          "tags", [](const NodeRef& n) { return n.scene->graph().node(n.id())->tags(); }, "The node's string tags.")
-      .def(
-          "set_tag",
-          [](const NodeRef& n, const std::string& key, const std::string& value) {
-            check(n.scene->graph().set_tag(n.id(), key, value));
-          },
-          py::arg("key"), py::arg("value"))
-      .def(
-          "remove_tag", [](const NodeRef& n, const std::string& key) { check(n.scene->graph().remove_tag(n.id(), key)); },
-          py::arg("key"))
-      .def_property_readonly(
-          "parent", [](const NodeRef& n) { return node_or_none(n.scene, n.scene->graph().parent(n.id())); },
-          "The hierarchy parent, or None.")
-      .def_property_readonly(
-          "children", [](const NodeRef& n) { return node_list(n.scene, n.scene->graph().children(n.id())); })
-      .def(
-          "set_parent",
-          [](const NodeRef& n, std::optional<NodeArg> parent, bool keep_world) {
-            check(n.scene->reparent(n.id(), parent ? resolve(n.scene, *parent) : NodeId{}, keep_world));
-          },
-          py::arg("parent"), py::arg("keep_world") = true)
-      .def_property_readonly("world_matrix", [](const NodeRef& n) { return matrix_to_python(n.scene->world_matrix(n.id())); })
-      .def_property_readonly("local_matrix", [](const NodeRef& n) { return matrix_to_python(n.scene->local_matrix(n.id())); })
-      .def(
-          "__eq__",
-          [](const NodeRef& a, py::object b) {
-            if (!py::isinstance<NodeRef>(b)) return false;
-            const NodeRef& r = b.cast<const NodeRef&>();
-            return a.scene == r.scene && a.uuid == r.uuid;
-          },
-          py::is_operator())
-      .def("__hash__", [](const NodeRef& n) { return n.uuid.hash(); })
-      .def("__repr__", [](const NodeRef& n) {
-        if (!n.exists()) return "<rigel.Node '" + n.last_name + "' (deleted)>";
-        const graph::Node* node = n.scene->graph().node(n.id());
-        return "<rigel.Node '" + node->name() + "' " + node->type().name() + ">";
-      });
+}  // namespace
+
+void wrap_scene(py::module_& m) {
+  SceneClass cls(m, "Scene", R"(A scene: a dependency graph of nodes with a transform hierarchy.
+
+Scene() is empty; Scene.load / Scene.import_gltf / Scene.import_bvh (or
+rigel.open) read files. Every node type rigel knows is available (scene,
+operators, rig metadata, ephemeral rigs). Plugs are named "node.attr",
+"node.attr[3]" (an element) or "node.translateX" (a component).)");
+  def_files(m, cls);
+  def_nodes(cls);
+  def_attributes(cls);
+  def_evaluation(cls);
+  def_undo(cls);
+  def_hierarchy(cls);
 }
 
 }  // namespace rigel::python
