@@ -24,7 +24,7 @@ const rig::ComponentFactory& factory() { return ephemeral::components(); }
 const rig::SchemaRegistry& schemas() { return factory().schemas(); }
 
 std::string full_name(const rig::Component& c) {
-  return c.side == rig::Side::kCenter ? c.name : c.name + "_" + rig::side_name(c.side);
+  return c.full_name();
 }
 
 // ---- component handles ---------------------------------------------------------

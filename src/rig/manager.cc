@@ -16,10 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-std::string full_name(const Component& c) {
-  return c.side == Side::kCenter ? c.name : c.name + "_" + side_name(c.side);
-}
-
 std::int64_t meta_int(const graph::Graph& g, NodeId meta, std::string_view attr) {
   const graph::Node* n = g.node(meta);
   if (!n) return 0;
@@ -119,7 +115,7 @@ void compare(const graph::Graph& g, NodeId root, const Definition* def, RigState
     if (!built.count(c.rig_id)) {
       ComponentState st;
       st.rig_id = c.rig_id;
-      st.name = full_name(c);
+      st.name = c.full_name();
       st.type = c.type;
       st.definition_version = c.version;
       st.kind = ComponentState::Kind::kAdded;
@@ -256,7 +252,7 @@ Result<AddedRig> add_rig(scene::Scene& scene, const fs::path& path, const Compon
   }
   g.commit_transaction();
   added.steps = total;
-  for (const Component* c : (*build)->components()) added.components.push_back(full_name(*c));
+  for (const Component* c : (*build)->components()) added.components.push_back(c->full_name());
   return added;
 }
 
@@ -316,7 +312,7 @@ Result<UpdateReport> update_rig(scene::Scene& scene, std::string_view rig_name, 
   report.updated = true;
   for (const std::string& id : *rebuilt) {
     const Component* c = kept.find_by_rig_id(id);
-    report.rebuilt.push_back(c ? full_name(*c) : id);
+    report.rebuilt.push_back(c ? c->full_name() : id);
   }
   return report;
 }

@@ -350,15 +350,6 @@ TEST(RigBuild, keep_keys_world_keeps_keyed_controls_of_changed_components_in_pla
   EXPECT_EQ(local.torso_values_before, local.torso_values_after);
 }
 
-TEST(RigEdit, next_version_adds_one_to_the_last_number) {
-  EXPECT_EQ(next_version("1.0"), "1.1");
-  EXPECT_EQ(next_version("2"), "3");
-  EXPECT_EQ(next_version("1.0.9"), "1.0.10");
-  EXPECT_EQ(next_version("1.99"), "1.100");
-  EXPECT_EQ(next_version("beta"), "beta.1");
-  EXPECT_EQ(next_version(""), "1");
-}
-
 TEST(RigEdit, moved_controls_write_their_guides_back_and_bump_versions) {
   auto scene = metarig();
   ASSERT_TRUE(scene);

@@ -48,15 +48,6 @@ TEST(RigSchema, hooks_expand_per_guide_and_resolve_by_index_name_and_keyword) {
   EXPECT_EQ(resolve_hook(hooks, "knee"), std::nullopt);
 }
 
-TEST(RigDefinition, versions_compare_numerically_and_bump_their_last_part) {
-  EXPECT_LT(compare_versions("1.9", "1.10"), 0);
-  EXPECT_EQ(compare_versions("1.0", "1"), 0);
-  EXPECT_GT(compare_versions("2.0.1", "2.0"), 0);
-  EXPECT_EQ(bump_version("1.2"), "1.3");
-  EXPECT_EQ(bump_version("1.2.9"), "1.2.10");
-  EXPECT_EQ(bump_version("7"), "8");
-}
-
 TEST(RigDefinition, rig_ids_are_uuid_v4_with_or_without_dashes) {
   EXPECT_TRUE(is_rig_id("08495011515e4c1d926513662cc869dd"));  // seed 002's example
   EXPECT_TRUE(is_rig_id(new_rig_id()));

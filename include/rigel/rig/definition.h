@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "rigel/math/types.h"
+#include "rigel/rig/version.h"
 
 namespace rigel::rig {
 
@@ -97,6 +98,10 @@ struct Component {
 
   const Param* param(std::string_view name) const;
   const ControlStyle* control(std::string_view role) const;
+  // "name_SIDE" ("arm_L"), or the name alone on the centre side ("spine"):
+  // its nodes' names start with it (after the rig's name), and addresses
+  // and lookups name a component by it.
+  std::string full_name() const;
 };
 
 // Geometry the rig is built on: a character file (glTF/.rigel), relative to
@@ -123,12 +128,6 @@ struct Definition {
   const Component* find_by_name(std::string_view name) const;
   Component* find_by_rig_id(std::string_view rig_id);
 };
-
-// Dotted numeric versions ("1.10" > "1.9"); a non-numeric part compares as
-// text. Negative, zero, positive like strcmp.
-int compare_versions(std::string_view a, std::string_view b);
-// "1.2" -> "1.3", "2" -> "3", "1.2.9" -> "1.2.10".
-std::string bump_version(std::string_view version);
 
 // A fresh random UUID v4 in canonical text (8-4-4-4-12, lower case).
 std::string new_rig_id();
