@@ -1,4 +1,5 @@
 #include "gltf_materials.h"
+#include "gltf_accessors.h"
 #include "gltf_uri.h"
 
 #include <algorithm>
@@ -42,20 +43,7 @@ std::string quote(std::string_view text, std::size_t limit = 60) {
 std::uint64_t pack(NodeId id) { return (std::uint64_t{id.generation} << 32) | id.index; }
 
 // A name the graph accepts (the importer's rule for node names).
-std::string node_name(const std::string& raw, const std::string& fallback) {
-  if (raw.empty()) return fallback;
-  std::string name = raw;
-  if (constexpr std::size_t kLimit = 1000; name.size() > kLimit) {  // cut at a UTF-8 boundary
-    std::size_t cut = kLimit;
-    while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;
-    name.resize(cut);
-  }
-  for (char& c : name) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x21 || u == 0x7f || c == '[' || c == ']') c = '_';
-  }
-  return Graph::is_valid_name(name) ? name : fallback;
-}
+using gltf::node_name;
 
 constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
@@ -424,16 +412,7 @@ Status import_looks(scene::Scene& scene, const tinygltf::Model& model, const Jso
 // ---- export ----
 
 int LookWriter::view(const void* data, std::size_t size, int target) {
-  while (bytes_.size() % 4 != 0) bytes_.push_back(0);
-  tinygltf::BufferView v;
-  v.buffer = 0;
-  v.byteOffset = bytes_.size();
-  v.byteLength = size;
-  v.target = target;
-  const auto* begin = static_cast<const unsigned char*>(data);
-  bytes_.insert(bytes_.end(), begin, begin + size);
-  model_.bufferViews.push_back(std::move(v));
-  return static_cast<int>(model_.bufferViews.size()) - 1;
+  return gltf::append_view(model_, bytes_, data, size, target);
 }
 
 Result<int> LookWriter::floats(const std::vector<double>& values, int type, int components, const std::string& what) {
@@ -444,13 +423,8 @@ Result<int> LookWriter::floats(const std::vector<double>& values, int type, int 
       return error(ErrorCode::kInvalidArgument, what + ": value " + std::to_string(values[i]) + " at " + std::to_string(i) +
                                                     " is not a finite 32-bit float");
   }
-  tinygltf::Accessor accessor;
-  accessor.bufferView = view(data.data(), data.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-  accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  accessor.count = values.size() / static_cast<std::size_t>(components);
-  accessor.type = type;
-  model_.accessors.push_back(std::move(accessor));
-  return static_cast<int>(model_.accessors.size()) - 1;
+  return gltf::append_accessor(model_, view(data.data(), data.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+                               gltf::kFloat, type, values.size() / static_cast<std::size_t>(components));
 }
 
 Result<int> LookWriter::texture(NodeId node) {
