@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "rigel/app/workspace.h"
+#include "rigel/ephemeral/component.h"
 #include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/ephemeral/session.h"
@@ -98,15 +100,8 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
 
 // ---- ephemeral: names, keys and scopes (shared by the key commands) ----------------
 
-// A key time in seconds as a frame: a whole frame when within
-// kKeyFrameTolerance of one (the key is that frame's key: glTF's float
-// seconds put CesiumMan's frame 38 at 37.999921), else rounded to 1e-6
-// frame so that frame 10 at 24 fps prints 10, not 10.000000000000002.
-double frame_of(const rigel::graph::Graph& g, double seconds) {
-  const double frame = seconds * g.fps();
-  if (std::abs(frame - std::round(frame)) <= rigel::ephemeral::kKeyFrameTolerance) return std::round(frame);
-  return std::round(frame * 1e6) / 1e6;
-}
+// A key time in seconds as a frame (app::key_frame).
+double frame_of(const rigel::graph::Graph& g, double seconds) { return rigel::app::key_frame(seconds, g.fps()); }
 
 
 // The rigs of `controls`, first appearance order.
@@ -177,21 +172,25 @@ int run_ephemeral_key(const EphemeralKeyArgs& args) {
     if (name.empty()) return usage_error("--control: empty control name (expected A,B,...)");
   auto scene = load_rigged(args.scene);
   if (!scene) return fail(scene.status());
-  rigel::scene::Scene& s = **scene;
-  rigel::graph::Graph& g = s.graph();
+  rigel::app::Workspace ws(std::move(*scene), args.scene, {}, rigel::ephemeral::components());
+  rigel::graph::Graph& g = ws.graph();
   std::vector<NodeId> controls;
   for (const std::string& name : args.controls) {
     auto control = resolve_control(g, args.scene, "--control", name);
     if (!control) return fail(control.status());
     controls.push_back(*control);
   }
-  if (args.frame) s.set_frame(*args.frame);
-  if (args.time) g.set_time(*args.time);
-  const std::vector<NodeId> set = eph::keying_set(g, controls);
-  const Status st = args.remove ? eph::delete_key(g, controls) : eph::set_key(g, controls);
-  if (!st) return fail(st.with_context(args.scene));
-  if (Status saved = rigel::io::save_scene(s, args.output); !saved) return fail(saved);
-  const std::vector<double> frames = key_frames(g, controls);
+  if (args.frame) {
+    if (Status s = ws.set_frame(*args.frame); !s) return usage_error("--" + s.message());
+  }
+  if (args.time) {
+    if (Status s = ws.set_time(*args.time); !s) return usage_error("--" + s.message());
+  }
+  const auto keyed = args.remove ? ws.delete_key(controls) : ws.set_key(controls);
+  if (!keyed) return fail(keyed.status().with_context(args.scene));
+  const std::vector<NodeId>& set = keyed->set;
+  if (auto saved = ws.save(args.output); !saved) return fail(saved.status());
+  const std::vector<double>& frames = keyed->frames;
   if (args.json) {
     nlohmann::ordered_json out;
     out["frame"] = frame_of(g, g.time());

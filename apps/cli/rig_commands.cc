@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/build.h"
@@ -43,6 +44,14 @@ std::optional<rig::Definition> read_definition(const std::string& path) {
     return std::nullopt;
   }
   return std::move(*def);
+}
+
+// A scene file held for one command (the app layer's operations), saved by
+// the command to its --output.
+Result<std::unique_ptr<app::Workspace>> open_workspace(const std::string& path) {
+  auto scene = load(path);
+  if (!scene) return scene.status();
+  return std::make_unique<app::Workspace>(std::move(*scene), path, fs::path(), factory());
 }
 
 void print_json(const Json& j) { std::cout << j.dump(2, ' ', false, Json::error_handler_t::replace) << "\n"; }
@@ -137,9 +146,9 @@ struct UpdateArgs {
 };
 
 int run_update(const UpdateArgs& args) {
-  auto scene = load(args.scene);
-  if (!scene) return fail(scene.status());
-  graph::Graph& g = (*scene)->graph();
+  auto ws = open_workspace(args.scene);
+  if (!ws) return fail(ws.status());
+  graph::Graph& g = (*ws)->graph();
   std::vector<NodeId> rigs;
   if (args.rig.empty()) {
     rigs = rig::list_rigs(g);
@@ -157,7 +166,7 @@ int run_update(const UpdateArgs& args) {
   for (std::size_t i = 0; i < rigs.size(); ++i) {
     const std::string name = rig::meta_string(g, rigs[i], "rigName");
     if (progress) std::cerr << "rigel: updating " << name << " (" << (i + 1) << "/" << rigs.size() << ")\n";
-    auto r = rig::update_rig(**scene, name, factory(), args.definition, args.force, keep);
+    auto r = (*ws)->update_rig(name, args.definition, args.force, keep);
     if (!r) return fail(r.status().with_context(args.scene));
     report.push_back(Json{{"rig", r->rig}, {"from", r->from}, {"to", r->to}, {"definition", r->definition},
                           {"rebuilt", r->rebuilt}});
@@ -171,7 +180,7 @@ int run_update(const UpdateArgs& args) {
       std::cerr << "\n";
     }
   }
-  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  if (auto s = (*ws)->save(args.output); !s) return fail(s.status());
   if (args.json) print_json(Json{{"rigs", report}, {"output", args.output}});
   return 0;
 }
@@ -227,12 +236,10 @@ struct RemoveArgs {
 };
 
 int run_remove(const RemoveArgs& args) {
-  auto scene = load(args.scene);
-  if (!scene) return fail(scene.status());
-  auto build = rig::Build::reopen(**scene, args.rig, factory());
-  if (!build) return fail(build.status().with_context(args.scene));
-  if (Status s = (*build)->remove(); !s) return fail(s.with_context(args.scene));
-  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  auto ws = open_workspace(args.scene);
+  if (!ws) return fail(ws.status());
+  if (Status s = (*ws)->remove_rig(args.rig); !s) return fail(s.with_context(args.scene));
+  if (auto s = (*ws)->save(args.output); !s) return fail(s.status());
   if (args.json) print_json(Json{{"removed", args.rig}, {"output", args.output}});
   else std::cerr << "rigel: removed " << args.rig << " into " << args.output << "\n";
   return 0;
@@ -356,9 +363,9 @@ Status apply_channel(graph::Graph& g, const std::string& spec, graph::AttrIndex 
 }
 
 int run_edit(const EditArgs& args) {
-  auto scene = load(args.scene);
-  if (!scene) return fail(scene.status());
-  graph::Graph& g = (*scene)->graph();
+  auto ws = open_workspace(args.scene);
+  if (!ws) return fail(ws.status());
+  graph::Graph& g = (*ws)->graph();
   std::string rig_name = args.rig;
   if (rig_name.empty()) {
     const std::vector<NodeId> rigs = rig::list_rigs(g);
@@ -366,27 +373,22 @@ int run_edit(const EditArgs& args) {
       return usage_error(args.scene + ": has " + std::to_string(rigs.size()) + " rigs; name one with --rig");
     rig_name = rig::meta_string(g, rigs.front(), "rigName");
   }
-  auto build = rig::Build::reopen(**scene, rig_name, factory());
-  if (!build) return fail(build.status().with_context(args.scene));
+  if (Status s = (*ws)->check_rig(rig_name, false); !s) return fail(s.with_context(args.scene));
   for (const std::string& m : args.moves)
     if (Status s = apply_channel(g, m, scene::xform::kTranslate, "--move"); !s) return fail(s);
   for (const std::string& t : args.turns)
     if (Status s = apply_channel(g, t, scene::xform::kRotate, "--turn"); !s) return fail(s);
-  std::string out_def = args.definition_out.empty() ? (*build)->definition().source : args.definition_out;
-  if (!out_def.empty()) {
-    std::error_code ec;
-    const fs::path absolute = fs::absolute(out_def, ec);
-    if (!ec) out_def = absolute.lexically_normal().string();
-  }
   // Committing records where the definition goes (the rig is then up to
   // date with it) and leaves edit mode unless --keep-editing.
-  Result<rig::Edits> edits = (*build)->commit_edits(out_def, !args.keep_editing);
-  if (!edits) return fail(edits.status().with_context(args.scene));
-  if (!edits->changed.empty()) {
-    if (out_def.empty()) return usage_error(rig_name + " has no definition path; give --definition-out");
-    if (Status s = rig::save_definition(edits->definition, out_def); !s) return fail(s);
+  Result<app::CommitReport> edits = (*ws)->commit_edits(rig_name, args.definition_out, args.keep_editing);
+  if (!edits) {
+    if (args.definition_out.empty() && edits.status().field() == "definitionOut" &&
+        edits.status().code() == ErrorCode::kInvalidArgument)
+      return usage_error(rig_name + " has no definition path; give --definition-out");
+    return fail(edits.status().with_context(args.scene));
   }
-  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
+  const std::string out_def = edits->definition_path.string();
+  if (auto s = (*ws)->save(args.output); !s) return fail(s.status());
   if (args.json) {
     Json changed = Json::array();
     for (const std::string& id : edits->changed) {
@@ -398,7 +400,7 @@ int run_edit(const EditArgs& args) {
                     {"changed", changed},
                     {"ignored", edits->ignored},
                     {"definition", edits->changed.empty() ? Json(nullptr) : Json(out_def)},
-                    {"editMode", (*build)->edit_mode()},
+                    {"editMode", edits->edit_mode},
                     {"output", args.output}});
   } else if (edits->changed.empty()) {
     std::cerr << "rigel: " << rig_name << ": no guide moved; the definition is unchanged\n";

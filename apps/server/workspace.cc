@@ -451,7 +451,7 @@ struct Workspace::Impl {
                 {"version", r.version},
                 {"changed", r.changed},
                 {"ignored", r.ignored},
-                {"definition", r.definition.empty() ? Json(nullptr) : Json(r.definition.string())},
+                {"definition", r.definition_path.empty() ? Json(nullptr) : Json(r.definition_path.string())},
                 {"editMode", r.edit_mode}};
   }
 

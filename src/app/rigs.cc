@@ -242,7 +242,12 @@ Result<CommitReport> Workspace::commit_edits(const std::string& name, const fs::
   if (Status s = check_rig(name, false); !s) return s;
   auto build = rig::Build::reopen(*scene_, name, factory_);
   if (!build) return conflict(build.status());
-  const fs::path def_path = out.empty() ? fs::path((*build)->definition().source) : out;
+  fs::path def_path = out.empty() ? fs::path((*build)->definition().source) : out;
+  if (!def_path.empty()) {
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(def_path, ec);
+    if (!ec) def_path = absolute.lexically_normal();
+  }
   // The rig records the file its moved guides are saved to (so it is up to
   // date with it) and leaves edit mode unless asked not to.
   auto edits = (*build)->commit_edits(def_path.string(), !keep_editing);
@@ -255,8 +260,15 @@ Result<CommitReport> Workspace::commit_edits(const std::string& name, const fs::
     if (Status s = saved(rig::save_definition(edits->definition, def_path), "definitionOut"); !s) return s;
   }
   bump_revision();
-  return CommitReport{name, edits->definition.version, edits->changed, edits->ignored,
-                      edits->changed.empty() ? fs::path() : def_path, (*build)->edit_mode()};
+  CommitReport report;
+  report.rig = name;
+  report.version = edits->definition.version;
+  report.changed = edits->changed;
+  report.ignored = edits->ignored;
+  report.definition = std::move(edits->definition);
+  if (!report.changed.empty()) report.definition_path = def_path;
+  report.edit_mode = (*build)->edit_mode();
+  return report;
 }
 
 Result<rig::Definition> Workspace::definition(const std::string& name) {

@@ -21,6 +21,12 @@ Quat rotation_from_euler_degrees(const Vec3& degrees) {
   return math::euler_to_quat(degrees * (M_PI / 180.0), math::RotateOrder::kXYZ);
 }
 
+double key_frame(double seconds, double fps) {
+  const double frame = seconds * fps;
+  if (std::abs(frame - std::round(frame)) <= ephemeral::kKeyFrameTolerance) return std::round(frame);
+  return std::round(frame * 1e6) / 1e6;
+}
+
 Result<fs::path> confined_path(const fs::path& root, const std::string& path, const std::string& field) {
   auto bad = [&](std::string message) { return Status(ErrorCode::kInvalidArgument, field + ": " + message).with_field(field); };
   if (path.empty()) return bad("empty path");
@@ -39,7 +45,7 @@ Result<fs::path> confined_path(const fs::path& root, const std::string& path, co
   return full;
 }
 
-Workspace::Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
+Workspace::Workspace(std::shared_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
                      const rig::ComponentFactory& factory, ephemeral::SessionOptions options)
     : scene_(std::move(scene)),
       session_(std::make_unique<ephemeral::Session>(*scene_, options)),
@@ -194,7 +200,7 @@ KeyReport Workspace::keys(const std::vector<NodeId>& controls) const {
   KeyReport r;
   r.set = ephemeral::keying_set(g, controls);
   r.times = ephemeral::key_times(g, controls);
-  for (double t : r.times) r.frames.push_back(std::round(t * g.fps() * 1e6) / 1e6);
+  for (double t : r.times) r.frames.push_back(key_frame(t, g.fps()));
   // The keying scope of the controls' ephemeral rig; controls of a built
   // rig are keyed one by one ("controls").
   if (!controls.empty()) {

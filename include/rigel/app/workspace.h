@@ -52,6 +52,12 @@ inline constexpr double kMaxFrame = 1e6;
 // and Python's euler= mean.
 Quat rotation_from_euler_degrees(const Vec3& degrees);
 
+// A key time in seconds as a frame: a whole frame when within
+// ephemeral::kKeyFrameTolerance of one (the key is that frame's key: glTF's
+// float seconds put CesiumMan's frame 38 at 37.999921), else rounded to 1e-6
+// frame so that frame 10 at 24 fps reads 10, not 10.000000000000002.
+double key_frame(double seconds, double fps);
+
 // `path` resolved inside `root` (what a user who named `root` allows to be
 // read or written): absolute paths, paths that leave the root through ".."
 // or a symbolic link, and empty paths are refused (kInvalidArgument naming
@@ -102,7 +108,7 @@ struct KeyReport {
   std::string scope;  // the ephemeral rig's keying scope, "controls" for built rigs, "" for no controls
   std::vector<NodeId> set;     // the keying set: the controls keyed together with them
   std::vector<double> times;   // seconds
-  std::vector<double> frames;  // the same, as frames rounded to 1e-6
+  std::vector<double> frames;  // the same, as frames (key_frame)
 };
 
 // A drag's answer: the controls it dragged (an ephemeral rig's grab, or the
@@ -136,8 +142,9 @@ struct FeatureReport {
 // What committing a rig's edit-mode changes did.
 struct CommitReport {
   std::string rig, version;
+  rig::Definition definition;  // the definition with the moved guides
   std::vector<std::string> changed, ignored;
-  fs::path definition;  // where the definition was saved (empty when nothing changed)
+  fs::path definition_path;  // where the definition was saved (empty when nothing changed)
   bool edit_mode = false;
 };
 // A rig the workspace lists: built, or stepped back to step 0 (nothing of
@@ -170,12 +177,14 @@ struct SavedDefinition {
 
 class Workspace {
  public:
+  // `scene`: the scene the workspace works on (shared: Python's Scene
+  // objects hold it too; the CLI and the server pass theirs on).
   // `scene_path`: where save() without a path writes (may be empty).
   // `root`: the folder the paths of confined() calls are relative to and
   // confined in (empty: paths are taken as given, for the CLI and Python,
   // whose users name their files themselves). `factory`: the component
   // classes builds use (it must outlive the workspace).
-  Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
+  Workspace(std::shared_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
             const rig::ComponentFactory& factory, ephemeral::SessionOptions options = {});
   ~Workspace();
   Workspace(const Workspace&) = delete;
@@ -275,7 +284,9 @@ class Workspace {
                                     bool enabled);
   Result<bool> set_edit_mode(const std::string& name, bool on);
   // Commits the guides moved in edit mode to the definition, saved at `out`
-  // (default: the rig's definition file); leaves edit mode unless `keep_editing`.
+  // (default: the rig's definition file; made absolute, the rig records it);
+  // leaves edit mode unless `keep_editing`. No definition path when a guide
+  // moved: kInvalidArgument naming "definitionOut".
   Result<CommitReport> commit_edits(const std::string& name, const fs::path& out = {}, bool keep_editing = false);
   // The rig's definition as built (its source path included).
   Result<rig::Definition> definition(const std::string& name);
@@ -315,7 +326,7 @@ class Workspace {
   DragReport drag_report(const Before& before, std::vector<NodeId> dragged, bool session_dragged) const;
   static std::vector<FeatureState> features_of(const rig::Build& build);
 
-  std::unique_ptr<scene::Scene> scene_;
+  std::shared_ptr<scene::Scene> scene_;
   std::unique_ptr<ephemeral::Session> session_;
   fs::path scene_path_;
   fs::path root_;
