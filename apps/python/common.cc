@@ -266,4 +266,18 @@ ephemeral::Mode mode_from(const std::string& name) {
   raise(ErrorCode::kInvalidArgument, "mode '" + name + "': unknown mode; modes: " + modes);
 }
 
+// ---- rigs --------------------------------------------------------------------
+
+rig::Syntax syntax_from_name(const std::string& name) {
+  if (name == "xml") return rig::Syntax::kXml;
+  if (name == "json") return rig::Syntax::kJson;
+  raise(ErrorCode::kInvalidArgument, "syntax '" + name + "': expected 'xml' or 'json'");
+}
+
+rig::Build::KeepKeys keep_keys_from_name(const std::string& keep) {
+  if (keep == "local") return rig::Build::KeepKeys::kLocal;
+  if (keep == "world") return rig::Build::KeepKeys::kWorld;
+  raise(ErrorCode::kInvalidArgument, "keep_keys '" + keep + "': expected 'local' or 'world'");
+}
+
 }  // namespace rigel::python

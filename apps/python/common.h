@@ -21,6 +21,7 @@
 #include "rigel/base/status.h"
 #include "rigel/ephemeral/session.h"
 #include "rigel/graph/graph.h"
+#include "rigel/rig/build.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/scene/scene.h"
 
@@ -146,6 +147,13 @@ std::vector<std::string> mode_names();
 // An ephemeralRig node (InvalidArgumentError for another node).
 NodeId ephemeral_rig(const SceneRef& s, const NodeArg& arg);
 
+// ---- rigs --------------------------------------------------------------------
+
+// 'xml' or 'json' (InvalidArgumentError naming the syntax).
+rig::Syntax syntax_from_name(const std::string& name);
+// keep_keys: 'local' or 'world' (InvalidArgumentError).
+rig::Build::KeepKeys keep_keys_from_name(const std::string& keep);
+
 // ---- binding entry points ------------------------------------------------------
 //
 // One file per bound class (wrap_<class>.cc), called in this order by
@@ -160,5 +168,6 @@ void bind_rig(py::module_& m);       // rig_bindings.cc: definitions, builds, th
 void wrap_ephemeral(py::module_& m);  // ephemeral rigs and relations (module functions)
 void wrap_keys(py::module_& m);       // keys and keying scopes (module functions)
 void wrap_session(py::module_& m);
+void wrap_workspace(py::module_& m);
 
 }  // namespace rigel::python

@@ -117,4 +117,5 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_ephemeral(m);
   wrap_keys(m);
   wrap_session(m);
+  wrap_workspace(m);
 }
