@@ -90,42 +90,8 @@ Status Exporter::write(const fs::path& out, bool binary) {
                             "' (identity) holds them");
   }
 
-  for (const SkinExport& s : skins_) {
-    tinygltf::Skin skin;
-    skin.name = name(s.cluster);
-    for (int j : s.joints) skin.joints.push_back(index_out[static_cast<std::size_t>(j)]);
-    std::vector<double> matrices;
-    for (const Mat4& m : s.inverse_bind) matrices.insert(matrices.end(), m.data(), m.data() + 16);
-    skin.inverseBindMatrices =
-        buffer.floats(matrices, TINYGLTF_TYPE_MAT4, 16, 0, false, name(s.cluster) + ".bindPreMatrices");
-    model.skins.push_back(std::move(skin));
-  }
-
-  for (const AnimationExport& a : animations_) {
-    tinygltf::Animation animation;
-    animation.name = a.name;
-    for (const Channel& ch : a.channels) {
-      const std::string what = "animation '" + a.name + "', " + name(nodes_[static_cast<std::size_t>(ch.node)].id) +
-                               " " + path_name(ch.path);
-      tinygltf::AnimationSampler sampler;
-      sampler.interpolation = ch.interpolation;
-      sampler.input = buffer.shared_times(ch.times, what + " times");
-      if (ch.path == Path::kWeights)
-        sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_SCALAR, 1, 0, false, what);
-      else if (ch.path == Path::kRotation)
-        sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_VEC4, 4, 0, false, what);
-      else
-        sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_VEC3, 3, 0, false, what);
-      tinygltf::AnimationChannel channel;
-      channel.sampler = static_cast<int>(animation.samplers.size());
-      channel.target_node = index_out[static_cast<std::size_t>(ch.node)];
-      channel.target_path = path_name(ch.path);
-      animation.samplers.push_back(std::move(sampler));
-      animation.channels.push_back(std::move(channel));
-      ++report_.channel_count;
-    }
-    model.animations.push_back(std::move(animation));
-  }
+  write_skins(model, buffer, index_out);
+  write_animations(model, buffer, index_out);
 
   // Materials, textures, uv sets and colours of the meshes (gltf_materials.h).
   gltf_look::LookWriter looks(g_, model, buffer.bytes(), report_.notes);
@@ -166,6 +132,47 @@ Status Exporter::write(const fs::path& out, bool binary) {
   report_.skin_count = model.skins.size();
   report_.animation_count = model.animations.size();
   return Status::ok();
+}
+
+void Exporter::write_skins(tinygltf::Model& model, BufferWriter& buffer, std::span<const int> index_out) {
+  for (const SkinExport& s : skins_) {
+    tinygltf::Skin skin;
+    skin.name = name(s.cluster);
+    for (int j : s.joints) skin.joints.push_back(index_out[static_cast<std::size_t>(j)]);
+    std::vector<double> matrices;
+    for (const Mat4& m : s.inverse_bind) matrices.insert(matrices.end(), m.data(), m.data() + 16);
+    skin.inverseBindMatrices =
+        buffer.floats(matrices, TINYGLTF_TYPE_MAT4, 16, 0, false, name(s.cluster) + ".bindPreMatrices");
+    model.skins.push_back(std::move(skin));
+  }
+}
+
+void Exporter::write_animations(tinygltf::Model& model, BufferWriter& buffer, std::span<const int> index_out) {
+  for (const AnimationExport& a : animations_) {
+    tinygltf::Animation animation;
+    animation.name = a.name;
+    for (const Channel& ch : a.channels) {
+      const std::string what = "animation '" + a.name + "', " + name(nodes_[static_cast<std::size_t>(ch.node)].id) +
+                               " " + path_name(ch.path);
+      tinygltf::AnimationSampler sampler;
+      sampler.interpolation = ch.interpolation;
+      sampler.input = buffer.shared_times(ch.times, what + " times");
+      if (ch.path == Path::kWeights)
+        sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_SCALAR, 1, 0, false, what);
+      else if (ch.path == Path::kRotation)
+        sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_VEC4, 4, 0, false, what);
+      else
+        sampler.output = buffer.floats(ch.values, TINYGLTF_TYPE_VEC3, 3, 0, false, what);
+      tinygltf::AnimationChannel channel;
+      channel.sampler = static_cast<int>(animation.samplers.size());
+      channel.target_node = index_out[static_cast<std::size_t>(ch.node)];
+      channel.target_path = path_name(ch.path);
+      animation.samplers.push_back(std::move(sampler));
+      animation.channels.push_back(std::move(channel));
+      ++report_.channel_count;
+    }
+    model.animations.push_back(std::move(animation));
+  }
 }
 
 std::vector<int> Exporter::roots_to_group() const {

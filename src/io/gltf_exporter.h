@@ -319,6 +319,11 @@ class Exporter {
 
   Status write(const fs::path& out, bool binary);
 
+  // The skins and the animations, their nodes numbered by `index_out` (the
+  // glTF node of each entry of nodes_).
+  void write_skins(tinygltf::Model& model, BufferWriter& buffer, std::span<const int> index_out);
+  void write_animations(tinygltf::Model& model, BufferWriter& buffer, std::span<const int> index_out);
+
   // The roots of the trees holding some skin's joints, when one skin's
   // joints are in more than one tree (all such roots, in node order).
   std::vector<int> roots_to_group() const;
