@@ -350,6 +350,112 @@ TEST(Scene, reparent__refuses_cycles_and_non_transforms) {
   EXPECT_EQ(scene.reparent(b, NodeId{7, 0}, true).code(), ErrorCode::kInvalidArgument) << "no such parent";
 }
 
+// ---- channels for a world matrix ------------------------------------------------
+
+TEST(Scene, channels_for_world__keep_scale_shear_recovers_every_channel_set) {
+  // Pivots, rotate axis, shear, joint orient, offset parent, quaternion mode
+  // and every rotate order: the fit that keeps scale, shear and rotate axis
+  // finds the translate and rotation the node has.
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Scene scene;
+    std::vector<NodeId> ids = testing::random_forest(scene, seed, 25);
+    Scene::ChannelFit fit;
+    fit.keep_scale_shear = true;
+    fit.nearest_rotation = true;
+    for (NodeId id : ids) {
+      const graph::Node& n = *scene.graph().node(id);
+      Result<Scene::LocalChannels> ch = scene.channels_for_world(id, scene.world_matrix(id), fit);
+      ASSERT_TRUE(ch.is_ok()) << ch.status().message();
+      EXPECT_TRUE(ch->exact) << "the world matrix is the kept scale and shear turned";
+      const Vec3& t0 = std::get<Vec3>(n.value(xform::kTranslate));
+      EXPECT_LE((ch->translate - t0).norm(), 1e-9 * std::max(1.0, t0.norm())) << n.name() << ": translate";
+      EXPECT_EQ(ch->scale, std::get<Vec3>(n.value(xform::kScale))) << "scale is kept as it is";
+      EXPECT_EQ(ch->shear, std::get<Vec3>(n.value(xform::kShear))) << "shear is kept as it is";
+      EXPECT_EQ(ch->rotation_attr, xform::rotation_channel(n)) << "the channel the rotate mode uses";
+      if (ch->rotation_attr == xform::kRotateQuaternion) {
+        const Quat q0 = std::get<Quat>(n.value(xform::kRotateQuaternion)).normalized();
+        const Quat q = std::get<Quat>(ch->rotation);
+        EXPECT_LE((q.coeffs() - q0.coeffs()).norm(), 1e-9) << n.name() << ": the same quaternion, same sign";
+      } else {
+        const Vec3& r0 = std::get<Vec3>(n.value(xform::kRotate));
+        EXPECT_LE((std::get<Vec3>(ch->rotation) - r0).cwiseAbs().maxCoeff(), 1e-7)
+            << n.name() << ": the Euler angles nearest the current ones are the current ones";
+      }
+    }
+  }
+}
+
+TEST(Scene, channels_for_world__under_a_given_parent_world_puts_the_node_there) {
+  Scene scene;
+  NodeId p = make(scene, kTransformType, "p");
+  NodeId c = make(scene, kControlType, "c", p);
+  ASSERT_TRUE(testing::succeeded(set(scene, p, xform::kTranslate, Vec3(1, 2, 3)))) << "test setup";
+  ASSERT_TRUE(testing::succeeded(set(scene, c, xform::kRotateAxis, Vec3(10, 0, 20)))) << "test setup";
+  ASSERT_TRUE(testing::succeeded(set(scene, c, xform::kRotatePivot, Vec3(0.5, 0, 0)))) << "test setup";
+  ASSERT_TRUE(testing::succeeded(set(scene, c, xform::kScale, Vec3(2, 2, 2)))) << "test setup";
+  // The parent about to move (a solver places it first, then the child).
+  Mat4 parent_new = Mat4::Identity();
+  parent_new.topLeftCorner<3, 3>() = Eigen::AngleAxisd(0.7, Vec3(1, 1, 0).normalized()).toRotationMatrix();
+  parent_new.topRightCorner<3, 1>() = Vec3(-1, 0, 4);
+  Mat4 target = Mat4::Identity();
+  target.topLeftCorner<3, 3>() = Eigen::AngleAxisd(1.1, Vec3(0, 1, 1).normalized()).toRotationMatrix() *
+                                 math::compose([] {
+                                   math::TransformParts kept;
+                                   kept.scale = Vec3(2, 2, 2);
+                                   kept.rotate_axis = math::to_radians(Vec3(10, 0, 20));
+                                   return kept;
+                                 }()).topLeftCorner<3, 3>();
+  target.topRightCorner<3, 1>() = Vec3(3, -2, 1);
+  Scene::ChannelFit fit;
+  fit.parent_world = parent_new;
+  fit.keep_scale_shear = true;
+  Result<Scene::LocalChannels> ch = scene.channels_for_world(c, target, fit);
+  ASSERT_TRUE(ch.is_ok()) << ch.status().message();
+  ASSERT_TRUE(testing::succeeded(set(scene, c, xform::kTranslate, ch->translate))) << "write";
+  ASSERT_TRUE(testing::succeeded(set(scene, c, ch->rotation_attr, ch->rotation))) << "write";
+  EXPECT_TRUE(matrix_near(parent_new * scene.local_matrix(c), target, 1e-12))
+      << "under the given parent world, the channels put the node at the target (pivots and rotate axis included)";
+  EXPECT_FALSE(scene.channels_for_world(c, target).is_ok())
+      << "the full decomposition still refuses pivots and rotate axis";
+}
+
+TEST(Scene, channels_for_world__nearest_rotation_and_exactness) {
+  Scene scene;
+  NodeId e = make(scene, kControlType, "e");
+  NodeId q = make(scene, kControlType, "q");
+  ASSERT_TRUE(testing::succeeded(set(scene, e, xform::kRotate, Vec3(0, 0, 350)))) << "test setup";
+  ASSERT_TRUE(testing::succeeded(set(scene, q, xform::kRotateMode, xform::kQuaternionMode))) << "test setup";
+  ASSERT_TRUE(testing::succeeded(set(scene, q, xform::kRotateQuaternion, Quat(-1, 0, 0, 0)))) << "test setup";
+  Mat4 turned = Mat4::Identity();
+  turned.topLeftCorner<3, 3>() = Eigen::AngleAxisd(math::to_radians(340.0), Vec3::UnitZ()).toRotationMatrix();
+  Scene::ChannelFit nearest;
+  nearest.nearest_rotation = true;
+  for (bool keep : {false, true}) {
+    SCOPED_TRACE(keep ? "keeping scale and shear" : "full decomposition");
+    Scene::ChannelFit plain;
+    plain.keep_scale_shear = keep;
+    nearest.keep_scale_shear = keep;
+    EXPECT_NEAR(std::get<Vec3>(scene.channels_for_world(e, turned, plain)->rotation).z(), -20, 1e-9)
+        << "the principal angles";
+    EXPECT_NEAR(std::get<Vec3>(scene.channels_for_world(e, turned, nearest)->rotation).z(), 340, 1e-9)
+        << "the angles nearest rotate (350) are 340, not -20";
+    const Quat near_q = std::get<Quat>(scene.channels_for_world(q, turned, nearest)->rotation);
+    EXPECT_LT(near_q.w(), 0) << "the quaternion on the current one's side (w = -1)";
+  }
+  // A world with a scale the node does not have: no rotation fits exactly.
+  Mat4 scaled = turned;
+  scaled.col(0) *= 3;
+  Scene::ChannelFit keep;
+  keep.keep_scale_shear = true;
+  Result<Scene::LocalChannels> ch = scene.channels_for_world(e, scaled, keep);
+  ASSERT_TRUE(ch.is_ok()) << ch.status().message();
+  EXPECT_FALSE(ch->exact) << "the kept scale cannot reproduce a scaled world";
+  EXPECT_TRUE(scene.channels_for_world(e, scaled)->exact) << "the full decomposition reproduces any world";
+  ASSERT_TRUE(testing::succeeded(set(scene, e, xform::kScale, Vec3(0, 1, 1)))) << "test setup";
+  EXPECT_FALSE(scene.channels_for_world(e, turned, keep).is_ok()) << "a zero scale leaves no rotation to fit";
+}
+
 // ---- serial and parallel evaluation agree bit for bit ----------------------------
 
 std::vector<Mat4> evaluated_worlds(const Scene& scene, const std::vector<NodeId>& ids, AttrIndex attr) {

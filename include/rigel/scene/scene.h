@@ -3,6 +3,7 @@
 // for the hierarchy, world matrices and frame-based time.
 
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -52,17 +53,43 @@ class Scene {
 
   // The local channels that put transform `node` at `world` under its
   // current parent space (its parentMatrix input and offsetParentMatrix, as
-  // evaluated now). A joint keeps its joint orient; the rotation absorbs the
-  // difference. Fails, naming the node, when its rotate axis or pivots are
-  // not zero or its parent space is singular.
+  // evaluated now): the one world-to-local routine (reparenting, baking,
+  // builds, posing). A joint keeps its joint orient; the rotation absorbs
+  // the difference. Fails, naming the node, when its parent space is
+  // singular, or (full decomposition) its rotate axis or pivots are not
+  // zero, or (keep_scale_shear) its scale and shear are singular.
   struct LocalChannels {
     math::Vec3 translate = math::Vec3::Zero();
     graph::AttrIndex rotation_attr = 0;  // xform::kRotate (degrees, Vec3) or kRotateQuaternion (Quat)
     graph::Value rotation;
     math::Vec3 scale = math::Vec3::Ones();
     math::Vec3 shear = math::Vec3::Zero();
+    // Whether the channels reproduce `world` (to rounding). Only a
+    // keep_scale_shear fit can miss: when world's linear part is not the
+    // kept scale and shear turned, the fitted rotation is not orthonormal
+    // (within 1e-10) and the rotation channel is its nearest reading.
+    bool exact = true;
+  };
+  // How the channels are fitted; the defaults decompose the whole local
+  // matrix under the parent space as evaluated now.
+  struct ChannelFit {
+    // The parent space's world matrix to fit under (what parentMatrix
+    // would be), for a solver that places parents and children before
+    // writing either. Unset: parentMatrix as evaluated now.
+    std::optional<Mat4> parent_world;
+    // Keep scale, shear and rotate axis as they are (the output holds them
+    // unchanged) and fit translate and the rotation only; rotate axis and
+    // pivots may then be non-zero. What a posing tool writes: it moves
+    // controls, it never scales them.
+    bool keep_scale_shear = false;
+    // The rotation nearest the node's current one: the Euler angles closest
+    // to rotate (math::euler_closest, so keys interpolate the short way),
+    // the quaternion on rotateQuaternion's side. Otherwise the principal
+    // angles, and the quaternion of either sign.
+    bool nearest_rotation = false;
   };
   Result<LocalChannels> channels_for_world(NodeId node, const Mat4& world);
+  Result<LocalChannels> channels_for_world(NodeId node, const Mat4& world, const ChannelFit& fit);
 
   // Frame-based time over the graph's seconds: frame = seconds * fps,
   // snapped to the nearest whole frame when within rounding error of it
