@@ -34,10 +34,10 @@ struct Source {
 // What the JSON checks (gltf_json_checks.h) learn of the file, for loading it.
 struct SchemaContext {
   const Source* source = nullptr;
-  std::string base_dir;                         // the folder of the file, as tinygltf joins paths
-  std::filesystem::path folder;                 // that folder, absolute, symbolic links resolved
-  std::set<std::string> buffer_files;           // external buffer files tinygltf may read
-  bool quantized = false;                       // KHR_mesh_quantization in extensionsUsed
+  std::string base_dir;                // the folder of the file, as tinygltf joins paths
+  std::filesystem::path folder;        // that folder, absolute, symbolic links resolved
+  std::set<std::string> buffer_files;  // external buffer files tinygltf may read
+  bool quantized = false;              // KHR_mesh_quantization in extensionsUsed
 };
 
 // The whole of a regular file of at most 4 GiB.

@@ -1,9 +1,10 @@
 #pragma once
 // Private to rigel_io: the look of glTF meshes (materials, textures,
 // samplers, images, TEXCOORD_0/1, COLOR_0) on import and export, kept apart
-// from gltf_import.cc / gltf_export.cc, which call in here once each. The
-// scene side is scene/materials.h; the mapping is documented there, in
-// io/gltf_import.h, io/gltf_export.h and docs/ARCHITECTURE.md.
+// from the importer and the exporter (gltf_importer.h, gltf_exporter.h),
+// which call in here once each. The scene side is scene/materials.h; the
+// mapping is documented there, in io/gltf_import.h, io/gltf_export.h and
+// docs/ARCHITECTURE.md.
 
 #include <tiny_gltf.h>
 
