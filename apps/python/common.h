@@ -158,13 +158,14 @@ rig::Build::KeepKeys keep_keys_from_name(const std::string& keep);
 //
 // One file per bound class (wrap_<class>.cc), called in this order by
 // module.cc: a signature names the Python classes registered before it, so
-// Node is declared before Scene, whose methods take and return nodes.
+// Node is declared before Scene, whose methods take and return nodes (and
+// Component before Definition).
 
 void declare_node(py::module_& m);   // wrap_node.cc: the class only
 void wrap_transaction(py::module_& m);
 void wrap_scene(py::module_& m);     // and rigel.open
 void wrap_node(py::module_& m);      // Node's methods
-void bind_rig(py::module_& m);       // rig_bindings.cc: definitions, builds, the metadata network
+// rig_common.h: the wraps of definitions, components, builds and the metadata network.
 void wrap_ephemeral(py::module_& m);  // ephemeral rigs and relations (module functions)
 void wrap_keys(py::module_& m);       // keys and keying scopes (module functions)
 void wrap_session(py::module_& m);

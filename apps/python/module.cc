@@ -8,6 +8,7 @@
 #include <cctype>
 
 #include "common.h"
+#include "rig_common.h"
 
 namespace rigel::python {
 namespace {
@@ -113,7 +114,15 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_transaction(m);
   wrap_scene(m);
   wrap_node(m);
-  bind_rig(m);
+  wrap_diagnostic(m);
+  wrap_guide(m);
+  wrap_control_style(m);
+  declare_component(m);
+  wrap_definition(m);
+  wrap_component(m);
+  wrap_schemas(m);
+  wrap_rig_build(m);
+  wrap_meta(m);
   wrap_ephemeral(m);
   wrap_keys(m);
   wrap_session(m);
