@@ -3,6 +3,7 @@
 package, build/<dir>/apps/python)."""
 
 import math
+import os
 import pathlib
 import shutil
 import subprocess
@@ -34,6 +35,16 @@ def gltf_validator_errors(path):
 def assert_valid_gltf(path):
     errors = gltf_validator_errors(path)
     assert errors in (None, ""), f"the Khronos glTF-Validator finds errors in {path}:\n{errors}"
+
+
+@pytest.fixture
+def rigel_cli():
+    """The `rigel` command-line binary (CTest passes it as RIGEL_CLI; else the
+    release build's)."""
+    path = pathlib.Path(os.environ.get("RIGEL_CLI", REPO / "build" / "release" / "apps" / "cli" / "rigel"))
+    if not path.is_file():
+        pytest.skip(f"the rigel binary is not built ({path})")
+    return path
 
 
 @pytest.fixture
