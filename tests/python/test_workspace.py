@@ -315,3 +315,14 @@ def test_revision_counts_changes(ws):
     assert ws.revision == r
     ws.set_frame(3)
     assert ws.revision == r + 1
+
+
+def test_state_error_and_field(ws):
+    assert issubclass(rigel.StateError, rigel.Error) and issubclass(rigel.StateError, RuntimeError)
+    assert rigel.StateError.code == "failed precondition" and rigel.StateError.__module__ == "rigel"
+    with pytest.raises(rigel.StateError) as info:
+        ws.redo()  # nothing to redo: no input at fault
+    assert info.value.field is None
+    with pytest.raises(rigel.NotFoundError) as info:
+        ws.scene.get("ghost.translate")  # errors that name no input
+    assert info.value.field is None

@@ -4,7 +4,8 @@ The classes and functions are the C++ libraries' (the extension
 ``rigel._rigel``; ``RigBuild`` is the procedural build that steps a
 definition on a scene); ``Build`` (also named ``PyBuild``, seed 004's
 name) is the pure-Python base class for build scripts: override ``run()``
-and ``post()``.
+and ``post()``. ``Workspace`` is the service layer the CLI and the server
+share (posing, keys, time, saves, rigs, definitions).
 
 Conventions: angles in degrees, vectors (x, y, z), quaternions
 (x, y, z, w), matrices 16 floats column-major, times in seconds
