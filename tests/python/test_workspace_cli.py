@@ -1,9 +1,11 @@
 """rigel.Workspace and the `rigel` CLI give the same answer for the same
 input: one table, each row an operation done through the CLI on a file and
 through a Workspace opened on the same file, requiring the same scene (its
-.rigel text) and, where the CLI prints one, the same report."""
+.rigel text), the same definition files and, where the CLI prints one, the
+same report; and a table of refusals, requiring both to refuse alike."""
 
 import json
+import pathlib
 import re
 import subprocess
 
@@ -26,6 +28,9 @@ def files(tmp_path, metarig):
     arm_definition().save(str(definition))
     rigel.Workspace(built).add_rig(str(definition))
     built.save(str(tmp_path / "built.rigel"))
+    editing = rigel.Scene.load(str(tmp_path / "ephemeral.rigel"))
+    rigel.Workspace(editing).add_rig(str(definition), edit_mode=True)
+    editing.save(str(tmp_path / "editing.rigel"))
     return tmp_path
 
 
@@ -93,6 +98,11 @@ def update(ws):
     return ws.update_rig("arm_rig", force=True)
 
 
+def edit(ws):
+    ws.scene.resolve("arm_rig:arm_L/fk[1]")["translate"] = (0, 0.02, 0)
+    return ws.commit_edits("arm_rig", definition_out=str(pathlib.Path(ws.scene_path).parent / "moved.rig.xml"))
+
+
 CASES = [
     # (name, scene file, CLI arguments (IN, OUT replaced), Workspace operation, report kind)
     ("pose inverse", "ephemeral.rigel",
@@ -115,6 +125,9 @@ CASES = [
      delete_key, "key"),
     ("remove", "built.rigel", ["remove", "IN", "--rig", "arm_rig", "-o", "OUT"], remove, None),
     ("update --force", "built.rigel", ["update", "IN", "--rig", "arm_rig", "--force", "-o", "OUT"], update, None),
+    ("edit", "editing.rigel",
+     ["edit", "IN", "--rig", "arm_rig", "--move", "arm_rig:arm_L/fk[1]=0,0.02,0", "--definition-out", "MOVED", "-o", "OUT"],
+     edit, None),
 ]
 
 
@@ -122,11 +135,14 @@ CASES = [
 def test_cli_and_workspace_agree(files, rigel_cli, name, source, args, operation, report):
     ws = rigel.Workspace(str(files / source))
     out = files / "cli_out.rigel"
-    substitutions = {"IN": str(files / source), "OUT": str(out), "IK": ik_control(ws) if "built" in source else "IK"}
+    substitutions = {"IN": str(files / source), "OUT": str(out), "MOVED": str(files / "moved.rig.xml"),
+                     "IK": ik_control(ws) if "built" in source else "IK"}
     run = subprocess.run([str(rigel_cli)] + [substitutions.get(a, a) for a in args], capture_output=True, text=True)
     assert run.returncode == 0, f"{name}: {run.stderr}"
+    definitions = {p.name: p.read_text() for p in files.glob("*.rig.xml")}
     answer = operation(ws)
     assert same_scene_text(ws.scene) == same_scene_text(rigel.Scene.load(str(out))), name
+    assert {p.name: p.read_text() for p in files.glob("*.rig.xml")} == definitions, name  # the same definitions written
     if report == "pose":
         printed = json.loads(run.stdout)
         assert printed["grabbed"] == [n.name for n in answer.dragged]
