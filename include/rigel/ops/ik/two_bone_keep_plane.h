@@ -3,10 +3,9 @@
 // a job (STYLE.md §3): what a posing tool wants while the animator drags the
 // end of a limb. There is no pole: the knee keeps pointing where it points
 // now (its direction perpendicular to start-to-end, carried onto the new
-// start-to-target direction), so a target at the end's current position
-// changes nothing, and a sweep of targets never flips the knee. TwoBoneIkJob
-// is the rig's solver (pole, twist, soft IK, stretch); this one has none of
-// those.
+// start-to-target direction, stays on the side it was), so a target at the
+// end's current position changes nothing. TwoBoneIkJob is the rig's solver
+// (pole, twist, soft IK, stretch); this one has none of those.
 //
 // Positions are solved, then each of the start and mid joints gets the
 // world-space rotation that takes its bone and the bend plane's normal from
