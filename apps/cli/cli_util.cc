@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "rigel/app/workspace.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/bvh.h"
 #include "rigel/io/bvh_import.h"
@@ -31,24 +32,17 @@ Result<std::unique_ptr<scene::Scene>> load(const std::string& path) {
   return io::load_scene(path, ephemeral::default_registry());
 }
 
-// A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
-// import` does (units kept); either way over ephemeral::default_registry().
-Result<std::unique_ptr<scene::Scene>> load_or_import(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  if (ext == ".glb" || ext == ".gltf") {
-    io::GltfImportOptions options;
-    options.registry = ephemeral::default_registry();
-    return io::import_gltf(path, options);
+Result<std::unique_ptr<scene::Scene>> load_rigged(const std::string& path) {
+  auto scene = load(path);
+  if (!scene) return scene.status();
+  if (ephemeral::rigs_find((*scene)->graph()).empty()) {
+    return Status(ErrorCode::kNotFound,
+                  path + ": the scene has no ephemeral rig; run `rigel ephemeral setup " + path + " -o OUT.rigel` first");
   }
-  if (ext == ".bvh") {
-    auto file = io::load_bvh(path);
-    if (!file) return file.status();
-    io::BvhImportOptions options;
-    options.registry = ephemeral::default_registry();
-    return io::import_bvh(*file, options);
-  }
-  return load(path);
+  return scene;
 }
+
+Result<std::unique_ptr<scene::Scene>> load_or_import(const std::string& path) { return app::open_scene(path); }
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

@@ -153,9 +153,8 @@ int run_update(const UpdateArgs& args) {
   if (args.rig.empty()) {
     rigs = rig::list_rigs(g);
   } else {
-    NodeId r = rig::find_rig(g, args.rig);
-    if (!r.is_valid()) return fail(error(ErrorCode::kNotFound, args.scene + ": no rig '" + args.rig + "'"));
-    rigs.push_back(r);
+    if (Status s = (*ws)->check_rig(args.rig, false); !s) return fail(s.with_context(args.scene));
+    rigs.push_back(rig::find_rig(g, args.rig));
   }
   if (rigs.empty()) return fail(error(ErrorCode::kNotFound, args.scene + ": the scene holds no rig"));
   if (!args.definition.empty() && rigs.size() > 1)

@@ -15,6 +15,7 @@
 
 #include "cli_util.h"
 #include "http_server.h"
+#include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/scene_file.h"
@@ -72,7 +73,7 @@ int run_serve(const ServeArgs& a) {
     auto loaded = load_or_import(a.scene);
     if (!loaded) return fail(loaded.status().with_context(a.scene));
     scene = std::move(*loaded);
-    if (lower_extension(a.scene) == ".rigel") scene_path = fs::absolute(a.scene);
+    if (app::is_scene_file(a.scene)) scene_path = fs::absolute(a.scene);
   }
   if (a.setup_ephemeral) {
     ephemeral::SetupOptions options;

@@ -2,10 +2,10 @@
 // attributes and connections, evaluation and time, undo and hierarchy; and
 // rigel.open.
 
-#include <cctype>
 #include <filesystem>
 
 #include "common.h"
+#include "rigel/app/workspace.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/bvh.h"
 #include "rigel/io/bvh_import.h"
@@ -37,13 +37,7 @@ SceneRef import_bvh(const std::string& path, double scale, bool skip_end_sites) 
   return SceneRef(unwrap(io::import_bvh(file, options)));
 }
 
-SceneRef open_any(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".glb" || ext == ".gltf") return import_gltf(path, 1.0);
-  if (ext == ".bvh") return import_bvh(path, 1.0, false);
-  return load_scene(path);
-}
+SceneRef open_any(const std::string& path) { return SceneRef(unwrap(app::open_scene(path))); }
 
 graph::Plug plug_of(const SceneRef& s, const std::string& path) { return unwrap(s->graph().plug_find(path)); }
 

@@ -5,7 +5,6 @@
 // values; every rule and range check is app's (its errors name the
 // argument in Python's spelling: module.cc).
 
-#include <cctype>
 #include <filesystem>
 
 #include "common.h"
@@ -36,9 +35,7 @@ WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::stri
     w.scene = open_any(*path);
     // Only a .rigel file is where save() writes; a character (.glb, .bvh)
     // is what the scene was opened from (as `rigel serve` does).
-    std::string ext = fs::path(*path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".rigel") scene_path = *path;
+    if (app::is_scene_file(*path)) scene_path = *path;
     character = fs::absolute(*path).lexically_normal();
   } else {
     w.scene = std::get<SceneRef>(scene);

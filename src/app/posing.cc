@@ -24,6 +24,30 @@ using internal::saved;
 
 std::string frame_limit_text() { return std::to_string(static_cast<int>(kMaxFrame)); }
 
+Status bad(const char* field, const std::string& message) {
+  return Status(ErrorCode::kInvalidArgument, std::string(field) + ": " + message).with_field(field);
+}
+
+// A rotation a drag can use: finite and of non-zero length (normalised).
+Result<Quat> usable_rotation(const Quat& q, const char* field) {
+  if (!q.coeffs().allFinite()) return bad(field, "not a finite rotation");
+  if (q.coeffs().norm() < 1e-9) return bad(field, "not a rotation (zero length)");
+  return q.normalized();
+}
+
+// The motion of a drag, checked once for every driver: finite, a rotation
+// of non-zero length, and scale only in body mode, positive.
+Result<ephemeral::Delta> usable_delta(ephemeral::Delta d, ephemeral::Mode mode) {
+  if (!d.translate.allFinite()) return bad("translate", "not a finite motion");
+  auto q = usable_rotation(d.rotate, "rotate");
+  if (!q) return q.status();
+  d.rotate = *q;
+  if (!d.scale.allFinite()) return bad("scale", "not a finite scale");
+  if (mode != ephemeral::Mode::kBody && d.scale != Vec3::Ones()) return bad("scale", "scale applies in body mode only");
+  if ((d.scale.array() <= 0).any()) return bad("scale", "body scale must be positive");
+  return d;
+}
+
 }  // namespace
 
 // ---- posing --------------------------------------------------------------------
@@ -110,7 +134,10 @@ DragReport Workspace::drag_report(const Before& before, std::vector<NodeId> drag
   return r;
 }
 
-Result<DragReport> Workspace::drag(const ephemeral::Delta& delta) {
+Result<DragReport> Workspace::drag(const ephemeral::Delta& motion) {
+  auto checked = usable_delta(motion, session_->mode());
+  if (!checked) return checked.status();
+  const ephemeral::Delta& delta = *checked;
   const std::vector<NodeId> selected = selection();
   if (selected.empty())
     return Status(ErrorCode::kFailedPrecondition, "nothing is selected: select controls first").with_field("controls");
@@ -121,7 +148,7 @@ Result<DragReport> Workspace::drag(const ephemeral::Delta& delta) {
     if (Status s = session_->drag(delta); !s) return conflict(s);
   } else {
     if (delta.scale != Vec3::Ones())
-      return Status(ErrorCode::kInvalidArgument, "scale: only body mode on an ephemeral rig scales").with_field("scale");
+      return bad("scale", "only body mode on an ephemeral rig scales");
     for (NodeId id : selected)
       if (is_control(id)) dragged.push_back(id);
     if (Status s = drag_direct(dragged, delta.translate, delta.rotate); !s) return s;
@@ -132,12 +159,19 @@ Result<DragReport> Workspace::drag(const ephemeral::Delta& delta) {
 
 Result<DragReport> Workspace::drag_to(NodeId control, const std::optional<Vec3>& translate,
                                       const std::optional<Quat>& rotate) {
+  if (translate && !translate->allFinite()) return bad("to.t", "not a finite position");
+  std::optional<Quat> rotation;
+  if (rotate) {
+    auto q = usable_rotation(*rotate, "to.q");
+    if (!q) return q.status();
+    rotation = *q;
+  }
   const Before before = before_drag();
   std::vector<NodeId> selected = selection();
   const Mat4 now = scene_->world_matrix(control);
   const math::Decomposed d = math::decompose(now);
   const Vec3 t = translate ? *translate : Vec3(now.block<3, 1>(0, 3));
-  const Quat q = rotate ? rotate->normalized() : d.rotation;
+  const Quat q = rotation ? *rotation : d.rotation;
   if (std::find(selected.begin(), selected.end(), control) == selected.end()) {
     session_->select({control});
     selected = {control};

@@ -177,8 +177,36 @@ TEST_F(AppWorkspace, drag_moves_a_built_rigs_controls_directly) {
   EXPECT_EQ(r->dragged, std::vector<NodeId>{control});
   // Scale is body mode's.
   auto scaled = ws->drag(ephemeral::Delta{Vec3::Zero(), Quat::Identity(), Vec3(2, 2, 2)});
-  EXPECT_FALSE(scaled.is_ok());
-  EXPECT_NE(scaled.status().message().find("scale"), std::string::npos) << scaled.status().message();
+  EXPECT_EQ(scaled.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(scaled.status().field(), "scale");
+}
+
+TEST_F(AppWorkspace, drag_motions_are_checked_once_for_every_driver) {
+  auto ws = ephemeral_workspace();
+  const NodeId c = *ws->control("hand.L", "c");
+  ws->select({c});
+  const double inf = std::numeric_limits<double>::infinity();
+  struct Bad {
+    ephemeral::Delta delta;
+    const char* field;
+  };
+  for (const Bad& b : {Bad{{Vec3(inf, 0, 0), Quat::Identity(), Vec3::Ones()}, "translate"},
+                       Bad{{Vec3::Zero(), Quat(0, 0, 0, 0), Vec3::Ones()}, "rotate"},
+                       Bad{{Vec3::Zero(), Quat(std::nan(""), 0, 0, 1), Vec3::Ones()}, "rotate"},
+                       Bad{{Vec3::Zero(), Quat::Identity(), Vec3(1, 2, 1)}, "scale"}}) {
+    auto r = ws->drag(b.delta);
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument) << b.field << ": " << r.status().message();
+    EXPECT_EQ(r.status().field(), b.field);
+  }
+  ws->set_mode(ephemeral::Mode::kBody);
+  EXPECT_EQ(ws->drag({Vec3::Zero(), Quat::Identity(), Vec3(1, -1, 1)}).status().field(), "scale");
+  // A rotation of any length is normalised: twice the identity turns nothing.
+  const Vec3 before = world_t(*ws, id(*ws, "hand.L"));
+  ws->set_mode(ephemeral::Mode::kForward);
+  ASSERT_TRUE(ws->drag({Vec3::Zero(), Quat(2, 0, 0, 0), Vec3::Ones()}).is_ok());
+  EXPECT_LT((world_t(*ws, id(*ws, "hand.L")) - before).norm(), 1e-12);
+  EXPECT_EQ(ws->drag_to(c, std::nullopt, Quat(0, 0, 0, 0)).status().field(), "to.q");
+  EXPECT_EQ(ws->drag_to(c, Vec3(inf, 0, 0), std::nullopt).status().field(), "to.t");
 }
 
 TEST_F(AppWorkspace, drag_with_nothing_selected_is_refused) {

@@ -64,6 +64,14 @@ double key_frame(double seconds, double fps);
 // `field`).
 Result<fs::path> confined_path(const fs::path& root, const std::string& path, const std::string& field);
 
+// Opens what a user names as a scene: a .glb/.gltf or .bvh character
+// imported (units kept), anything else read as a .rigel file; every node
+// type of this build (ephemeral::default_registry()). Errors name the file.
+Result<std::unique_ptr<scene::Scene>> open_scene(const fs::path& path);
+// Whether `path` is a .rigel scene file (what a save may write over; a
+// character a scene was imported from is not), by its extension.
+bool is_scene_file(const fs::path& path);
+
 // One transform's translation, rotation and scale (a decomposed matrix).
 struct Trs {
   NodeId node;
@@ -241,7 +249,10 @@ class Workspace {
   Status set_options(const ephemeral::SessionOptions& options);
   // Moves the selected controls by a world delta: ephemeral rigs' through
   // the session (a grab), built rigs' directly (each about its own pivot,
-  // into its channels, keys as the session does; scale refused).
+  // into its channels, keys as the session does; scale refused). The
+  // motion must be finite, its rotation of non-zero length (it is
+  // normalised), its scale positive and other than 1 in body mode only
+  // (kInvalidArgument naming "translate", "rotate" or "scale").
   Result<DragReport> drag(const ephemeral::Delta& delta);
   // Drags `control` so that its world translation / rotation become the
   // given ones (unset: unchanged); it is selected when it is not. An
