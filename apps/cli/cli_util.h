@@ -27,6 +27,9 @@ int usage_error(const std::string& message);
 // plus ephemeralRig), so scenes holding an ephemeral rig load everywhere.
 Result<std::unique_ptr<scene::Scene>> load(const std::string& path);
 
+// A .rigel scene that holds an ephemeral rig (kNotFound saying how to make one).
+Result<std::unique_ptr<scene::Scene>> load_rigged(const std::string& path);
+
 // A .rigel scene, or a character (.glb, .gltf, .bvh) imported as `rigel
 // import` does (units kept); either way over ephemeral::default_registry().
 Result<std::unique_ptr<scene::Scene>> load_or_import(const std::string& path);

@@ -111,6 +111,10 @@ Vec3 unit_tangent(std::span<const Vec3> cps, double u, const Vec3& fallback) {
 
 }  // namespace
 
+// Over 150 lines: one solve, read top to bottom in the order of its steps
+// (arc lengths, the joints placed along the curve, stretch and squash, the
+// twist, the channels), each a few lines over the same locals; the hot loop
+// is benchmarked as one function (bench/ik_bench.cc).
 RIGEL_IK_MULTIVERSION bool SplineIkJob::run() const {
   if (!validate()) return false;
   const std::size_t count = world.size();
