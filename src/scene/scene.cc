@@ -173,6 +173,17 @@ Result<Scene::LocalChannels> fit_keeping(const graph::Node& n, const Mat4& paren
   const Mat3 inverse = above.inverse();
   const Vec3 origin = parent_linear * Vec3(offset.topRightCorner<3, 1>()) + Vec3(parent_world.topRightCorner<3, 1>());
   const Vec3 translate = inverse * (Vec3(world.topRightCorner<3, 1>()) - origin);
+  if (fit.translate_only && std::get<Vec3>(n.value(xform::kRotatePivot)).isZero() &&
+      std::get<Vec3>(n.value(xform::kRotatePivotTranslate)).isZero() &&
+      std::get<Vec3>(n.value(xform::kScalePivot)).isZero() && std::get<Vec3>(n.value(xform::kScalePivotTranslate)).isZero()) {
+    Scene::LocalChannels out;
+    out.translate = translate;
+    out.rotation_attr = xform::rotation_channel(n);
+    out.rotation = n.value(out.rotation_attr);
+    out.scale = std::get<Vec3>(n.value(xform::kScale));
+    out.shear = std::get<Vec3>(n.value(xform::kShear));
+    return out;
+  }
   Mat3 rotation = inverse * Mat3(world.topLeftCorner<3, 3>());
   if (n.type().attr_find("jointOrient") != graph::kNoAttr)
     rotation = Mat3(joint_orient_matrix(n).topLeftCorner<3, 3>()).transpose() * rotation;

@@ -352,6 +352,40 @@ TEST(Scene, reparent__refuses_cycles_and_non_transforms) {
 
 // ---- channels for a world matrix ------------------------------------------------
 
+TEST(Scene, channels_for_world__translate_only_gives_the_whole_fits_translate_bit_for_bit) {
+  // A moved world matrix under a moved parent: translate_only must give the
+  // translate the whole fit gives (posing relies on it for body motions),
+  // keep the rotation as it is, and fall back to the whole fit with pivots.
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Scene scene;
+    std::vector<NodeId> ids = testing::random_forest(scene, seed, 25);
+    Scene::ChannelFit whole;
+    whole.keep_scale_shear = true;
+    whole.nearest_rotation = true;
+    for (NodeId id : ids) {
+      const graph::Node& n = *scene.graph().node(id);
+      Mat4 world = scene.world_matrix(id);
+      world.block<3, 1>(0, 3) += Vec3(0.3, -0.2, 0.1 * seed);
+      whole.parent_world = std::get<Mat4>(scene.graph().evaluate(id, xform::kParentMatrix));
+      Scene::ChannelFit only = whole;
+      only.translate_only = true;
+      Result<Scene::LocalChannels> a = scene.channels_for_world(id, world, whole);
+      Result<Scene::LocalChannels> b = scene.channels_for_world(id, world, only);
+      ASSERT_EQ(a.is_ok(), b.is_ok()) << n.name();
+      if (!a) continue;
+      EXPECT_EQ(a->translate, b->translate) << n.name();
+      const bool pivots = !std::get<Vec3>(n.value(xform::kRotatePivot)).isZero() ||
+                          !std::get<Vec3>(n.value(xform::kRotatePivotTranslate)).isZero() ||
+                          !std::get<Vec3>(n.value(xform::kScalePivot)).isZero() ||
+                          !std::get<Vec3>(n.value(xform::kScalePivotTranslate)).isZero();
+      if (!pivots) {
+        EXPECT_EQ(b->rotation, n.value(xform::rotation_channel(n))) << n.name() << ": the rotation is kept";
+      }
+    }
+  }
+}
+
 TEST(Scene, channels_for_world__keep_scale_shear_recovers_every_channel_set) {
   // Pivots, rotate axis, shear, joint orient, offset parent, quaternion mode
   // and every rotate order: the fit that keeps scale, shear and rotate axis

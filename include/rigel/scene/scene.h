@@ -87,6 +87,11 @@ class Scene {
     // the quaternion on rotateQuaternion's side. Otherwise the principal
     // angles, and the quaternion of either sign.
     bool nearest_rotation = false;
+    // With keep_scale_shear, when the node has no pivots: fit the translate
+    // only (the same value as the whole fit gives) and keep the rotation
+    // as it is, for a solver that knows the local rotation did not change
+    // (a body motion turning a control and its parent alike).
+    bool translate_only = false;
   };
   Result<LocalChannels> channels_for_world(NodeId node, const Mat4& world);
   Result<LocalChannels> channels_for_world(NodeId node, const Mat4& world, const ChannelFit& fit);

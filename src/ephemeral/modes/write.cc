@@ -25,15 +25,17 @@ Status local_writes(scene::Scene& scene, Drag& d, bool& exact) {
     // A rigid body motion is carried by the hierarchy below the roots.
     if (d.body_rigid && entries[e].role == Role::kBody && pe >= 0) continue;
     const NodeId id = entries[e].control;
+    // Control and parent both turned by the pivot's rotation: the local
+    // rotation is unchanged, only the translation is new.
+    const bool body_pair = entries[e].role == Role::kBody && pe >= 0 && entries[pe].role == Role::kBody;
     fit.parent_world = d.parent_new_world(e);
+    fit.translate_only = body_pair;
     Result<scene::Scene::LocalChannels> ch = scene.channels_for_world(id, d.new_world(e), fit);
     if (!ch) return ch.status().with_context("drag");
     const graph::Node& node = *graph.node(id);
     const Vec3& t0 = std::get<Vec3>(node.value(xform::kTranslate));
     const bool same_t = (ch->translate - t0).norm() <= 1e-12 * std::max(1.0, t0.norm());
-    if (entries[e].role == Role::kBody && pe >= 0 && entries[pe].role == Role::kBody) {
-      // Control and parent both turned by the pivot's rotation: the local
-      // rotation is unchanged, only the translation is new.
+    if (body_pair) {
       if (!same_t) sc.writes.push_back(Scratch::Write{e, ch->translate, ch->rotation_attr, ch->rotation, true, false});
       continue;
     }
