@@ -110,9 +110,21 @@ using math::Mat3;
 using math::Quat;
 using math::Vec3;
 
+// The node's jointOrient attribute (kNoAttr for types without one). A
+// drag fits every control it moves: the scene's own types answer without
+// the name lookup (a joint holds it at joint_attr::kJointOrient).
+AttrIndex joint_orient_attr(const graph::Node& n) {
+  const graph::NodeType& type = n.type();
+  if (type.attr_count() > joint_attr::kJointOrient && type.attr(joint_attr::kJointOrient).name == "jointOrient")
+    return joint_attr::kJointOrient;
+  const std::string& name = type.name();
+  if (name == kControlType || name == kTransformType || name == kLocatorType || name == kMeshType) return graph::kNoAttr;
+  return type.attr_find("jointOrient");
+}
+
 // A joint's orient as a matrix (identity for other types).
 Mat4 joint_orient_matrix(const graph::Node& n) {
-  const AttrIndex jo = n.type().attr_find("jointOrient");
+  const AttrIndex jo = joint_orient_attr(n);
   if (jo == graph::kNoAttr) return Mat4::Identity();
   return math::rotation_matrix(math::euler_to_quat(math::to_radians(std::get<Vec3>(n.value(jo))), math::RotateOrder::kXYZ));
 }
@@ -138,7 +150,7 @@ Result<Scene::LocalChannels> fit_full(const graph::Node& n, const Mat4& above, c
     return error(ErrorCode::kInvalidArgument, "'" + n.name() + "': its parent space is singular (zero scale?)");
   Mat4 local = math::affine_inverse(above) * world;
   // The joint orient stays; the rotation absorbs the difference.
-  if (n.type().attr_find("jointOrient") != graph::kNoAttr) {
+  if (joint_orient_attr(n) != graph::kNoAttr) {
     const Mat4 orient = joint_orient_matrix(n);
     Mat4 t = local;
     t.block<3, 1>(0, 3).setZero();
@@ -185,7 +197,7 @@ Result<Scene::LocalChannels> fit_keeping(const graph::Node& n, const Mat4& paren
     return out;
   }
   Mat3 rotation = inverse * Mat3(world.topLeftCorner<3, 3>());
-  if (n.type().attr_find("jointOrient") != graph::kNoAttr)
+  if (joint_orient_attr(n) != graph::kNoAttr)
     rotation = Mat3(joint_orient_matrix(n).topLeftCorner<3, 3>()).transpose() * rotation;
 
   math::TransformParts kept;
@@ -219,7 +231,7 @@ Result<Scene::LocalChannels> fit_keeping(const graph::Node& n, const Mat4& paren
   if (!pivots.rotate_pivot.isZero() || !pivots.rotate_pivot_translate.isZero() || !pivots.scale_pivot.isZero() ||
       !pivots.scale_pivot_translate.isZero()) {
     // The pivots' share of the local translation, for the rotation found.
-    const AttrIndex jo = n.type().attr_find("jointOrient");
+    const AttrIndex jo = joint_orient_attr(n);
     if (jo != graph::kNoAttr) pivots.joint_orient = math::to_radians(std::get<Vec3>(n.value(jo)));
     pivots.rotate_order = order;
     if (out.rotation_attr == xform::kRotateQuaternion) {
