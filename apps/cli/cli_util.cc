@@ -1,5 +1,7 @@
 #include "cli_util.h"
 
+#include <unistd.h>
+
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -7,11 +9,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "rigel/app/workspace.h"
+#include "rigel/app/scene_files.h"
 #include "rigel/ephemeral/rig.h"
-#include "rigel/io/bvh.h"
-#include "rigel/io/bvh_import.h"
-#include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 
 namespace rigel::cli {
@@ -69,6 +68,32 @@ std::optional<math::Vec3> parse_vec3(const std::string& text) {
     start = comma + 1;
   }
   return v;
+}
+
+std::optional<std::pair<double, double>> parse_frames(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) return std::nullopt;
+  const auto first = parse_number(text.data(), text.data() + colon);
+  const auto last = parse_number(text.data() + colon + 1, text.data() + text.size());
+  if (!first || !last) return std::nullopt;
+  return std::pair{*first, *last};
+}
+
+std::function<void(double)> TerminalProgress::callback() {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [this](double fraction) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == last_) return;
+    last_ = percent;
+    shown_ = true;
+    std::fprintf(stderr, "\rrigel: %s %3d%%", what_.c_str(), percent);
+    std::fflush(stderr);
+  };
+}
+
+void TerminalProgress::finish() {
+  if (shown_) std::fputc('\n', stderr);
+  shown_ = false;
 }
 
 std::string number_text(double value) {

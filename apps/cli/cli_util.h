@@ -3,9 +3,11 @@
 // exit codes, error reporting, reading scenes, parsing option values and
 // resolving the names given to options.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
@@ -40,6 +42,10 @@ std::string lower_extension(const std::string& path);
 std::optional<double> parse_number(const char* begin, const char* end);
 // "X,Y,Z" as three finite numbers; nullopt for anything else.
 std::optional<math::Vec3> parse_vec3(const std::string& text);
+// "A:B" as two finite numbers; nullopt for anything else.
+std::optional<std::pair<double, double>> parse_frames(const std::string& text);
+// What --frames expects, for its error messages.
+inline constexpr const char* kFramesExpected = "expected FIRST:LAST, two frame numbers such as 0:120";
 // `value` as printf's %g writes it.
 std::string number_text(double value);
 
@@ -49,5 +55,19 @@ Result<graph::NodeId> resolve_control(const graph::Graph& g, const std::string& 
 // `name` given to `option` as an ephemeralRig node.
 Result<graph::NodeId> resolve_rig(const graph::Graph& g, const std::string& scene, const std::string& option,
                                   const std::string& name);
+
+// Progress of long work as "rigel: WHAT NN%" on stderr, on a terminal only
+// (callback() is empty elsewhere); finish() ends the line it started.
+class TerminalProgress {
+ public:
+  explicit TerminalProgress(std::string what) : what_(std::move(what)) {}
+  std::function<void(double)> callback();
+  void finish();
+
+ private:
+  std::string what_;
+  int last_ = -1;
+  bool shown_ = false;
+};
 
 }  // namespace rigel::cli

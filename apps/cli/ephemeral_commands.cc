@@ -49,33 +49,24 @@ struct EphemeralSetupArgs {
 };
 
 int run_ephemeral_setup(const EphemeralSetupArgs& args) {
-  if (!(args.shape_radius >= 0.0) || !std::isfinite(args.shape_radius)) {
-    std::cerr << "rigel: --shape-radius must be a number >= 0\n";
-    return kExitUsage;
-  }
-  if (!rigel::graph::Graph::is_valid_name("joint" + args.suffix)) {
-    std::cerr << "rigel: --suffix '" << args.suffix << "': control names would not be valid node names\n";
-    return kExitUsage;
-  }
-  if (!rigel::graph::Graph::is_valid_name(args.rig_name)) {
-    std::cerr << "rigel: --rig-name '" << args.rig_name << "': not a valid node name\n";
-    return kExitUsage;
-  }
-  for (const std::string& name : args.joints) {
-    if (name.empty()) {
-      std::cerr << "rigel: --joints: empty joint name (expected A,B,...)\n";
-      return kExitUsage;
-    }
-  }
-  auto scene = load_or_import(args.scene);
-  if (!scene) return fail(scene.status());
-  rigel::scene::Scene& s = **scene;
-  rigel::graph::Graph& g = s.graph();
   rigel::ephemeral::SetupOptions options;
   options.control_suffix = args.suffix;
   options.rig_name = args.rig_name;
   options.keep_animation = !args.drop_animation;
   options.shape_radius = args.shape_radius;
+  // A bad option value is a usage error (exit 2), checked before the scene is read.
+  if (Status st = options.validate(); !st) {
+    const std::string& f = st.field();
+    if (f == "shapeRadius") return usage_error("--shape-radius must be a number >= 0");
+    if (f == "controlSuffix") return usage_error("--suffix '" + args.suffix + "': control names would not be valid node names");
+    return usage_error("--rig-name '" + args.rig_name + "': not a valid node name");
+  }
+  for (const std::string& name : args.joints)
+    if (name.empty()) return usage_error("--joints: empty joint name (expected A,B,...)");
+  auto scene = load_or_import(args.scene);
+  if (!scene) return fail(scene.status());
+  rigel::scene::Scene& s = **scene;
+  rigel::graph::Graph& g = s.graph();
   for (const std::string& name : args.joints) {
     const NodeId id = g.find(name);
     if (!id.is_valid()) return fail(Status(rigel::ErrorCode::kNotFound, args.scene + ": --joints: no node named '" + name + "'"));

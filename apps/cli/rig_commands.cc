@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "rigel/app/rig_files.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/io/scene_file.h"
@@ -70,65 +71,52 @@ struct BuildArgs {
 int run_build(const BuildArgs& args) {
   std::optional<rig::Definition> def = read_definition(args.definition);
   if (!def) return kExitInvalidInput;
-  std::string character = args.character;
-  if (character.empty()) {
-    if (def->geometry.empty())
-      return usage_error(args.definition + ": the definition names no geometry; give --character");
-    character = (fs::path(args.definition).parent_path() / def->geometry.front().file).string();
-  }
-  auto scene = load_or_import(character);
-  if (!scene) return fail(scene.status().with_context(character));
-  // Every guide joint the character lacks, each at its place, before building.
-  if (std::vector<rig::Diagnostic> missing = rig::check_guide_joints(*def, **scene); !missing.empty()) {
-    Json errors = Json::array();
-    for (const rig::Diagnostic& d : missing) {
-      std::cerr << d.str() << "\n";
-      errors.push_back(Json{{"file", d.file}, {"line", d.where.line}, {"column", d.where.column}, {"message", d.message}});
-    }
-    std::cerr << "rigel: " << args.definition << ": " << missing.size() << " guide joint"
-              << (missing.size() == 1 ? " is" : "s are") << " missing from " << character << "\n";
-    if (args.json) print_json(Json{{"rig", def->name}, {"character", character}, {"errors", errors}});
-    return kExitInvalidInput;
-  }
-  rig::BuildOptions options;
+  app::BuildFileOptions options;
+  options.character = args.character;
+  options.steps = args.steps;
   options.edit_mode = args.edit_mode;
-  auto build = rig::Build::open(**scene, *def, factory(), options);
-  if (!build) return fail(build.status().with_context(args.definition));
-  const int total = static_cast<int>((*build)->plan().size());
-  if (args.steps > total) return usage_error("--steps " + std::to_string(args.steps) + ": the build has " + std::to_string(total) + " steps");
-  const int target = args.steps < 0 ? total : args.steps;
   const bool progress = !args.json && isatty(2);
-  for (int i = (*build)->position(); i < target; ++i) {
-    if (progress) std::cerr << "\rrigel: building " << (i + 1) << "/" << target << std::flush;
-    if (Status s = (*build)->forward(); !s) {
-      if (progress) std::cerr << "\n";
-      return fail(s.with_context(args.definition));
-    }
-  }
+  if (progress) options.progress = [](int step, int of) { std::cerr << "\rrigel: building " << step << "/" << of << std::flush; };
+  std::vector<rig::Diagnostic> missing;
+  auto built = app::build_rig_file(*def, args.definition, factory(), options, &missing);
   if (progress) std::cerr << "\n";
-  if (Status s = io::save_scene(**scene, args.output); !s) return fail(s);
-  const graph::Graph& g = (*scene)->graph();
-  NodeId root = (*build)->root();
-  std::size_t made = 0;
-  if (root.is_valid()) {
-    made = rig::meta_members(g, root).size();
-    for (NodeId c : rig::rig_components(g, root)) made += rig::meta_members(g, c).size() + 1;
+  if (!built) {
+    const Status& s = built.status();
+    if (s.field() == "character") return usage_error(args.definition + ": the definition names no geometry; give --character");
+    if (s.field() == "steps") return usage_error(s.message());
+    if (s.field() == "guides") {
+      // Every guide joint the character lacks, each at its place.
+      Json errors = Json::array();
+      for (const rig::Diagnostic& d : missing) {
+        std::cerr << d.str() << "\n";
+        errors.push_back(Json{{"file", d.file}, {"line", d.where.line}, {"column", d.where.column}, {"message", d.message}});
+      }
+      std::cerr << "rigel: " << s.message() << "\n";
+      if (args.json) {
+        const std::string character = app::rig_character(*def, args.definition, args.character).string();
+        print_json(Json{{"rig", def->name}, {"character", character}, {"errors", errors}});
+      }
+      return kExitInvalidInput;
+    }
+    return fail(s);
   }
+  if (Status s = io::save_scene(*built->scene, args.output); !s) return fail(s);
+  const std::string character = built->character.string();
   if (args.json) {
     Json comps = Json::array();
-    for (const rig::Component* c : (*build)->components())
-      comps.push_back(Json{{"name", c->name}, {"side", rig::side_name(c->side)}, {"type", c->type}, {"rigId", c->rig_id}});
-    print_json(Json{{"rig", def->name},
-                    {"version", def->version},
-                    {"steps", target},
-                    {"of", total},
+    for (const app::BuiltComponent& c : built->components)
+      comps.push_back(Json{{"name", c.name}, {"side", rig::side_name(c.side)}, {"type", c.type}, {"rigId", c.rig_id}});
+    print_json(Json{{"rig", built->rig},
+                    {"version", built->version},
+                    {"steps", built->steps},
+                    {"of", built->of},
                     {"components", comps},
-                    {"nodes", made},
+                    {"nodes", built->nodes},
                     {"output", args.output}});
   } else {
-    std::cerr << "rigel: built " << def->name << " " << def->version << " (" << (*build)->components().size()
-              << " components, " << target << "/" << total << " steps, " << made << " nodes) on " << character
-              << " into " << args.output << "\n";
+    std::cerr << "rigel: built " << built->rig << " " << built->version << " (" << built->components.size()
+              << " components, " << built->steps << "/" << built->of << " steps, " << built->nodes << " nodes) on "
+              << character << " into " << args.output << "\n";
   }
   return 0;
 }

@@ -534,7 +534,9 @@ struct Workspace::Impl {
 Workspace::Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
                      const rig::ComponentFactory& factory)
     : app_(std::make_unique<app::Workspace>(std::move(scene), std::move(scene_path), std::move(root), factory)),
-      impl_(std::make_unique<Impl>(*app_)) {}
+      impl_(std::make_unique<Impl>(*app_)) {
+  app_->set_report_moved_controls(false);  // drag answers list `moved` only
+}
 
 Workspace::~Workspace() = default;
 

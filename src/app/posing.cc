@@ -112,7 +112,8 @@ Status Workspace::drag_direct(const std::vector<NodeId>& controls, const Vec3& d
 Workspace::Before Workspace::before_drag() const {
   Before b;
   b.local = pose(Space::kLocal);
-  for (NodeId id : all_controls()) b.controls.emplace_back(id, scene_->world_matrix(id));
+  if (report_moved_controls_)
+    for (NodeId id : all_controls()) b.controls.emplace_back(id, scene_->world_matrix(id));
   return b;
 }
 

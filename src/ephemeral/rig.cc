@@ -266,11 +266,23 @@ Status group_add(Graph& graph, NodeId rig, const std::vector<NodeId>& controls) 
   return Status::ok();
 }
 
+Status SetupOptions::validate() const {
+  if (!(shape_radius >= 0.0) || !std::isfinite(shape_radius))
+    return Status(ErrorCode::kInvalidArgument, "the shape radius must be a number >= 0").with_field("shapeRadius");
+  if (!Graph::is_valid_name("joint" + control_suffix))
+    return Status(ErrorCode::kInvalidArgument,
+                  "the control suffix '" + control_suffix + "': control names would not be valid node names")
+        .with_field("controlSuffix");
+  if (!Graph::is_valid_name(rig_name))
+    return Status(ErrorCode::kInvalidArgument, "the rig name '" + rig_name + "': not a valid node name").with_field("rigName");
+  return Status::ok();
+}
+
 Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& options) {
   Graph& graph = scene.graph();
   if (!rig_type(graph))
     return error(ErrorCode::kUnsupported, "setup: the scene's registry has no ephemeralRig type (use ephemeral::default_registry())");
-  if (!Graph::is_valid_name(options.rig_name)) return error(ErrorCode::kInvalidArgument, "setup: invalid rig name");
+  if (Status s = options.validate(); !s) return s.with_context("setup");
 
   // The joints, parent first.
   std::vector<NodeId> joints;

@@ -41,6 +41,12 @@ def test_setup_errors(metarig):
         rigel.setup_ephemeral(metarig, joints=["wing"])
     with pytest.raises(rigel.InvalidArgumentError, match="not an ephemeralRig"):
         rigel.relations(metarig, "hand.L")
+    # The options are checked as the CLI checks them (SetupOptions::validate).
+    for kwargs, field in (({"shape_radius": -1.0}, "shape_radius"), ({"shape_radius": math.nan}, "shape_radius"),
+                          ({"control_suffix": " c"}, "control_suffix"), ({"rig_name": "my rig"}, "rig_name")):
+        with pytest.raises(rigel.InvalidArgumentError) as info:
+            rigel.setup_ephemeral(metarig, joints=["hand.R"], **kwargs)
+        assert info.value.field == field, kwargs
 
 
 def test_relations(posed):

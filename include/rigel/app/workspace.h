@@ -26,6 +26,7 @@
 #include <string_view>
 #include <vector>
 
+#include "rigel/app/scene_files.h"
 #include "rigel/base/status.h"
 #include "rigel/ephemeral/session.h"
 #include "rigel/graph/graph.h"
@@ -64,13 +65,7 @@ double key_frame(double seconds, double fps);
 // `field`).
 Result<fs::path> confined_path(const fs::path& root, const std::string& path, const std::string& field);
 
-// Opens what a user names as a scene: a .glb/.gltf or .bvh character
-// imported (units kept), anything else read as a .rigel file; every node
-// type of this build (ephemeral::default_registry()). Errors name the file.
-Result<std::unique_ptr<scene::Scene>> open_scene(const fs::path& path);
-// Whether `path` is a .rigel scene file (what a save may write over; a
-// character a scene was imported from is not), by its extension.
-bool is_scene_file(const fs::path& path);
+// Opening, importing, exporting and baking scene files: scene_files.h.
 
 // One transform's translation, rotation and scale (a decomposed matrix).
 struct Trs {
@@ -254,6 +249,10 @@ class Workspace {
   // normalised), its scale positive and other than 1 in body mode only
   // (kInvalidArgument naming "translate", "rotate" or "scale").
   Result<DragReport> drag(const ephemeral::Delta& delta);
+  // Whether drags fill DragReport::moved_controls (on by default). The
+  // world matrices of every control before and after are its cost; a
+  // client that reads only `moved` (the server) turns it off.
+  void set_report_moved_controls(bool on) { report_moved_controls_ = on; }
   // Drags `control` so that its world translation / rotation become the
   // given ones (unset: unchanged); it is selected when it is not. An
   // ephemeral control moves its rig through the session, a built rig's
@@ -344,6 +343,7 @@ class Workspace {
   fs::path character_;
   const rig::ComponentFactory& factory_;
   std::uint64_t revision_ = 1;
+  bool report_moved_controls_ = true;
   std::uint64_t gesture_ = 0;  // undo merge key of the current direct (non-ephemeral) drag
   std::map<std::string, Unbuilt> unbuilt_;
   std::uint64_t unbuilt_serial_ = 0;

@@ -93,6 +93,12 @@ struct SetupOptions {
   // Radius of the circle drawn for each control (its shapePoints), in the
   // control's space; 0 draws nothing.
   double shape_radius = 0.0;
+
+  // The option at fault (kInvalidArgument, Status::field() its API name:
+  // "shapeRadius" not a number >= 0, "controlSuffix" that makes control
+  // names invalid, "rigName" not a valid node name). setup_ephemeral checks
+  // it first; drivers call it to say which of their options is wrong.
+  Status validate() const;
 };
 
 struct SetupResult {
