@@ -18,9 +18,6 @@ using namespace detail;
 
 namespace {
 
-using graph::Plug;
-using graph::Value;
-
 // The meta node that keeps the records of a component (or the rig).
 NodeId owner_meta(const graph::Graph& g, NodeId root, const std::string& key) {
   if (!root.is_valid()) return {};

@@ -22,11 +22,6 @@ using namespace detail;
 
 namespace {
 
-using graph::Plug;
-using graph::Value;
-using math::Mat4;
-namespace xform = scene::xform;
-
 const Param* find_param(const Component& c, std::string_view name) { return c.param(name); }
 
 // Puts `id` (made under `parent`) at `world` through its offsetParentMatrix,

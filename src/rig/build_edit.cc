@@ -20,10 +20,6 @@ using namespace detail;
 
 namespace {
 
-using graph::Plug;
-using graph::Value;
-using math::Mat4;
-
 // A guide that stands at `world`: values, or the offset from its joint at
 // `joint_world` (rotation in XYZ degrees; shear is dropped).
 void place_guide(Guide& guide, const Mat4& world, const std::optional<Mat4>& joint_world) {

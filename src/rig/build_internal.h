@@ -17,11 +17,17 @@
 #include "rigel/math/types.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/definition.h"
+#include "rigel/scene/transform_types.h"
 
 namespace rigel::rig {
 namespace detail {
 
 using Json = nlohmann::ordered_json;
+// Names every build source uses (they say `using namespace detail;`).
+using graph::Plug;
+using graph::Value;
+using math::Mat4;
+namespace xform = scene::xform;
 
 // The names of the steps a build adds itself: the rig's own step (its
 // metaRoot and groups) and each component's first step (its metaComponent).

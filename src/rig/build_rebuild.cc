@@ -23,11 +23,6 @@ using namespace detail;
 
 namespace {
 
-using graph::Plug;
-using graph::Value;
-using math::Mat4;
-namespace xform = scene::xform;
-
 // A component's own data, for telling what changed (children left out).
 std::string signature(const Component& c) {
   std::ostringstream o;

@@ -19,9 +19,6 @@ using namespace detail;
 
 namespace {
 
-using graph::Plug;
-using graph::Value;
-
 const Feature* find_feature(const std::vector<Feature>& list, std::string_view name) {
   for (const Feature& f : list)
     if (f.name == name) return &f;

@@ -11,6 +11,7 @@
 
 #include "graph_test_util.h"
 #include "rigel/graph/graph.h"
+#include "../support/slow_build.h"
 
 namespace rigel::graph {
 namespace {
@@ -533,7 +534,7 @@ class RandomEditor {
 };
 
 TEST(Undo, random_edit_sequences__undo_to_start_and_redo_to_end_exactly) {
-  constexpr int kSequences = 1000;
+  constexpr int kSequences = 1000 / rigel::testing::kSlowBuildDivisor;  // a fifth in the sanitizer build
   long accepted_edits = 0, undo_steps = 0;
   for (std::uint32_t seed = 1; seed <= kSequences; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " (reproduce with std::mt19937(seed))");

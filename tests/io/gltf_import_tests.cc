@@ -29,6 +29,7 @@
 #include "rigel/ops/deform/nodes.h"
 #include "rigel/ops/registry.h"
 #include "rigel/scene/transform_types.h"
+#include "../support/slow_build.h"
 
 namespace rigel::io {
 namespace {
@@ -39,11 +40,7 @@ namespace sc = ops::skin_cluster_attr;
 namespace bs = ops::blend_shape_attr;
 namespace xf = scene::xform;
 
-#if defined(__SANITIZE_ADDRESS__) || !defined(NDEBUG)
-constexpr int kSlowBuildDivisor = 5;
-#else
-constexpr int kSlowBuildDivisor = 1;
-#endif
+using rigel::testing::kSlowBuildDivisor;
 
 fs::path gltf_dir() { return source_dir() / "tests" / "data" / "gltf"; }
 fs::path invalid_dir() { return source_dir() / "tests" / "data" / "gltf_invalid"; }

@@ -26,6 +26,7 @@
 
 #include "io_test_util.h"
 #include "rigel/math/transform.h"
+#include "../support/slow_build.h"
 
 namespace rigel::io {
 namespace {
@@ -41,11 +42,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Unoptimised (sanitizer) builds run the exhaustive loops on a sample.
-#ifdef NDEBUG
-constexpr int kSlowBuildDivisor = 1;
-#else
-constexpr int kSlowBuildDivisor = 5;
-#endif
+using rigel::testing::kSlowBuildDivisor;
 
 // ---- the reference scene ---------------------------------------------------
 //
@@ -550,11 +547,11 @@ TEST(SceneFileUndo, random_edits__undo_to_start_and_redo_to_end_serialize_identi
   Scene reference;
   build_reference_scene(reference);
   const std::string base = write_scene(reference);
-  // 1,000 sequences in optimised builds (about a second); half in
+  // 1,000 sequences in optimised builds (about a second); a fifth in
   // unoptimised sanitizer builds, where each costs some 30 times more.
   // RIGEL_UNDO_SEQUENCES=N runs N instead (for a local hunt).
   const char* override_sequences = std::getenv("RIGEL_UNDO_SEQUENCES");
-  const int kSequences = override_sequences ? std::atoi(override_sequences) : (kSlowBuildDivisor > 1 ? 500 : 1000);
+  const int kSequences = override_sequences ? std::atoi(override_sequences) : 1000 / kSlowBuildDivisor;
   // One sequence in ten (one in fifty in unoptimised builds) also checks
   // every intermediate state on the way back.
   constexpr int kCheckEveryStepOf = 10 * kSlowBuildDivisor;
