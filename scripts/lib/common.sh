@@ -86,10 +86,14 @@ rigel_build() {
   local dir=$1
   shift
   # ccache, when installed, makes a rebuild from a clean clone cheap.
-  # The sloppiness lets ccache cache sources built with precompiled headers.
+  # The sloppiness lets ccache cache sources built with precompiled headers;
+  # the base directory (the checkout) and no hashed working directory let a
+  # clone in another folder (each CI run's) use what an earlier clone built:
+  # its absolute paths are hashed as relative ones.
   if command -v ccache >/dev/null; then
     set -- -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@"
     export CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+    export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
   fi
   if [ ! -f "$dir/CMakeCache.txt" ]; then
     cmake -S . -B "$dir" "$@" >/dev/null
