@@ -14,6 +14,7 @@
 #include "cli_util.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
+#include "key_commands.h"
 #include "pose_command.h"
 #include "rig_commands.h"
 #include "scene_commands.h"
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
   // `inspect`, `eval`, `import`, `export`, `bake`: scene files.
   rigel::cli::SceneCommands scene;
   rigel::cli::add_scene_commands(app, scene);
+  // `key`, `keys`: keys on any rig's channels.
+  rigel::cli::KeyCommands keys;
+  rigel::cli::add_key_commands(app, keys);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -74,6 +78,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (const std::optional<int> code = rigel::cli::run_scene_commands(scene)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_key_commands(keys)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;

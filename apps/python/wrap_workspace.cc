@@ -129,6 +129,38 @@ py::object keys_record(const SceneRef& s, const app::KeyReport& k) {
   return record(d);
 }
 
+// Channel keys: one record per keyed plug (plug name, times, frames, values).
+py::list plug_keys_list(const WorkspaceRef& w, const std::vector<tools::PlugKeys>& keys) {
+  py::list out;
+  const double fps = w.ws->graph().fps();
+  for (const tools::PlugKeys& k : keys) {
+    py::dict d;
+    d["plug"] = k.name;
+    d["times"] = k.times;
+    std::vector<double> frames;
+    for (double t : k.times) frames.push_back(app::key_frame(t, fps));
+    d["frames"] = frames;
+    py::list values;
+    for (const graph::Value& v : k.values) values.append(to_python(v));
+    d["values"] = values;
+    out.append(record(d));
+  }
+  return out;
+}
+
+// Any nodes with keyable channels: controls (a joint stands for its
+// ephemeral control) or others, such as a limb's fkIkSwitch.
+std::vector<NodeId> key_nodes_arg(const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& nodes) {
+  if (!nodes) return w.ws->selection();
+  std::vector<NodeId> out;
+  for (std::size_t i = 0; i < nodes->size(); ++i) {
+    const NodeId id = node_arg(w, (*nodes)[i], "controls[" + std::to_string(i) + "]");
+    auto control = w.ws->control_of(id, "controls");
+    out.push_back(control ? *control : id);
+  }
+  return out;
+}
+
 py::object summary_record(const SceneRef& s, const app::SceneSummary& x) {
   py::dict scopes;
   for (const auto& [rig, scope] : x.key_scopes) scopes[py::str(rig)] = scope;
@@ -393,7 +425,34 @@ void def_time_and_keys(WorkspaceClass& cls) {
             const std::vector<NodeId> ids = controls_or_selection(w, controls);
             return keys_record(w.scene, edit(w, [&](app::Workspace& ws) { return unwrap(ws.delete_key(ids)); }));
           },
-          py::arg("controls") = py::none(), "Deletes the keying set's keys now; returns keys().");
+          py::arg("controls") = py::none(), "Deletes the keying set's keys now; returns keys().")
+      .def(
+          "set_channel_keys",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls,
+             const std::vector<std::string>& attrs, std::optional<double> value) {
+            const std::vector<NodeId> ids = key_nodes_arg(w, controls);
+            return plug_keys_list(w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.set_channel_keys(ids, attrs, value)); }));
+          },
+          py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{}, py::arg("value") = py::none(),
+          R"(Keys any rig's controls and switches now (default: the selection). Without `attrs` every keyable
+channel of their keying group (a built rig's whole character, an ephemeral rig's keying set); with
+`attrs` (e.g. ["fkIk"]) those channels of the nodes given. `value` keys a scalar channel at that value.
+Returns the channels' keys: records (plug, times, frames, values).)")
+      .def(
+          "delete_channel_keys",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls, const std::vector<std::string>& attrs) {
+            const std::vector<NodeId> ids = key_nodes_arg(w, controls);
+            return plug_keys_list(w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.delete_channel_keys(ids, attrs)); }));
+          },
+          py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{},
+          "Deletes the channels' keys now (as set_channel_keys chooses them); NotFoundError when none has one.")
+      .def(
+          "channel_keys",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls, const std::vector<std::string>& attrs) {
+            return plug_keys_list(w, unwrap(w.ws->channel_keys(key_nodes_arg(w, controls), attrs)));
+          },
+          py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{},
+          "The keys of the nodes' own channels (those named, or every keyable one): records (plug, times, frames, values).");
 }
 
 py::object step_record(const app::StepReport& r) {

@@ -380,6 +380,62 @@ struct Workspace::Impl {
     return keys_json(take(ws.set_key(controls)));
   }
 
+  // Keys on any keyable channel of any rig's controls and switches: one
+  // answer entry per keyed plug of the channels (tools/keys.h).
+  Json plug_keys_json(const std::vector<tools::PlugKeys>& keys) {
+    Json out = Json::array();
+    const double fps = g().fps();
+    for (const tools::PlugKeys& k : keys) {
+      Json frames = Json::array(), values = Json::array();
+      for (double t : k.times) frames.push_back(app::key_frame(t, fps));
+      for (const graph::Value& v : k.values) {
+        if (const auto* d = std::get_if<double>(&v)) values.push_back(*d);
+        else if (const auto* p = std::get_if<math::Vec3>(&v)) values.push_back(Json::array({p->x(), p->y(), p->z()}));
+        else if (const auto* q = std::get_if<math::Quat>(&v)) values.push_back(Json::array({q->x(), q->y(), q->z(), q->w()}));
+      }
+      out.push_back(Json{{"plug", k.name}, {"frames", frames}, {"times", k.times}, {"values", values}});
+    }
+    return out;
+  }
+  // Nodes with keyable channels: controls (a joint stands for its ephemeral
+  // control) and others, such as a limb's fkIkSwitch.
+  std::vector<NodeId> key_nodes(const Json& body) {
+    const Json* c = opt(body, "controls");
+    if (!c) return ws.selection();
+    if (!c->is_array()) refuse(400, "controls: expected an array of node uuids or names", "controls");
+    std::vector<NodeId> out;
+    for (std::size_t i = 0; i < c->size(); ++i) {
+      const std::string field = "controls[" + std::to_string(i) + "]";
+      const NodeId id = take(ws.node(as_string((*c)[i], field), field));
+      auto control = ws.control_of(id, field);
+      out.push_back(control ? *control : id);
+    }
+    return out;
+  }
+  std::vector<std::string> attrs_of(const Json& body) {
+    std::vector<std::string> attrs;
+    if (const Json* a = opt(body, "attrs")) {
+      if (!a->is_array()) refuse(400, "attrs: expected an array of attribute names", "attrs");
+      for (std::size_t i = 0; i < a->size(); ++i) attrs.push_back(as_string((*a)[i], "attrs[" + std::to_string(i) + "]"));
+    }
+    return attrs;
+  }
+
+  Json post_channel_keys(const Request&, const Json& body) {
+    const std::vector<NodeId> nodes = key_nodes(body);
+    const std::vector<std::string> attrs = attrs_of(body);
+    const Json* del = opt(body, "delete");
+    const Json* value = opt(body, "value");
+    if (del && as_bool(*del, "delete")) {
+      if (value) refuse(400, "value: a delete takes no value", "value");
+      return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.delete_channel_keys(nodes, attrs)))}};
+    }
+    std::optional<double> v;
+    if (value) v = as_number(*value, "value");
+    Json keys = plug_keys_json(take(ws.set_channel_keys(nodes, attrs, v)));
+    return Json{{"revision", ws.revision()}, {"keys", keys}};
+  }
+
   // ---- routes: rigs --------------------------------------------------------------
 
   Json get_rigs(const Request&, const Json&) {
@@ -590,6 +646,7 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/redo", &Impl::post_redo},
       {"POST", "/api/time", &Impl::post_time},
       {"POST", "/api/key", &Impl::post_key},
+      {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},
       {"POST", "/api/rigs/remove", &Impl::post_rigs_remove},

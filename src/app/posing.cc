@@ -261,6 +261,41 @@ Result<KeyReport> Workspace::delete_key(const std::vector<NodeId>& controls) {
   return keys(controls);
 }
 
+// ---- keys on any keyable channel ---------------------------------------------------
+
+Result<std::vector<tools::Channel>> Workspace::key_channels(const std::vector<NodeId>& controls,
+                                                            const std::vector<std::string>& attrs) const {
+  if (controls.empty())
+    return Status(ErrorCode::kFailedPrecondition, "nothing is selected and no controls given").with_field("controls");
+  return tools::channels_of(graph(), attrs.empty() ? tools::keying_group(graph(), controls) : controls, attrs);
+}
+
+Result<std::vector<tools::PlugKeys>> Workspace::set_channel_keys(const std::vector<NodeId>& controls,
+                                                                 const std::vector<std::string>& attrs,
+                                                                 const std::optional<double>& value) {
+  auto channels = key_channels(controls, attrs);
+  if (!channels) return channels.status();
+  if (Status s = tools::set_keys(graph(), *channels, value); !s) return s.field().empty() ? conflict(s) : s;
+  bump_revision();
+  return tools::keys_of(graph(), *channels);
+}
+
+Result<std::vector<tools::PlugKeys>> Workspace::delete_channel_keys(const std::vector<NodeId>& controls,
+                                                                    const std::vector<std::string>& attrs) {
+  auto channels = key_channels(controls, attrs);
+  if (!channels) return channels.status();
+  if (Status s = tools::delete_keys(graph(), *channels); !s) return conflict(s);
+  bump_revision();
+  return tools::keys_of(graph(), *channels);
+}
+
+Result<std::vector<tools::PlugKeys>> Workspace::channel_keys(const std::vector<NodeId>& controls,
+                                                             const std::vector<std::string>& attrs) const {
+  auto channels = tools::channels_of(graph(), controls, attrs);
+  if (!channels) return channels.status();
+  return tools::keys_of(graph(), *channels);
+}
+
 // ---- files ---------------------------------------------------------------------
 
 Result<fs::path> Workspace::save(const fs::path& path) {

@@ -67,6 +67,13 @@ Result<NodeId> Workspace::node(const std::string& ref, const std::string& field)
   NodeId id;
   if (auto u = graph::Uuid::parse(ref)) id = graph().find(*u);
   if (!id.is_valid() && graph::Graph::is_valid_name(ref)) id = graph().find(ref);
+  // A rig's nameless address (`hero:arm_L/fkIkSwitch`), which no rename breaks.
+  if (!id.is_valid() && ref.find(':') != std::string::npos) {
+    auto at = rig::resolve_address(graph(), ref);
+    if (at) id = *at;
+    else if (rig::find_rig(graph(), ref.substr(0, ref.find(':'))).is_valid())
+      return Status(ErrorCode::kNotFound, field + ": " + at.status().message()).with_field(field);
+  }
   if (!id.is_valid()) return Status(ErrorCode::kNotFound, field + ": no node '" + ref + "'").with_field(field);
   return id;
 }

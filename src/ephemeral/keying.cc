@@ -265,42 +265,53 @@ Status set_key(Graph& graph, const std::vector<NodeId>& controls) {
   return Status::ok();
 }
 
-Status delete_key(Graph& graph, const std::vector<NodeId>& controls) {
-  std::vector<NodeId> set = keying_set(graph, controls);
-  if (set.empty()) return error(ErrorCode::kInvalidArgument, "delete key: no control of an ephemeral rig given");
+Status delete_channel_key(Graph& graph, NodeId node, AttrIndex attr, bool& removed) {
+  removed = false;
+  const graph::Node* n = graph.node(node);
+  if (!n) return error(ErrorCode::kNotFound, "delete key: no such node (stale handle)");
+  Result<Value> current = graph.evaluate(Plug{node, attr, -1});
+  if (!current) return current.status();
   const double t = graph.time();
+  // Gather the curves first: deleting one changes the node's inputs.
+  std::vector<std::pair<Plug, Plug>> curves;  // (curve output, channel plug)
+  for (const graph::Connection& conn : n->inputs())
+    if (conn.dst.attr == attr && curve_kind(graph, conn.src.node) != CurveKind::kOther) curves.emplace_back(conn.src, conn.dst);
+  for (const auto& [src, dst] : curves) {
+    const std::optional<double> at = curve_key_near(graph, src.node, t);
+    if (!at) continue;
+    const Value keep = dst.component >= 0 ? Value(std::get<Vec3>(*current)[dst.component]) : *current;
+    bool gone = false;
+    if (Status s = ops::anim::delete_curve_key(graph, src.node, *at, dst, keep, gone); !s) return s;
+    removed = removed || gone;
+  }
+  return Status::ok();
+}
+
+Status delete_channel_keys(Graph& graph, const std::vector<std::pair<NodeId, AttrIndex>>& channels) {
   bool any = false;
   graph::Transaction tx(graph, "delete key (" + frame_text(graph) + ")");
-  for (NodeId c : set) {
-    for (AttrIndex attr : {AttrIndex{xform::kTranslate}, rotation_attr(*graph.node(c))}) {
-      Result<Value> current = graph.evaluate(Plug{c, attr, -1});
-      if (!current) {
-        tx.rollback();
-        return current.status();
-      }
-      // Gather the curves first: deleting one changes the node's inputs.
-      std::vector<std::pair<Plug, Plug>> curves;  // (curve output, channel plug)
-      for (const graph::Connection& conn : graph.node(c)->inputs())
-        if (conn.dst.attr == attr && curve_kind(graph, conn.src.node) != CurveKind::kOther) curves.emplace_back(conn.src, conn.dst);
-      for (const auto& [src, dst] : curves) {
-        bool removed = false;
-        const Value keep = dst.component >= 0 ? Value(std::get<Vec3>(*current)[dst.component]) : *current;
-        const std::optional<double> at = curve_key_near(graph, src.node, t);
-        if (!at) continue;
-        Status s = ops::anim::delete_curve_key(graph, src.node, *at, dst, keep, removed);
-        if (!s) {
-          tx.rollback();
-          return s.with_context("delete key");
-        }
-        any = any || removed;
-      }
+  for (const auto& [node, attr] : channels) {
+    bool removed = false;
+    if (Status s = delete_channel_key(graph, node, attr, removed); !s) {
+      tx.rollback();
+      return s.with_context("delete key");
     }
+    any = any || removed;
   }
   if (!any) {
     tx.rollback();
     return error(ErrorCode::kNotFound, "delete key: no key at " + frame_text(graph));
   }
   return Status::ok();
+}
+
+Status delete_key(Graph& graph, const std::vector<NodeId>& controls) {
+  std::vector<NodeId> set = keying_set(graph, controls);
+  if (set.empty()) return error(ErrorCode::kInvalidArgument, "delete key: no control of an ephemeral rig given");
+  std::vector<std::pair<NodeId, AttrIndex>> channels;
+  for (NodeId c : set)
+    for (AttrIndex attr : {AttrIndex{xform::kTranslate}, rotation_attr(*graph.node(c))}) channels.emplace_back(c, attr);
+  return delete_channel_keys(graph, channels);
 }
 
 std::vector<double> key_times(const Graph& graph, const std::vector<NodeId>& controls) {

@@ -164,6 +164,32 @@ def test_drag_a_built_rigs_control(built):
     assert info.value.field == "scale"
 
 
+def test_channel_keys_on_a_built_rig(built):
+    w, _ = built
+    scene = w.scene
+    ik = scene.resolve("arm_rig:arm_L/ik[0]")
+    switch = scene.resolve("arm_rig:arm_L/fkIkSwitch")
+    w.set_frame(0)
+    keys = w.set_channel_keys([ik])  # the rig's whole character: a key is a pose
+    assert keys and all(k.frames == [0.0] for k in keys)
+    assert any(k.plug == ik.name + ".translateX" for k in keys)
+    w.set_channel_keys([switch], attrs=["fkIk"], value=0.0)
+    w.set_frame(24)
+    [k] = w.set_channel_keys([switch], attrs=["fkIk"], value=1.0)
+    assert (k.plug.endswith(".fkIk"), k.frames, k.values) == (True, [0.0, 24.0], [0.0, 1.0])
+    assert w.channel_keys([switch]) == [k]
+    [k] = w.delete_channel_keys([switch], attrs=["fkIk"])
+    assert k.frames == [0.0]
+    with pytest.raises(rigel.NotFoundError):
+        w.delete_channel_keys([switch], attrs=["fkIk"])
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.set_channel_keys([ik], attrs=["fkIk"])
+    assert info.value.field == "attrs"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.set_channel_keys([ik], attrs=["rotate"], value=1.0)
+    assert info.value.field == "value"
+
+
 def test_time_and_keys(ws):
     scene = ws.scene
     ws.set_frame(10)

@@ -413,6 +413,47 @@ TEST(ServerApi, DraggingABuiltRigControlWritesItsChannels) {
   EXPECT_LT(s.position_distance(before, s.get("/api/pose?space=world")["nodes"], "hand.L"), 1e-12);
 }
 
+// Keys on a built rig's channels: a control's key keys its character (a
+// pose), `attrs` keys only those channels; bad names and values are 400s,
+// a delete with no key there a 404.
+TEST(ServerApi, ChannelKeysOnABuiltRig) {
+  Served s = served_character();
+  s.post("/api/definition/build", {{"definition", two_component_definition()}});
+  s.post("/api/time", {{"frame", 0}});
+  Json k = s.post("/api/channel-keys", {{"controls", {"arm_arm_L_fk0"}}});
+  ASSERT_TRUE(k["keys"].is_array());
+  // The global control and the FK controls, each translate, rotate, scale.
+  EXPECT_GE(k["keys"].size(), 18u);
+  EXPECT_EQ(k["keys"].size() % 9, 0u) << k;
+  bool global = false;
+  for (const Json& p : k["keys"]) {
+    EXPECT_EQ(p["frames"], Json::array({0.0})) << p;
+    global = global || p["plug"] == "arm_global_main.translateX";
+  }
+  EXPECT_TRUE(global) << k;
+  s.post("/api/time", {{"frame", 12}});
+  Json r = s.post("/api/channel-keys", {{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}});
+  ASSERT_EQ(r["keys"].size(), 3u) << r;
+  EXPECT_EQ(r["keys"][2]["plug"], "arm_arm_L_fk0.rotateZ");
+  EXPECT_EQ(r["keys"][2]["frames"], Json::array({0.0, 12.0}));
+  EXPECT_GT(r["revision"].get<std::uint64_t>(), k["revision"].get<std::uint64_t>());
+
+  Response bad = s.request("POST", "/api/channel-keys", Json{{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"fkIk"}}}.dump());
+  EXPECT_EQ(bad.status, 400) << bad.body;
+  EXPECT_EQ(Json::parse(bad.body)["field"], "attrs") << bad.body;
+  Response value = s.request("POST", "/api/channel-keys",
+                             Json{{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"value", 2}}.dump());
+  EXPECT_EQ(value.status, 400) << value.body;
+  EXPECT_EQ(Json::parse(value.body)["field"], "value") << value.body;
+  s.post("/api/time", {{"frame", 6}});
+  Response none = s.request("POST", "/api/channel-keys",
+                            Json{{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"delete", true}}.dump());
+  EXPECT_EQ(none.status, 404) << none.body;
+  s.post("/api/time", {{"frame", 12}});
+  Json d = s.post("/api/channel-keys", {{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"delete", true}});
+  EXPECT_EQ(d["keys"][2]["frames"], Json::array({0.0}));
+}
+
 TEST(ServerApi, SaveIsAtomicAndConfined) {
   Served s = served_puppet();
   s.post("/api/select", {{"controls", {"hand.L"}}});
@@ -544,6 +585,7 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/release", {}},
       {"/api/time", {"frame", "time"}},
       {"/api/key", {"controls", "delete"}},
+      {"/api/channel-keys", {"controls", "attrs", "value", "delete"}},
       {"/api/undo", {}},
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},

@@ -36,6 +36,7 @@
 #include "rigel/rig/definition.h"
 #include "rigel/rig/manager.h"
 #include "rigel/scene/scene.h"
+#include "rigel/tools/keys.h"
 
 namespace rigel::app {
 
@@ -272,6 +273,28 @@ class Workspace {
   // Keys (or deletes the keys of) the controls' keying set at the current time.
   Result<KeyReport> set_key(const std::vector<NodeId>& controls);
   Result<KeyReport> delete_key(const std::vector<NodeId>& controls);
+
+  // ---- keys on any keyable channel (tools/keys.h) ----------------------------
+  // The channels a key on `controls` (any nodes: built rigs' controls and
+  // switches, ephemeral controls, joints standing for theirs) writes: with
+  // `attrs`, those channels of the nodes given; without, every keyable
+  // channel of their keying group (tools::keying_group: a built character
+  // or an ephemeral rig's keying set). Errors name "controls" or "attrs".
+  Result<std::vector<tools::Channel>> key_channels(const std::vector<NodeId>& controls,
+                                                   const std::vector<std::string>& attrs) const;
+  // Keys those channels at the current time with their values (or `value`,
+  // scalar channels only: kInvalidArgument naming "value"), or deletes their
+  // keys there (kNotFound when none has one); one undo step. The answer:
+  // the keys of those channels afterwards.
+  Result<std::vector<tools::PlugKeys>> set_channel_keys(const std::vector<NodeId>& controls,
+                                                        const std::vector<std::string>& attrs,
+                                                        const std::optional<double>& value = std::nullopt);
+  Result<std::vector<tools::PlugKeys>> delete_channel_keys(const std::vector<NodeId>& controls,
+                                                           const std::vector<std::string>& attrs);
+  // The keys of the nodes' own channels: those named in `attrs`, or every
+  // keyable one (no keying group: what `rigel keys` lists for a control).
+  Result<std::vector<tools::PlugKeys>> channel_keys(const std::vector<NodeId>& controls,
+                                                    const std::vector<std::string>& attrs) const;
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;

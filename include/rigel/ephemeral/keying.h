@@ -28,6 +28,7 @@
 
 #include <optional>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rigel/base/status.h"
@@ -91,6 +92,15 @@ Status set_key(Graph& graph, const std::vector<NodeId>& controls);
 // without keys is deleted and its channel keeps its current value.
 // kNotFound when none of them has a key there.
 Status delete_key(Graph& graph, const std::vector<NodeId>& controls);
+// Removes the key at the graph's time (within key_time_tolerance()) from
+// the curves driving channel `attr` of `node` (any keyed channel of any
+// node; tools/keys.h deletes through it); a curve left without keys is
+// deleted and the channel keeps its current value. `removed` says whether
+// there was a key. Not a transaction of its own: callers group the channels.
+Status delete_channel_key(Graph& graph, NodeId node, graph::AttrIndex attr, bool& removed);
+// delete_channel_key on each (node, attribute), one undo step; kNotFound,
+// changing nothing, when none of them has a key at the graph's time.
+Status delete_channel_keys(Graph& graph, const std::vector<std::pair<NodeId, graph::AttrIndex>>& channels);
 // Sorted key times (seconds) of the channels of keying_set(controls); times
 // within key_time_tolerance() of the one before are listed once.
 std::vector<double> key_times(const Graph& graph, const std::vector<NodeId>& controls);

@@ -524,6 +524,22 @@ std::vector<double> curve_key_times(const Graph& graph, NodeId curve) {
   return out;
 }
 
+std::vector<Value> curve_key_values(const Graph& graph, NodeId curve) {
+  const CurveKind kind = curve_kind(graph, curve);
+  if (kind == CurveKind::kOther) return {};
+  const graph::Node& n = *graph.node(curve);
+  const CurveLayout l = layout(kind);
+  const KeyRange r = active_range(n, l);
+  std::vector<Value> out;
+  const Value& values = n.value(l.values);
+  for (std::size_t i = r.begin; i < r.end && i < array_size(values); ++i) {
+    if (kind == CurveKind::kScalar) out.emplace_back(std::get<std::vector<double>>(values)[i]);
+    else if (kind == CurveKind::kVec3) out.emplace_back(std::get<std::vector<Vec3>>(values)[i]);
+    else out.emplace_back(std::get<std::vector<Quat>>(values)[i]);
+  }
+  return out;
+}
+
 bool curve_has_key_at(const Graph& graph, NodeId curve, double t) {
   const CurveKind kind = curve_kind(graph, curve);
   if (kind == CurveKind::kOther) return false;
@@ -544,14 +560,26 @@ Status write_channel_key(Graph& graph, NodeId control, AttrIndex attr, const Val
   const graph::Node* n = graph.node(control);
   if (!n) return error(ErrorCode::kNotFound, "key: no such node (stale handle)");
   const std::string base = n->name() + "_" + n->type().attr(attr).name;
+  // A scalar channel (a switch such as fkIk, a foot roll, a finger's curl):
+  // one animCurve.
+  const graph::AttrType& type = n->type().attr(attr).type;
+  const bool scalar = type.value == graph::ValueType::kDouble && !type.array;
   if (auto src = source_of(*n, Plug{control, attr, -1})) {
     const CurveKind kind = curve_kind(graph, src->node);
-    const bool fits = (kind == CurveKind::kVec3 && attr != xform::kRotateQuaternion) ||
-                      (kind == CurveKind::kQuat && attr == xform::kRotateQuaternion);
+    const bool fits = scalar ? kind == CurveKind::kScalar
+                             : (kind == CurveKind::kVec3 && attr != xform::kRotateQuaternion) ||
+                                   (kind == CurveKind::kQuat && attr == xform::kRotateQuaternion);
     if (!fits)
       return error(ErrorCode::kInvalidArgument, channel_name(graph, control, attr) + " is driven by " +
                                                     graph.plug_name(*src) + ", not by a curve; it cannot be keyed");
     return curve_write(graph, src->node, kind, t, value, insert, channel_name(graph, control, attr));
+  }
+  if (scalar) {
+    if (!insert) return graph.set_value(Plug{control, attr, -1}, value);
+    graph::Transaction tx(graph, "key " + channel_name(graph, control, attr));
+    Status s = curve_create(graph, base, CurveKind::kScalar, t, value, Plug{control, attr, -1});
+    if (!s) tx.rollback();
+    return s;
   }
   if (attr == xform::kRotateQuaternion) {
     if (!insert) return graph.set_value(Plug{control, attr, -1}, value);

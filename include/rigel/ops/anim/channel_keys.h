@@ -4,9 +4,10 @@
 // share.
 //
 // A channel is a transform's translate, rotate, scale, shear or
-// rotateQuaternion. A double3 channel is keyed by one `animCurve` per
+// rotateQuaternion, or a scalar (double) input of any node, such as a
+// switch's fkIk. A double3 channel is keyed by one `animCurve` per
 // component (node.translateX <- curve.output) or by one `animCurveVec3`; a
-// quaternion rotation by an `animCurveQuat`. Curves that hold several clips
+// quaternion rotation by an `animCurveQuat`; a scalar by one `animCurve`. Curves that hold several clips
 // (clipOffsets, nodes.h) are read and edited in their active clip.
 //
 // Keys closer than kKeyTimeTolerance are the same key: float32 glTF times of
@@ -32,10 +33,14 @@ CurveKind curve_kind(const graph::Graph& graph, graph::NodeId node);
 // Key times (seconds, sorted) of a curve's active clip; empty for a node
 // that is not a time curve.
 std::vector<double> curve_key_times(const graph::Graph& graph, graph::NodeId curve);
+// The values of those keys, in the same order: double (animCurve),
+// math::Vec3 (animCurveVec3) or math::Quat (animCurveQuat).
+std::vector<graph::Value> curve_key_values(const graph::Graph& graph, graph::NodeId curve);
 // True when the curve has a key at `t` in its active clip.
 bool curve_has_key_at(const graph::Graph& graph, graph::NodeId curve, double t);
 
-// Writes `value` (double3 as math::Vec3, or math::Quat for rotateQuaternion)
+// Writes `value` (double3 as math::Vec3, math::Quat for rotateQuaternion,
+// double for a scalar)
 // into channel `attr` of `node` at time `t`. A free channel is set when not
 // `insert`, or gets new curves keyed once at `t` when `insert`. A keyed
 // channel: the key at `t` takes the value; with no key there, one is

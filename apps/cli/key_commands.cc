@@ -1,0 +1,207 @@
+// `rigel key` and `rigel keys` (see key_commands.h).
+
+#include "key_commands.h"
+
+#include <cmath>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "rigel/app/workspace.h"
+#include "rigel/ephemeral/component.h"
+
+namespace rigel::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using graph::NodeId;
+
+// A node given to --control, by name or by a rig's nameless address
+// (`hero:arm_L/fkIkSwitch`; app::Workspace::node): a control (a joint
+// stands for its ephemeral control) or any other node with keyable
+// channels (a switch).
+Result<NodeId> key_node(const app::Workspace& ws, const std::string& scene, const std::string& name) {
+  auto id = ws.node(name, "controls");
+  if (!id) {
+    std::string message = id.status().message();
+    if (message.rfind("controls: no node '", 0) == 0) message = "no node named '" + name + "'";
+    else if (message.rfind("controls: ", 0) == 0) message = message.substr(10);
+    return Status(id.status().code(), scene + ": --control: " + message);
+  }
+  if (auto control = ws.control_of(*id, "controls")) return *control;
+  return *id;
+}
+
+Json value_json(const graph::Value& v) {
+  if (const auto* d = std::get_if<double>(&v)) return *d;
+  if (const auto* p = std::get_if<math::Vec3>(&v)) return Json::array({p->x(), p->y(), p->z()});
+  if (const auto* q = std::get_if<math::Quat>(&v)) return Json::array({q->x(), q->y(), q->z(), q->w()});
+  return nullptr;
+}
+
+std::string value_text(const graph::Value& v) {
+  const Json j = value_json(v);
+  if (j.is_number()) return number_text(j.get<double>());
+  std::string out = "(";
+  for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + number_text(j[i].get<double>());
+  return out + ")";
+}
+
+Json keys_json(const std::vector<tools::PlugKeys>& keys, double fps) {
+  Json out = Json::array();
+  for (const tools::PlugKeys& k : keys) {
+    Json frames = Json::array(), values = Json::array();
+    for (double t : k.times) frames.push_back(app::key_frame(t, fps));
+    for (const graph::Value& v : k.values) values.push_back(value_json(v));
+    out.push_back(Json{{"plug", k.name}, {"frames", frames}, {"seconds", k.times}, {"values", values}});
+  }
+  return out;
+}
+
+// ---- key -----------------------------------------------------------------
+
+struct KeyArgs {
+  std::string scene;
+  std::vector<std::string> controls;
+  std::vector<std::string> attrs;
+  std::optional<double> frame, time, value;
+  bool remove = false;
+  std::string output;
+  bool json = false;
+};
+
+int run_key(const KeyArgs& args) {
+  if ((args.frame && !std::isfinite(*args.frame)) || (args.time && !std::isfinite(*args.time)))
+    return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
+  if (args.value && !std::isfinite(*args.value)) return usage_error("--value must be a finite number");
+  if (args.value && args.remove) return usage_error("--value sets a key; --delete removes one: give one of them");
+  for (const std::string& name : args.controls)
+    if (name.empty()) return usage_error("--control: empty name (expected A,B,...)");
+  for (const std::string& name : args.attrs)
+    if (name.empty()) return usage_error("--attr: empty name (expected ATTR,...)");
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  std::vector<NodeId> nodes;
+  for (const std::string& name : args.controls) {
+    auto id = key_node(ws, args.scene, name);
+    if (!id) return fail(id.status());
+    nodes.push_back(*id);
+  }
+  if (args.frame) {
+    if (Status s = ws.set_frame(*args.frame); !s) return usage_error("--" + s.message());
+  }
+  if (args.time) {
+    if (Status s = ws.set_time(*args.time); !s) return usage_error("--" + s.message());
+  }
+  auto channels = ws.key_channels(nodes, args.attrs);
+  if (!channels) return fail(channels.status().with_context(args.scene + ": --" + (channels.status().field() == "attrs" ? "attr" : "control")));
+  auto keys = args.remove ? ws.delete_channel_keys(nodes, args.attrs) : ws.set_channel_keys(nodes, args.attrs, args.value);
+  if (!keys) {
+    const Status& s = keys.status();
+    return fail(s.with_context(args.scene + (s.field() == "value" ? ": --value" : "")));
+  }
+  if (auto saved = ws.save(args.output); !saved) return fail(saved.status());
+  const double fps = ws.graph().fps();
+  const double frame = app::key_frame(ws.graph().time(), fps);
+  if (args.json) {
+    Json names = Json::array();
+    for (const tools::Channel& c : *channels) names.push_back(ws.graph().plug_name(graph::Plug{c.node, c.attr, -1}));
+    std::cout << Json{{"frame", frame}, {"deleted", args.remove}, {"channels", names}, {"keys", keys_json(*keys, fps)},
+                      {"output", args.output}}
+                     .dump()
+              << "\n";
+  }
+  std::cerr << "rigel: " << (args.remove ? "deleted the keys of " : "keyed ") << channels->size()
+            << (channels->size() == 1 ? " channel" : " channels") << " at frame " << number_text(frame) << "; wrote "
+            << args.output << "\n";
+  return 0;
+}
+
+// ---- keys ----------------------------------------------------------------
+
+struct KeysArgs {
+  std::string scene;
+  std::string control;
+  std::vector<std::string> attrs;
+  bool json = false;
+};
+
+int run_keys(const KeysArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  auto id = key_node(ws, args.scene, args.control);
+  if (!id) return fail(id.status());
+  auto keys = ws.channel_keys({*id}, args.attrs);
+  if (!keys) return fail(keys.status().with_context(args.scene + ": --attr"));
+  const double fps = ws.graph().fps();
+  const std::string name = ws.graph().node(*id)->name();
+  if (args.json) {
+    std::cout << Json{{"control", name}, {"fps", fps}, {"channels", keys_json(*keys, fps)}}.dump() << "\n";
+    return 0;
+  }
+  if (keys->empty()) std::cout << name << ": no keys\n";
+  for (const tools::PlugKeys& k : *keys) {
+    std::cout << k.name << ":";
+    for (std::size_t i = 0; i < k.times.size(); ++i)
+      std::cout << (i ? ", " : " ") << "frame " << number_text(app::key_frame(k.times[i], fps)) << " = "
+                << value_text(k.values[i]);
+    std::cout << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+struct KeyCommands::State {
+  CLI::App* key_cmd = nullptr;
+  KeyArgs key;
+  CLI::App* keys_cmd = nullptr;
+  KeysArgs keys;
+};
+
+KeyCommands::KeyCommands() : state_(std::make_unique<State>()) {}
+KeyCommands::~KeyCommands() = default;
+
+void add_key_commands(CLI::App& app, KeyCommands& commands) {
+  KeyCommands::State& s = commands.state();
+  s.key_cmd = app.add_subcommand("key", "Set or delete keys on the keyable channels of any rig's controls and switches");
+  s.key_cmd->footer(
+      "Without --attr a key keys the controls' keying group (a built rig's whole character, an ephemeral rig's "
+      "keying set); with --attr only those channels of the nodes named.\n"
+      "Examples:\n  rigel key hero.rigel --control hero_arm_L_fk1 --frame 10 -o keyed.rigel\n"
+      "  rigel key keyed.rigel --control hero_arm_L_fkIkSwitch --attr fkIk --value 1 --frame 24 -o keyed.rigel\n"
+      "  rigel key keyed.rigel --control hero_arm_L_fk1 --attr rotate --frame 10 --delete -o keyed.rigel");
+  s.key_cmd->add_option("SCENE", s.key.scene, "Scene file (.rigel)")->required();
+  s.key_cmd->add_option("--control", s.key.controls, "Controls or other nodes (a switch) to key")->delimiter(',')->required();
+  s.key_cmd->add_option("--attr", s.key.attrs, "Only these channels (translate, rotate, fkIk, ...)")->delimiter(',');
+  CLI::Option* frame = s.key_cmd->add_option("--frame", s.key.frame, "Frame to key at (default: the scene's current time)");
+  CLI::Option* time = s.key_cmd->add_option("--time", s.key.time, "Time in seconds to key at");
+  frame->excludes(time);
+  s.key_cmd->add_option("--value", s.key.value, "The key's value (scalar channels such as fkIk); default: the current value");
+  s.key_cmd->add_flag("--delete", s.key.remove, "Delete the keys at that time instead");
+  s.key_cmd->add_option("-o,--output", s.key.output, "Scene file to write (.rigel)")->required();
+  s.key_cmd->add_flag("--json", s.key.json, "Print a JSON report on stdout");
+
+  s.keys_cmd = app.add_subcommand("keys", "List the keys of a control's (or a switch's) channels: frames and values");
+  s.keys_cmd->footer("Examples:\n  rigel keys keyed.rigel --control hero_arm_L_fk1\n"
+                     "  rigel keys keyed.rigel --control hero_arm_L_fkIkSwitch --attr fkIk --json");
+  s.keys_cmd->add_option("SCENE", s.keys.scene, "Scene file (.rigel)")->required();
+  s.keys_cmd->add_option("--control", s.keys.control, "The control or node")->required();
+  s.keys_cmd->add_option("--attr", s.keys.attrs, "Only these channels")->delimiter(',');
+  s.keys_cmd->add_flag("--json", s.keys.json, "Print JSON on stdout");
+}
+
+std::optional<int> run_key_commands(const KeyCommands& commands) {
+  const KeyCommands::State& s = commands.state();
+  if (*s.key_cmd) return run_key(s.key);
+  if (*s.keys_cmd) return run_keys(s.keys);
+  return std::nullopt;
+}
+
+}  // namespace rigel::cli

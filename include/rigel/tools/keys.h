@@ -1,0 +1,72 @@
+#pragma once
+// Keys on any keyable channel of any node: an animator's keys on a built
+// rig's controls and switches as on an ephemeral rig's controls.
+//
+// A channel is an input an animator keys: a transform's translate, its
+// rotation (rotate, or rotateQuaternion in quaternion mode) and scale, and
+// every other input flagged kKeyable that holds a double or a double3 (a
+// switch's fkIk, a foot's roll, a finger's curl, an IK's pole vector).
+// Keys go through the ops::anim channel keys (curves in the active clip,
+// auto tangents) at the graph's time, and a key within the ephemeral
+// layer's kKeyFrameTolerance of that time is the key at that time (a key a
+// hair off a frame is that frame's key). Each edit is one undo step.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/graph/graph.h"
+
+namespace rigel::tools {
+
+struct Channel {
+  graph::NodeId node;
+  graph::AttrIndex attr = graph::kNoAttr;
+};
+
+// The keyable channels of `node`, attribute order (empty for none).
+std::vector<graph::AttrIndex> keyable_attrs(const graph::Node& node);
+
+// What a key on `nodes` keys when no channel is named: for an ephemeral
+// rig's control, its keying set (ephemeral::keying_set: the character, or
+// the control alone with its rig's `controls` scope); for a built rig's
+// control, every control of that rig (a built character is one keying
+// group, so a key is a pose, as seed 001 asks); any other node itself.
+// First appearance order.
+std::vector<graph::NodeId> keying_group(const graph::Graph& graph, const std::vector<graph::NodeId>& nodes);
+
+// The channels of `nodes`, node by node: every keyable channel that is free
+// or keyed (those driven by something else, such as a constraint, are left
+// out), or only those named in `attrs` (each must be a keyable channel of
+// each node: kInvalidArgument naming the node and the attribute, with
+// Status::field() "attrs"). kInvalidArgument naming "controls" when no
+// node has a keyable channel.
+Result<std::vector<Channel>> channels_of(const graph::Graph& graph, const std::vector<graph::NodeId>& nodes,
+                                         const std::vector<std::string>& attrs = {});
+
+// Keys `channels` at the graph's time with their current values, or with
+// `value` (scalar channels only; kInvalidArgument naming "value" otherwise).
+// Fails, changing nothing, on a channel driven by something that is not a
+// curve. One undo step.
+Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels,
+                const std::optional<double>& value = std::nullopt);
+
+// Removes the keys of `channels` at the graph's time; a curve left without
+// keys is deleted and its channel keeps its current value. kNotFound when
+// none of them has a key there. One undo step.
+Status delete_keys(graph::Graph& graph, const std::vector<Channel>& channels);
+
+// The keys of one keyed plug: a scalar channel or one component of a
+// double3 channel keyed by its own curve (values double), a double3 keyed
+// by one curve (math::Vec3) or a quaternion rotation (math::Quat).
+struct PlugKeys {
+  graph::Plug plug;
+  std::string name;  // "hero_arm_L_ik.translateX"
+  std::vector<double> times;  // seconds, the active clip's
+  std::vector<graph::Value> values;
+};
+// The keyed plugs of `channels`, channel order (free channels have none).
+std::vector<PlugKeys> keys_of(const graph::Graph& graph, const std::vector<Channel>& channels);
+
+}  // namespace rigel::tools

@@ -1,0 +1,181 @@
+// Keys on any keyable channel of any node (keys.h).
+
+#include "rigel/tools/keys.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "rigel/ephemeral/keying.h"
+#include "rigel/ephemeral/rig.h"
+#include "rigel/ops/anim/channel_keys.h"
+#include "rigel/rig/meta.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::tools {
+namespace {
+
+using graph::AttrIndex;
+using graph::NodeId;
+using graph::Plug;
+using graph::Value;
+using graph::ValueType;
+namespace xform = scene::xform;
+using ops::anim::CurveKind;
+
+bool is_transform(const graph::Node& n) {
+  return n.type().world_output() != graph::kNoAttr && n.type().attr_count() > xform::kCount &&
+         n.type().attr(xform::kTranslate).name == "translate";
+}
+
+bool is_scalar(const graph::AttrSpec& a) { return a.type.value == ValueType::kDouble && !a.type.array; }
+
+// Whether something other than a curve drives `attr` of `n` (or one of its components).
+bool driven_otherwise(const graph::Graph& g, const graph::Node& n, AttrIndex attr) {
+  for (const graph::Connection& c : n.inputs())
+    if (c.dst.attr == attr && ops::anim::curve_kind(g, c.src.node) == CurveKind::kOther) return true;
+  return false;
+}
+
+std::string frame_text(const graph::Graph& g) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "frame %g", g.time() * g.fps());
+  return buffer;
+}
+
+}  // namespace
+
+std::vector<AttrIndex> keyable_attrs(const graph::Node& node) {
+  const graph::NodeType& type = node.type();
+  std::vector<AttrIndex> out;
+  const bool transform = is_transform(node);
+  if (transform) out = {AttrIndex{xform::kTranslate}, xform::rotation_channel(node), AttrIndex{xform::kScale}};
+  for (AttrIndex i = 0; i < static_cast<AttrIndex>(type.attr_count()); ++i) {
+    if (transform && i < xform::kCount) continue;  // the transform's own, above
+    const graph::AttrSpec& a = type.attr(i);
+    if (!(a.flags & graph::kKeyable) || !(a.flags & graph::kInput) || a.type.array) continue;
+    if (a.type.value == ValueType::kDouble || a.type.value == ValueType::kDouble3) out.push_back(i);
+  }
+  return out;
+}
+
+std::vector<NodeId> keying_group(const graph::Graph& graph, const std::vector<NodeId>& nodes) {
+  std::vector<NodeId> out;
+  auto add = [&](NodeId id) {
+    if (std::find(out.begin(), out.end(), id) == out.end()) out.push_back(id);
+  };
+  for (NodeId id : nodes) {
+    if (!graph.node(id)) continue;
+    if (ephemeral::control_of(graph, id).is_valid()) {
+      for (NodeId c : ephemeral::keying_set(graph, {id})) add(c);
+      continue;
+    }
+    const NodeId root = graph.node(id)->type().name() == scene::kControlType ? rig::rig_of(graph, id) : NodeId{};
+    if (!root.is_valid()) {
+      add(id);
+      continue;
+    }
+    std::vector<NodeId> metas{root};
+    for (NodeId c : rig::rig_components(graph, root)) metas.push_back(c);
+    for (NodeId m : metas)
+      for (NodeId member : rig::meta_members(graph, m))
+        if (graph.node(member)->type().name() == scene::kControlType && !ephemeral::control_of(graph, member).is_valid())
+          add(member);
+  }
+  return out;
+}
+
+Result<std::vector<Channel>> channels_of(const graph::Graph& graph, const std::vector<NodeId>& nodes,
+                                         const std::vector<std::string>& attrs) {
+  std::vector<Channel> out;
+  for (NodeId id : nodes) {
+    const graph::Node* n = graph.node(id);
+    if (!n) return Status(ErrorCode::kNotFound, "no such node (stale handle)").with_field("controls");
+    const std::vector<AttrIndex> keyable = keyable_attrs(*n);
+    if (attrs.empty()) {
+      for (AttrIndex a : keyable)
+        if (!driven_otherwise(graph, *n, a)) out.push_back(Channel{id, a});
+      continue;
+    }
+    for (const std::string& name : attrs) {
+      const AttrIndex a = n->type().attr_find(name);
+      if (a == graph::kNoAttr || std::find(keyable.begin(), keyable.end(), a) == keyable.end()) {
+        std::string names;
+        for (AttrIndex k : keyable) names += (names.empty() ? "" : ", ") + n->type().attr(k).name;
+        return Status(ErrorCode::kInvalidArgument, "'" + n->name() + "' has no keyable channel '" + name + "' (" +
+                                                       (names.empty() ? "it has none" : "keyable: " + names) + ")")
+            .with_field("attrs");
+      }
+      out.push_back(Channel{id, a});
+    }
+  }
+  if (out.empty()) return Status(ErrorCode::kInvalidArgument, "no keyable channel given").with_field("controls");
+  return out;
+}
+
+Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels, const std::optional<double>& value) {
+  if (value && !std::isfinite(*value))
+    return Status(ErrorCode::kInvalidArgument, "the value must be a finite number").with_field("value");
+  graph::Transaction tx(graph, "set key (" + frame_text(graph) + ")");
+  for (const Channel& c : channels) {
+    const graph::Node* n = graph.node(c.node);
+    if (!n) {
+      tx.rollback();
+      return Status(ErrorCode::kNotFound, "set key: no such node (stale handle)").with_field("controls");
+    }
+    Value v;
+    if (value) {
+      if (!is_scalar(n->type().attr(c.attr))) {
+        tx.rollback();
+        return Status(ErrorCode::kInvalidArgument, "set key: a value applies to scalar channels; " +
+                                                       graph.plug_name(Plug{c.node, c.attr, -1}) + " is not one")
+            .with_field("value");
+      }
+      v = *value;
+    } else {
+      Result<Value> current = graph.evaluate(Plug{c.node, c.attr, -1});
+      if (!current) {
+        tx.rollback();
+        return current.status();
+      }
+      v = std::move(*current);
+    }
+    if (Status s = ephemeral::write_channel(graph, c.node, c.attr, v, true); !s) {
+      tx.rollback();
+      return s.with_context("set key");
+    }
+  }
+  return Status::ok();
+}
+
+Status delete_keys(graph::Graph& graph, const std::vector<Channel>& channels) {
+  std::vector<std::pair<NodeId, AttrIndex>> list;
+  for (const Channel& c : channels) list.emplace_back(c.node, c.attr);
+  return ephemeral::delete_channel_keys(graph, list);
+}
+
+std::vector<PlugKeys> keys_of(const graph::Graph& graph, const std::vector<Channel>& channels) {
+  std::vector<PlugKeys> out;
+  for (const Channel& c : channels) {
+    const graph::Node* n = graph.node(c.node);
+    if (!n) continue;
+    std::vector<const graph::Connection*> keyed;
+    for (const graph::Connection& conn : n->inputs())
+      if (conn.dst.attr == c.attr && ops::anim::curve_kind(graph, conn.src.node) != CurveKind::kOther)
+        keyed.push_back(&conn);
+    // Components in order (x, y, z), the whole channel first.
+    std::sort(keyed.begin(), keyed.end(),
+              [](const graph::Connection* a, const graph::Connection* b) { return a->dst.component < b->dst.component; });
+    for (const graph::Connection* conn : keyed) {
+      PlugKeys k;
+      k.plug = conn->dst;
+      k.name = graph.plug_name(conn->dst);
+      k.times = ops::anim::curve_key_times(graph, conn->src.node);
+      k.values = ops::anim::curve_key_values(graph, conn->src.node);
+      out.push_back(std::move(k));
+    }
+  }
+  return out;
+}
+
+}  // namespace rigel::tools
