@@ -25,14 +25,13 @@ using graph::NodeId;
 // stands for its ephemeral control) or any other node with keyable
 // channels (a switch).
 Result<NodeId> key_node(const app::Workspace& ws, const std::string& scene, const std::string& name) {
-  auto id = ws.node(name, "controls");
+  auto id = ws.key_target(name, "controls");
   if (!id) {
     std::string message = id.status().message();
     if (message.rfind("controls: no node '", 0) == 0) message = "no node named '" + name + "'";
     else if (message.rfind("controls: ", 0) == 0) message = message.substr(10);
     return Status(id.status().code(), scene + ": --control: " + message);
   }
-  if (auto control = ws.control_of(*id, "controls")) return *control;
   return *id;
 }
 

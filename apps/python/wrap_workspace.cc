@@ -154,9 +154,7 @@ std::vector<NodeId> key_nodes_arg(const WorkspaceRef& w, const std::optional<std
   if (!nodes) return w.ws->selection();
   std::vector<NodeId> out;
   for (std::size_t i = 0; i < nodes->size(); ++i) {
-    const NodeId id = node_arg(w, (*nodes)[i], "controls[" + std::to_string(i) + "]");
-    auto control = w.ws->control_of(id, "controls");
-    out.push_back(control ? *control : id);
+    out.push_back(w.ws->key_target(node_arg(w, (*nodes)[i], "controls[" + std::to_string(i) + "]")));
   }
   return out;
 }

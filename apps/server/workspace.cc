@@ -406,9 +406,7 @@ struct Workspace::Impl {
     std::vector<NodeId> out;
     for (std::size_t i = 0; i < c->size(); ++i) {
       const std::string field = "controls[" + std::to_string(i) + "]";
-      const NodeId id = take(ws.node(as_string((*c)[i], field), field));
-      auto control = ws.control_of(id, field);
-      out.push_back(control ? *control : id);
+      out.push_back(take(ws.key_target(as_string((*c)[i], field), field)));
     }
     return out;
   }

@@ -89,6 +89,18 @@ Result<NodeId> Workspace::control(const std::string& ref, const std::string& fie
   return control_of(*id, field);
 }
 
+NodeId Workspace::key_target(NodeId id) const {
+  if (is_control(id)) return id;
+  const NodeId c = ephemeral::control_of(graph(), id);
+  return c.is_valid() ? c : id;
+}
+
+Result<NodeId> Workspace::key_target(const std::string& ref, const std::string& field) const {
+  auto id = node(ref, field);
+  if (!id) return id;
+  return key_target(*id);
+}
+
 Result<NodeId> Workspace::control_of(NodeId id, const std::string& field) const {
   if (is_control(id)) return id;
   const NodeId c = ephemeral::control_of(graph(), id);

@@ -220,6 +220,10 @@ class Workspace {
   // A control: a control node, or a joint standing for its ephemeral control.
   Result<NodeId> control(const std::string& ref, const std::string& field) const;
   Result<NodeId> control_of(NodeId id, const std::string& field) const;
+  // What a key on a node keys: the ephemeral control a joint stands for,
+  // else the node itself (a control, or a switch such as a fkIkSwitch).
+  NodeId key_target(NodeId id) const;
+  Result<NodeId> key_target(const std::string& ref, const std::string& field) const;
   bool is_control(NodeId id) const;
   // Every control: the ephemeral rigs' (rig by rig, each rig's order), then
   // the others (built rigs'), hierarchy order.
