@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "animate_commands.h"
 #include "cli_util.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
@@ -31,6 +32,9 @@ int main(int argc, char** argv) {
   // `key`, `keys`: keys on any rig's channels.
   rigel::cli::KeyCommands keys;
   rigel::cli::add_key_commands(app, keys);
+  // `match`: the animator tools.
+  rigel::cli::AnimateCommands animate;
+  rigel::cli::add_animate_commands(app, animate);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -79,6 +83,7 @@ int main(int argc, char** argv) {
   try {
     if (const std::optional<int> code = rigel::cli::run_scene_commands(scene)) return *code;
     if (const std::optional<int> code = rigel::cli::run_key_commands(keys)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_animate_commands(animate)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;

@@ -450,7 +450,36 @@ Returns the channels' keys: records (plug, times, frames, values).)")
             return plug_keys_list(w, unwrap(w.ws->channel_keys(key_nodes_arg(w, controls), attrs)));
           },
           py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{},
-          "The keys of the nodes' own channels (those named, or every keyable one): records (plug, times, frames, values).");
+          "The keys of the nodes' own channels (those named, or every keyable one): records (plug, times, frames, values).")
+      .def(
+          "match",
+          [](const WorkspaceRef& w, const std::string& rig, const std::string& component, const std::string& to,
+             const std::optional<std::pair<double, double>>& frames, bool key) {
+            if (to != "fk" && to != "ik") raise(ErrorCode::kInvalidArgument, "to: expected 'fk' or 'ik', got '" + to + "'");
+            tools::MatchOptions options;
+            options.to = to == "fk" ? rig::components::MatchSide::kFk : rig::components::MatchSide::kIk;
+            if (frames) {
+              options.first = frames->first;
+              options.last = frames->second;
+            }
+            options.key = key;
+            const tools::MatchReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.match(rig, component, options)); });
+            py::dict d;
+            d["frames"] = r.frames;
+            d["keys"] = r.keys;
+            py::list controls;
+            for (NodeId c : r.controls) controls.append(node_ref(w.scene, c));
+            d["controls"] = controls;
+            d["max_error"] = r.max_error;
+            d["worst_frame"] = r.worst_frame;
+            return record(d);
+          },
+          py::arg("rig"), py::arg("component"), py::arg("to"), py::arg("frames") = py::none(), py::arg("key") = true,
+          R"(FK/IK match and bake of a limb (`component`: its name or rigId): to="fk" keys its FK controls (and
+a foot's FK toe) to the IK pose, to="ik" its ik and pole controls (and a foot's toe tap) to the FK pose,
+at the current frame or at every frame of `frames` (first, last), and keys the switch to that side with
+step tangents at the range's ends. key=False sets one frame without keying. Returns a record (frames,
+keys, controls, max_error: the largest driven-joint difference between the sides afterwards, worst_frame).)");
 }
 
 py::object step_record(const app::StepReport& r) {

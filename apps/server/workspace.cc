@@ -419,6 +419,27 @@ struct Workspace::Impl {
     return attrs;
   }
 
+  // GET /api/channel-keys?controls=A,B&attrs=x,y: the nodes' own channels'
+  // keys (Workspace::channel_keys), changing nothing.
+  Json get_channel_keys(const Request& req, const Json&) {
+    auto list = [&](const char* key) {
+      Json out = Json::array();
+      auto it = req.query.find(key);
+      if (it == req.query.end()) return out;
+      std::size_t from = 0;
+      while (from <= it->second.size()) {
+        const std::size_t comma = std::min(it->second.find(',', from), it->second.size());
+        out.push_back(it->second.substr(from, comma - from));
+        from = comma + 1;
+      }
+      return out;
+    };
+    if (req.query.find("controls") == req.query.end()) refuse(400, "missing query 'controls'", "controls");
+    const Json query{{"controls", list("controls")}, {"attrs", list("attrs")}};
+    const std::vector<NodeId> nodes = key_nodes(query);
+    return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.channel_keys(nodes, attrs_of(query))))}};
+  }
+
   Json post_channel_keys(const Request&, const Json& body) {
     const std::vector<NodeId> nodes = key_nodes(body);
     const std::vector<std::string> attrs = attrs_of(body);
@@ -432,6 +453,28 @@ struct Workspace::Impl {
     if (value) v = as_number(*value, "value");
     Json keys = plug_keys_json(take(ws.set_channel_keys(nodes, attrs, v)));
     return Json{{"revision", ws.revision()}, {"keys", keys}};
+  }
+
+  // ---- routes: animator tools ---------------------------------------------------
+
+  Json post_match(const Request&, const Json& body) {
+    const std::string rig = as_string(need(body, "rig"), "rig");
+    const std::string component = as_string(need(body, "component"), "component");
+    const std::string to = as_string(need(body, "to"), "to");
+    if (to != "fk" && to != "ik") refuse(400, "to: expected \"fk\" or \"ik\", got \"" + to + "\"", "to");
+    tools::MatchOptions options;
+    options.to = to == "fk" ? rig::components::MatchSide::kFk : rig::components::MatchSide::kIk;
+    if (const Json* f = opt(body, "frames")) {
+      if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
+      options.first = as_number((*f)[0], "frames");
+      options.last = as_number((*f)[1], "frames");
+    }
+    if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
+    const tools::MatchReport r = take(ws.match(rig, component, options));
+    Json controls = Json::array();
+    for (NodeId c : r.controls) controls.push_back(g().node(c)->name());
+    return Json{{"revision", ws.revision()}, {"frames", r.frames},       {"keys", r.keys},
+                {"controls", controls},      {"maxError", r.max_error}, {"worstFrame", r.worst_frame}};
   }
 
   // ---- routes: rigs --------------------------------------------------------------
@@ -644,7 +687,9 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/redo", &Impl::post_redo},
       {"POST", "/api/time", &Impl::post_time},
       {"POST", "/api/key", &Impl::post_key},
+      {"GET", "/api/channel-keys", &Impl::get_channel_keys},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
+      {"POST", "/api/match", &Impl::post_match},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},
       {"POST", "/api/rigs/remove", &Impl::post_rigs_remove},

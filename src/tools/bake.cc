@@ -8,6 +8,7 @@
 #include "rigel/math/rotation.h"
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/scene/transform_types.h"
+#include "frames.h"
 
 namespace rigel::tools {
 namespace {
@@ -27,9 +28,9 @@ bool is_channel(graph::AttrIndex a) {
 
 Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
   graph::Graph& g = scene.graph();
-  if (!std::isfinite(o.first) || !std::isfinite(o.last) || o.first > o.last)
-    return error(ErrorCode::kInvalidArgument, "bake: frames must be finite, first <= last");
-  if (o.last - o.first > 1e6) return error(ErrorCode::kInvalidArgument, "bake: more than a million frames");
+  Result<std::vector<double>> frame_list = internal::frames_between(g, o.first, o.last, "bake");
+  if (!frame_list) return frame_list.status();
+  const std::vector<double>& frames = *frame_list;
 
   // The nodes, parents first.
   std::unordered_set<NodeId, NodeIdHash> wanted(o.nodes.begin(), o.nodes.end());
@@ -41,15 +42,6 @@ Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
   for (NodeId id : scene.hierarchy()) {
     const bool take = o.nodes.empty() ? g.node(id)->type().name() == scene::kJointType : wanted.count(id) > 0;
     if (take) nodes.push_back(id);
-  }
-
-  std::vector<double> frames;
-  for (double f = o.first; f <= o.last + 1e-9; f += 1.0) frames.push_back(std::min(f, o.last));
-  // The last frame, unless it is one key with the frame before (then that
-  // one is taken at the last frame).
-  if (frames.back() < o.last - 1e-9) {
-    if ((o.last - frames.back()) / g.fps() > ops::anim::kKeyTimeTolerance) frames.push_back(o.last);
-    else frames.back() = o.last;
   }
 
   // Sample every node at every frame (the rig evaluated as it is).

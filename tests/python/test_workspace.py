@@ -190,6 +190,35 @@ def test_channel_keys_on_a_built_rig(built):
     assert info.value.field == "value"
 
 
+def test_match_bakes_a_limbs_fk_to_its_animated_ik(built):
+    w, _ = built
+    scene = w.scene
+    ik = scene.resolve("arm_rig:arm_L/ik[0]")
+    switch = scene.resolve("arm_rig:arm_L/fkIkSwitch")
+    w.set_frame(0)
+    w.set_channel_keys([switch], attrs=["fkIk"], value=1.0)
+    scene.set(ik, "translate", (0.05, -0.1, 0.15))  # the IK pose, away from the FK one
+    w.set_channel_keys([ik], attrs=["translate"])
+    w.set_frame(10)
+    w.set_channel_keys([switch], attrs=["fkIk"], value=1.0)
+    report = w.match("arm_rig", "arm_L", "fk", frames=(0, 10))
+    assert report.frames == 11 and report.max_error < 1e-6
+    assert scene.resolve("arm_rig:arm_L/fk[0]") in report.controls
+    [k] = w.channel_keys([switch], attrs=["fkIk"])
+    assert (k.frames, k.values) == ([0.0, 10.0], [0.0, 0.0])
+    # Back to IK at one frame, without keys on the IK side's free pole.
+    w.set_frame(5)
+    assert w.match("arm_rig", "arm_L", "ik").frames == 1
+    with pytest.raises(rigel.InvalidArgumentError):
+        w.match("arm_rig", "arm_L", "sideways")
+    with pytest.raises(rigel.NotFoundError) as info:
+        w.match("arm_rig", "hand_L", "fk")
+    assert info.value.field == "component"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.match("arm_rig", "arm_L", "fk", frames=(8, 2))
+    assert info.value.field == "frames"
+
+
 def test_time_and_keys(ws):
     scene = ws.scene
     ws.set_frame(10)

@@ -454,6 +454,57 @@ TEST(ServerApi, ChannelKeysOnABuiltRig) {
   EXPECT_EQ(d["keys"][2]["frames"], Json::array({0.0}));
 }
 
+// FK/IK match and bake of the biped's left leg through the API: the leg in
+// IK with a rolling foot, keyed to FK over frames 0..10.
+TEST(ServerApi, MatchBakesTheBipedsLegToFk) {
+  Served s = served_character();
+  fs::create_directories(s.root / "defs");
+  std::string def = read_text(fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml");
+  const std::string geo = "../tests/data/gltf/rigify_human_metarig.glb";
+  def.replace(def.find(geo), geo.size(), (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb").string());
+  write_text(s.root / "defs/hero.rig.xml", def);
+  s.post("/api/rigs/add", {{"definition", "defs/hero.rig.xml"}});
+  s.post("/api/time", {{"frame", 0}});
+  s.post("/api/channel-keys", {{"controls", {"hero:leg_L/fkIkSwitch"}}, {"attrs", {"fkIk"}}, {"value", 1}});
+  s.post("/api/channel-keys", {{"controls", {"hero:foot_L/reverseFoot"}}, {"attrs", {"roll"}}, {"value", 0}});
+  s.post("/api/time", {{"frame", 10}});
+  s.post("/api/channel-keys", {{"controls", {"hero:foot_L/reverseFoot"}}, {"attrs", {"roll"}}, {"value", 30}});
+  Json m = s.post("/api/match", {{"rig", "hero"}, {"component", "leg_L"}, {"to", "fk"}, {"frames", {0, 10}}});
+  EXPECT_EQ(m["frames"], 11);
+  EXPECT_LT(m["maxError"].get<double>(), 1e-6) << m;
+  EXPECT_GE(m["controls"].size(), 4u) << "fk0..fk2 and the FK toe: " << m;
+  EXPECT_EQ(s.get("/api/revision")["revision"], m["revision"]);
+  Json sw = s.get("/api/channel-keys?controls=hero:leg_L/fkIkSwitch&attrs=fkIk");
+  ASSERT_EQ(sw["keys"].size(), 1u) << sw;
+  EXPECT_EQ(sw["keys"][0]["frames"], Json::array({0.0, 10.0})) << sw;
+  EXPECT_EQ(sw["keys"][0]["values"], Json::array({0.0, 0.0})) << sw;
+  EXPECT_EQ(sw["revision"], m["revision"]) << "listing changes nothing";
+  EXPECT_EQ(s.request("GET", "/api/channel-keys", "").status, 400);
+  EXPECT_EQ(s.request("GET", "/api/channel-keys?controls=nobody", "").status, 404);
+  // One undo step takes it back.
+  EXPECT_EQ(s.post("/api/undo", Json::object())["label"], "match FK to IK");
+  sw = s.get("/api/channel-keys?controls=hero:leg_L/fkIkSwitch&attrs=fkIk");
+  EXPECT_EQ(sw["keys"][0]["frames"], Json::array({0.0})) << sw;
+
+  struct Bad {
+    Json body;
+    int status;
+    const char* field;
+  };
+  for (const Bad& b : {Bad{{{"rig", "hero"}, {"component", "spine"}, {"to", "fk"}}, 400, "component"},
+                       Bad{{{"rig", "hero"}, {"component", "leg_X"}, {"to", "fk"}}, 404, "component"},
+                       Bad{{{"rig", "nobody"}, {"component", "leg_L"}, {"to", "fk"}}, 404, "rig"},
+                       Bad{{{"rig", "hero"}, {"component", "leg_L"}, {"to", "up"}}, 400, "to"},
+                       Bad{{{"rig", "hero"}, {"component", "leg_L"}, {"to", "fk"}, {"frames", {10, 0}}}, 400, "frames"},
+                       Bad{{{"rig", "hero"}, {"component", "leg_L"}, {"to", "fk"}, {"frames", {0, 500}}}, 400, "frames"},
+                       Bad{{{"rig", "hero"}, {"component", "leg_L"}, {"to", "fk"}, {"frames", {-1e9, 0}}}, 400, "frames"},
+                       Bad{{{"rig", "hero"}, {"component", "leg_L"}, {"to", "fk"}, {"frames", {0}}}, 400, "frames"}}) {
+    Response r = s.request("POST", "/api/match", b.body.dump());
+    EXPECT_EQ(r.status, b.status) << b.body << ": " << r.body;
+    EXPECT_EQ(Json::parse(r.body)["field"], b.field) << r.body;
+  }
+}
+
 TEST(ServerApi, SaveIsAtomicAndConfined) {
   Served s = served_puppet();
   s.post("/api/select", {{"controls", {"hand.L"}}});
@@ -586,6 +637,7 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/time", {"frame", "time"}},
       {"/api/key", {"controls", "delete"}},
       {"/api/channel-keys", {"controls", "attrs", "value", "delete"}},
+      {"/api/match", {"rig", "component", "to", "frames", "key"}},
       {"/api/undo", {}},
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},

@@ -37,6 +37,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/scene/scene.h"
 #include "rigel/tools/keys.h"
+#include "rigel/tools/match.h"
 
 namespace rigel::app {
 
@@ -299,6 +300,19 @@ class Workspace {
   // keyable one (no keying group: what `rigel keys` lists for a control).
   Result<std::vector<tools::PlugKeys>> channel_keys(const std::vector<NodeId>& controls,
                                                     const std::vector<std::string>& attrs) const;
+
+  // ---- animator tools (tools/match.h, ...; src/app/animate.cc) -------------
+  // The first and last keyed frame of every time curve in the scene (its
+  // active clip), none when nothing is keyed: the clip the tools' frames
+  // must lie in.
+  std::optional<std::array<double, 2>> keyed_frames() const;
+  // FK/IK match and bake of a rig's limb (tools::match): `rig` a built rig's
+  // name, `component` its component's name or rigId. Errors name "rig",
+  // "component" (not found, or no FK/IK switch) or "frames" (not finite,
+  // reversed, beyond kMaxFrame, or outside keyed_frames() when the scene
+  // has keys). One undo step.
+  Result<tools::MatchReport> match(const std::string& rig, const std::string& component,
+                                   const tools::MatchOptions& options);
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;

@@ -439,19 +439,23 @@ Status curve_create_many(Graph& graph, const std::string& name, CurveKind kind, 
   return s;
 }
 
-// write_channel_keys: T is Vec3 (double3 channels) or Quat (rotateQuaternion).
+// write_channel_keys: T is double (scalar channels), Vec3 (double3
+// channels) or Quat (rotateQuaternion).
 template <typename T>
 Status write_keys(Graph& graph, NodeId control, AttrIndex attr, std::span<const double> times, std::span<const T> values,
                   bool insert) {
   constexpr bool kQuat = std::is_same_v<T, Quat>;
+  constexpr bool kScalar = std::is_same_v<T, double>;
   const graph::Node* n = graph.node(control);
   if (!n) return error(ErrorCode::kNotFound, "key: no such node (stale handle)");
   if (attr >= n->type().attr_count()) return error(ErrorCode::kNotFound, "key: no such attribute on '" + n->name() + "'");
   const std::string channel = channel_name(graph, control, attr);
-  if (kQuat != (attr == xform::kRotateQuaternion) ||
-      n->type().attr(attr).type != graph::AttrType{kQuat ? graph::ValueType::kQuat : graph::ValueType::kDouble3, false})
+  const graph::ValueType expected =
+      kScalar ? graph::ValueType::kDouble : kQuat ? graph::ValueType::kQuat : graph::ValueType::kDouble3;
+  if (kQuat != (attr == xform::kRotateQuaternion) || n->type().attr(attr).type != graph::AttrType{expected, false})
     return error(ErrorCode::kInvalidArgument,
-                 "key " + channel + ": " + (kQuat ? "quaternion keys go on rotateQuaternion" : "not a double3 channel"));
+                 "key " + channel + ": " +
+                     (kQuat ? "quaternion keys go on rotateQuaternion" : kScalar ? "not a scalar channel" : "not a double3 channel"));
   if (times.size() != values.size())
     return error(ErrorCode::kInvalidArgument, "key " + channel + ": " + std::to_string(times.size()) + " times for " +
                                                   std::to_string(values.size()) + " values");
@@ -467,15 +471,16 @@ Status write_keys(Graph& graph, NodeId control, AttrIndex attr, std::span<const 
   const std::string base = n->name() + "_" + n->type().attr(attr).name;
   if (auto src = source_of(*n, Plug{control, attr, -1})) {
     const CurveKind kind = curve_kind(graph, src->node);
-    if (kind != (kQuat ? CurveKind::kQuat : CurveKind::kVec3))
+    if (kind != (kScalar ? CurveKind::kScalar : kQuat ? CurveKind::kQuat : CurveKind::kVec3))
       return error(ErrorCode::kInvalidArgument,
                    channel + " is driven by " + graph.plug_name(*src) + ", not by a curve; it cannot be keyed");
     return curve_write_many<T>(graph, src->node, kind, times, values, insert, channel);
   }
-  if constexpr (kQuat) {
+  if constexpr (kQuat || kScalar) {
     if (!insert) return graph.set_value(Plug{control, attr, -1}, values.back());
     graph::Transaction tx(graph, "key " + channel);
-    Status s = curve_create_many<Quat>(graph, base, CurveKind::kQuat, times, values, Plug{control, attr, -1});
+    Status s = curve_create_many<T>(graph, base, kScalar ? CurveKind::kScalar : CurveKind::kQuat, times, values,
+                                    Plug{control, attr, -1});
     if (!s) tx.rollback();
     return s;
   } else {
@@ -612,6 +617,56 @@ Status write_channel_keys(Graph& graph, NodeId node, AttrIndex attr, std::span<c
 Status write_channel_keys(Graph& graph, NodeId node, AttrIndex attr, std::span<const double> times,
                           std::span<const Quat> values, bool insert) {
   return write_keys<Quat>(graph, node, attr, times, values, insert);
+}
+
+Status write_channel_keys(Graph& graph, NodeId node, AttrIndex attr, std::span<const double> times,
+                          std::span<const double> values, bool insert) {
+  return write_keys<double>(graph, node, attr, times, values, insert);
+}
+
+Status set_key_tangents(Graph& graph, NodeId node, AttrIndex attr, double t, std::optional<TangentType> in,
+                        std::optional<TangentType> out) {
+  const graph::Node* n = graph.node(node);
+  if (!n) return error(ErrorCode::kNotFound, "tangents: no such node (stale handle)");
+  if (attr >= n->type().attr_count())
+    return error(ErrorCode::kNotFound, "tangents: no such attribute on '" + n->name() + "'");
+  const std::string channel = channel_name(graph, node, attr);
+  std::vector<NodeId> curves;
+  for (const graph::Connection& c : n->inputs()) {
+    if (c.dst.attr != attr) continue;
+    const CurveKind kind = curve_kind(graph, c.src.node);
+    if (kind == CurveKind::kVec3 || kind == CurveKind::kQuat)
+      return error(ErrorCode::kInvalidArgument,
+                   channel + " is keyed by a track ('" + graph.node(c.src.node)->name() +
+                       "', one interpolation for all its keys); tangent types apply to curves");
+    if (kind == CurveKind::kScalar) curves.push_back(c.src.node);
+  }
+  graph::Transaction tx(graph, "tangents " + channel + " (" + frame_at(graph, t) + ")");
+  bool any = false;
+  for (NodeId curve : curves) {
+    const graph::Node& cn = *graph.node(curve);
+    (void)graph.evaluate(Plug{curve, anim_curve_attr::kClip, -1});  // the active clip, up to date
+    const CurveLayout l = layout(CurveKind::kScalar);
+    const auto& times = std::get<std::vector<double>>(cn.value(l.times));
+    const long at = key_at(times, active_range(cn, l), t);
+    if (at < 0) continue;
+    any = true;
+    for (auto [a, type] : {std::pair{curve_attr::kInTangentType, in}, std::pair{curve_attr::kOutTangentType, out}}) {
+      if (!type) continue;
+      auto types = std::get<std::vector<std::int64_t>>(cn.value(a));
+      if (types.size() != times.size()) types.assign(times.size(), kAutoTangent);  // empty: auto for every key
+      types[static_cast<std::size_t>(at)] = static_cast<std::int64_t>(*type);
+      if (Status s = graph.set_value(Plug{curve, a, -1}, std::move(types)); !s) {
+        tx.rollback();
+        return s.with_context(channel);
+      }
+    }
+  }
+  if (!any) {
+    tx.rollback();
+    return error(ErrorCode::kNotFound, channel + " has no key at " + frame_at(graph, t));
+  }
+  return Status::ok();
 }
 
 }  // namespace rigel::ops::anim

@@ -277,8 +277,11 @@ Result<NodeId> setup_two_bone_ik(Scene& scene, std::span<const NodeId> chain, No
     } else {
       if (Status s = g.set_value(plug_of(ik, a::kPoleVector), *pole_direction); !s) return s;
     }
-    if (Status s = drive(g, ik, chain[0], 0, kRotation); !s) return s;
-    if (Status s = drive(g, ik, chain[1], 1, kRotation | kTranslation); !s) return s;
+    // Scale and shear too: under a non-uniformly scaled parent a rigid turn
+    // takes a shear (the solver's outputs hold it; otherwise they are the
+    // rest values).
+    if (Status s = drive(g, ik, chain[0], 0, kRotation | kScaleShear); !s) return s;
+    if (Status s = drive(g, ik, chain[1], 1, kRotation | kTranslation | kScaleShear); !s) return s;
     if (Status s = drive(g, ik, chain[2], 2, kTranslation); !s) return s;
     return ik;
   });

@@ -176,13 +176,19 @@ RIGEL_IK_MULTIVERSION bool TwoBoneIkJob::run() const {
 
   TwoBoneIkOutput& out = *output;
   out.reached = std::abs(scale * end_distance - distance) <= 1e-9 * std::max(1.0, scale * chain);
+  const Quat start_world_q = detail::positive_w(Quat(start_turn));
+  const Quat mid_world_q = detail::positive_w(mid_turn);
   if (weight < 1.0) {
     out.start_correction = Quat::Identity().slerp(weight, start_q);
     out.mid_correction = Quat::Identity().slerp(weight, mid_q);
+    out.start_turn = Quat::Identity().slerp(weight, start_world_q);
+    out.mid_turn = Quat::Identity().slerp(weight, mid_world_q);
     out.stretch = 1.0 + weight * (scale - 1.0);
   } else {
     out.start_correction = start_q;
     out.mid_correction = mid_q;
+    out.start_turn = start_world_q;
+    out.mid_turn = mid_world_q;
     out.stretch = scale;
   }
   return true;

@@ -446,118 +446,12 @@ class Twist : public ComponentClass {
   }
 };
 
-// ---- matching -----------------------------------------------------------
-
-struct LimbNodes {
-  NodeId fk[3], ik, pole, solver, blend;
-  // From each control to the joint it drives: identity, or the
-  // offsetParentMatrix of its fkJoint / ikEnd group (an offset guide).
-  Mat4 fk_to_joint[3] = {Mat4::Identity(), Mat4::Identity(), Mat4::Identity()};
-  Mat4 ik_to_joint = Mat4::Identity();
-};
-
-Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
-  const graph::Node* n = g.node(meta);
-  if (!n || n->type().name() != kMetaComponentType || meta_string(g, meta, "metaType") != "limb")
-    return error(ErrorCode::kInvalidArgument, "match: not the metaComponent of a limb");
-  LimbNodes out;
-  auto find = [&](const char* role, int index, NodeId& into) -> Status {
-    Result<NodeId> r = get_meta_connection(g, meta, role, index);
-    if (!r) return r.status().with_context("match " + meta_string(g, meta, "componentName"));
-    into = *r;
-    return Status::ok();
-  };
-  for (int i = 0; i < 3; ++i)
-    if (Status s = find("fk", i, out.fk[i]); !s) return s;
-  for (auto [role, into] : {std::pair<const char*, NodeId*>{"ik", &out.ik}, {"pole", &out.pole},
-                            {"ikSolver", &out.solver}, {"fkIkSwitch", &out.blend}})
-    if (Status s = find(role, 0, *into); !s) return s;
-  for (NodeId m : meta_members(g, meta)) {
-    const std::string* role = g.node(m)->tag_find(kTagRole);
-    if (!role || (*role != "fkJoint" && *role != "ikEnd")) continue;
-    const Mat4 to_joint = std::get<Mat4>(g.node(m)->value(xform::kOffsetParentMatrix));
-    const std::string* index = g.node(m)->tag_find(kTagIndex);
-    if (*role == "ikEnd") out.ik_to_joint = to_joint;
-    else if (index && (*index == "0" || *index == "1" || *index == "2")) out.fk_to_joint[std::stoi(*index)] = to_joint;
-  }
-  return out;
-}
-
-// Sets a control's channels so that its world matrix is `world`.
-Status set_world(scene::Scene& scene, NodeId control, const Mat4& world) {
-  graph::Graph& g = scene.graph();
-  const NodeId parent = g.parent(control);
-  const Mat4 parent_world = parent.is_valid() ? scene.world_matrix(parent) : Mat4(Mat4::Identity());
-  const Mat4 offset = std::get<Mat4>(g.evaluate(control, xform::kOffsetParentMatrix));
-  const Mat4 local = math::affine_inverse(parent_world * offset) * world;
-  const auto order = static_cast<math::RotateOrder>(std::get<std::int64_t>(g.evaluate(control, xform::kRotateOrder)));
-  const math::TransformParts parts = math::decompose_to_parts(local, order);
-  Status s = g.set_value(plug(control, xform::kTranslate), Value(parts.translate));
-  if (s && xform::is_quaternion_mode(*g.node(control)))
-    s = g.set_value(plug(control, xform::kRotateQuaternion), Value(math::euler_to_quat(parts.rotate, order)));
-  else if (s)
-    s = g.set_value(plug(control, xform::kRotate), Value(Vec3(math::to_degrees(parts.rotate))));
-  if (s) s = g.set_value(plug(control, xform::kScale), Value(parts.scale));
-  if (s) s = g.set_value(plug(control, xform::kShear), Value(parts.shear));
-  return s.is_ok() ? s : s.with_context("match: " + g.node(control)->name());
-}
-
 }  // namespace
 
 Status add_limb_components(ComponentFactory& factory) {
   if (Status s = factory.add(std::make_shared<IkChain>()); !s) return s;
   if (Status s = factory.add(std::make_shared<Limb>()); !s) return s;
   return factory.add(std::make_shared<Twist>());
-}
-
-Status match_fk_to_ik(scene::Scene& scene, NodeId limb_meta) {
-  graph::Graph& g = scene.graph();
-  Result<LimbNodes> nodes = limb_nodes(g, limb_meta);
-  if (!nodes) return nodes.status();
-  std::vector<Mat4> ik_worlds = std::get<std::vector<Mat4>>(g.evaluate(nodes->solver, ik::ik_attr::kOutWorldMatrices));
-  if (ik_worlds.size() != 3) return error(ErrorCode::kInvalidArgument, "match_fk_to_ik: the IK solver has no 3-joint pose");
-  // The end's orientation as the switch takes it: the ik control's, or what
-  // replaced it (a foot's reverse foot).
-  if (std::get<bool>(g.evaluate(nodes->blend, sw::kUseIkEndMatrix)))
-    ik_worlds[2] = ops::util::ik_end_world(ik_worlds[2], std::get<Mat4>(g.evaluate(nodes->blend, sw::kIkEndMatrix)));
-  graph::Transaction tx(g, "match FK to IK");
-  for (int i = 0; i < 3; ++i) {
-    if (Status s = set_world(scene, nodes->fk[i], ik_worlds[i] * math::affine_inverse(nodes->fk_to_joint[i])); !s) {
-      tx.rollback();
-      return s;
-    }
-  }
-  return Status::ok();
-}
-
-Status match_ik_to_fk(scene::Scene& scene, NodeId limb_meta) {
-  graph::Graph& g = scene.graph();
-  Result<LimbNodes> nodes = limb_nodes(g, limb_meta);
-  if (!nodes) return nodes.status();
-  Mat4 fk[3];
-  for (int i = 0; i < 3; ++i) fk[i] = scene.world_matrix(nodes->fk[i]) * nodes->fk_to_joint[i];
-  const std::vector<Mat4> ik_worlds =
-      std::get<std::vector<Mat4>>(g.evaluate(nodes->solver, ik::ik_attr::kOutWorldMatrices));
-  const Mat4 pole_world = scene.world_matrix(nodes->pole);
-  graph::Transaction tx(g, "match IK to FK");
-  Status s = set_world(scene, nodes->ik, fk[2] * math::affine_inverse(nodes->ik_to_joint));
-  const Vec3 a = position_of(fk[0]), m = position_of(fk[1]), e = position_of(fk[2]);
-  Vec3 line = e - a;
-  const Vec3 to_mid = m - a;
-  if (s && line.norm() > 1e-12) {
-    line.normalize();
-    const Vec3 perp = to_mid - line * line.dot(to_mid);
-    if (perp.norm() > 1e-9 * to_mid.norm()) {
-      const Vec3 ik_mid = ik_worlds.size() == 3 ? position_of(ik_worlds[1]) : m;
-      double distance = (position_of(pole_world) - ik_mid).norm();
-      if (!(distance > 1e-9)) distance = to_mid.norm();
-      Mat4 place = pole_world;
-      place.topRightCorner<3, 1>() = m + perp.normalized() * distance;
-      s = set_world(scene, nodes->pole, place);
-    }
-  }
-  if (!s) tx.rollback();
-  return s;
 }
 
 }  // namespace rigel::rig::components

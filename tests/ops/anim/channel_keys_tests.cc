@@ -325,3 +325,51 @@ TEST(ChannelKeys, ManyKeysRecordUndoLinearInTheKeys) {
 
 }  // namespace
 }  // namespace rigel::ops::anim
+
+namespace rigel::ops::anim {
+namespace {
+
+// A scalar channel (a transform's translateX keyed by its own curve): many
+// keys at once as one at a time; tangent types set per key, in and out
+// alone or both, undone in one step; tracks and missing keys refused.
+TEST(ChannelKeys, ScalarKeysAndTangentTypes) {
+  Keys<double> k{{0.0, 0.5, 1.0}, {1.0, 3.0, 2.0}};
+  auto none = [](Graph&, NodeId) {};
+  Fixture f(none);
+  const NodeId curve = *f.g.create_node(kAnimCurveType, "c");
+  ASSERT_TRUE(succeeded(f.g.connect(Plug{curve, curve_attr::kOutput, -1}, Plug{f.t, xform::kTranslate, -1, 0})));
+  // A scalar write goes to a scalar attribute: translate is a double3.
+  EXPECT_TRUE(fails_with(write_channel_keys(f.g, f.t, xform::kTranslate, k.times, k.values, true),
+                         "not a scalar channel"));
+  ASSERT_TRUE(succeeded(write_channel_keys(f.g, f.t, xform::kTranslate,
+                                           std::span<const double>(k.times), std::span<const Vec3>(std::vector<Vec3>{
+                                               Vec3(1, 0, 0), Vec3(3, 0, 0), Vec3(2, 0, 0)}),
+                                           true)));
+  f.g.clear_history();
+  ASSERT_TRUE(succeeded(set_key_tangents(f.g, f.t, xform::kTranslate, 0.5, TangentType::kStep, TangentType::kStep)));
+  ASSERT_TRUE(succeeded(set_key_tangents(f.g, f.t, xform::kTranslate, 1.0 + 1e-9, std::nullopt, TangentType::kLinear)));
+  const auto& in = std::get<std::vector<std::int64_t>>(f.g.node(curve)->value(curve_attr::kInTangentType));
+  const auto& out = std::get<std::vector<std::int64_t>>(f.g.node(curve)->value(curve_attr::kOutTangentType));
+  EXPECT_EQ(in, (std::vector<std::int64_t>{8, 3, 8}));
+  EXPECT_EQ(out, (std::vector<std::int64_t>{8, 3, 1}));
+  // Stepped out of 0.5: the value holds until the next key.
+  f.g.set_time(0.75);
+  EXPECT_DOUBLE_EQ(std::get<Vec3>(f.g.evaluate(f.t, xform::kTranslate)).x(), 3.0);
+  EXPECT_TRUE(fails_with(set_key_tangents(f.g, f.t, xform::kTranslate, 0.25, TangentType::kStep, std::nullopt),
+                         "has no key at frame 6"));
+  EXPECT_EQ(f.g.undo_count(), 2u);
+  ASSERT_TRUE(f.g.undo());
+  ASSERT_TRUE(f.g.undo());
+  EXPECT_TRUE(std::get<std::vector<std::int64_t>>(f.g.node(curve)->value(curve_attr::kOutTangentType)).size() == 3u);
+  EXPECT_EQ(std::get<std::vector<std::int64_t>>(f.g.node(curve)->value(curve_attr::kOutTangentType)),
+            (std::vector<std::int64_t>(3, 8)))
+      << "back to auto";
+  // A quaternion track has one interpolation for all its keys.
+  std::vector<Quat> q(3, Quat::Identity());
+  ASSERT_TRUE(succeeded(write_channel_keys(f.g, f.t, xform::kRotateQuaternion, k.times, q, true)));
+  EXPECT_TRUE(fails_with(set_key_tangents(f.g, f.t, xform::kRotateQuaternion, 0.5, TangentType::kStep, std::nullopt),
+                         "tangent types apply to curves"));
+}
+
+}  // namespace
+}  // namespace rigel::ops::anim

@@ -13,6 +13,7 @@
 // Keys closer than kKeyTimeTolerance are the same key: float32 glTF times of
 // frame f differ from f / fps by ~1e-9.
 
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
 #include "rigel/math/types.h"
+#include "rigel/ops/anim/curve.h"
 
 namespace rigel::ops::anim {
 
@@ -59,13 +61,25 @@ Status write_channel_key(graph::Graph& graph, graph::NodeId node, graph::AttrInd
 // key (a bake of N frames set every array N times, O(N^2)). `times` are
 // finite and increase, each more than kKeyTimeTolerance after the one
 // before; one value per time (math::Vec3 for a double3 channel, math::Quat
-// for rotateQuaternion). A free channel is set to the last value when not
+// for rotateQuaternion, double for a scalar channel). A free channel is set
+// to the last value when not
 // `insert`. Fails as write_channel_key, and on times out of order; all or
 // nothing, one undo step.
 Status write_channel_keys(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, std::span<const double> times,
                           std::span<const math::Vec3> values, bool insert);
 Status write_channel_keys(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, std::span<const double> times,
                           std::span<const math::Quat> values, bool insert);
+Status write_channel_keys(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, std::span<const double> times,
+                          std::span<const double> values, bool insert);
+
+// Sets the in and/or out tangent type of the key at `t` (within
+// kKeyTimeTolerance) on every curve keying channel `attr` of `node`: a
+// scalar channel's curve, or each keyed component of a double3 channel.
+// kInvalidArgument for a channel keyed by a track (animCurveVec3 or
+// animCurveQuat: one interpolation for all its keys), kNotFound naming the
+// channel and the frame when no curve of it has a key there. One undo step.
+Status set_key_tangents(graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr, double t,
+                        std::optional<TangentType> in, std::optional<TangentType> out);
 
 // Removes the key at `t` from `curve`, which drives `channel`; a curve left
 // without keys is deleted and the channel is set to `keep`. Ok with

@@ -94,7 +94,9 @@
 //   Failures: targetMatrix / poleMatrix (when used) / poleVector translation
 //   not finite; midAxis not unit; twist not finite; soft or weight outside
 //   [0, 1]; stretch on with maxStretch < 1 or NaN.
-//   The helper connects outRotations[0..1] (start, mid) and
+//   The joints are turned in world space (exact under non-uniformly
+//   scaled parents, where a rigid turn takes a shear). The helper connects
+//   outRotations, outScales and outShears[0..1] (start, mid) and
 //   outTranslations[1..2] (mid, end: stretch); the end joint's rotation is
 //   left to the animator (as Maya's ikHandle).
 //

@@ -44,6 +44,13 @@ struct TwoBoneIkOutput {
   // Correction of the mid joint, in its own frame: a rotation about
   // mid_axis. w >= 0.
   Quat mid_correction = Quat::Identity();
+  // The same turns in world space, weight applied: the whole chain turns by
+  // start_turn about the start joint after the lower bone turned by
+  // mid_turn (about the hinge) about the mid joint. The two are exact for
+  // any scale of the joints and their parents; the corrections above are
+  // exact only where the joints' parents scale uniformly.
+  Quat start_turn = Quat::Identity();
+  Quat mid_turn = Quat::Identity();
   // Factor for the mid and end joints' local translations (both bones get
   // longer by it): 1 unless `stretch` is on and the target is beyond reach.
   double stretch = 1.0;
