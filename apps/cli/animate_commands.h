@@ -1,6 +1,7 @@
 #pragma once
 // The animator tools' commands (issue "Animate a shot"): `rigel match`
-// (FK/IK match and bake, tools/match.h), through app::Workspace. main.cc
+// (FK/IK match and bake, tools/match.h) and `rigel mirror` (tools/mirror.h),
+// through app::Workspace. main.cc
 // registers them with add_animate_commands() and runs the chosen one with
 // run_animate_commands().
 

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   // `key`, `keys`: keys on any rig's channels.
   rigel::cli::KeyCommands keys;
   rigel::cli::add_key_commands(app, keys);
-  // `match`: the animator tools.
+  // `match`, `mirror`, `bind-pose`: the animator tools.
   rigel::cli::AnimateCommands animate;
   rigel::cli::add_animate_commands(app, animate);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.

@@ -171,12 +171,14 @@ struct ExportArgs {
   std::string output;
   std::string frames;  // "FIRST:LAST"; empty when not given
   bool bake = false;
+  bool deform_only = false;
   bool json = false;
 };
 
 int run_export(const ExportArgs& args) {
   io::GltfExportOptions options;
   options.bake = args.bake;
+  options.deform_only = args.deform_only;
   if (!args.frames.empty()) {
     options.frames = parse_frames(args.frames);
     if (!options.frames) return fail(error(ErrorCode::kInvalidArgument, "--frames '" + args.frames + "': " + kFramesExpected));
@@ -298,12 +300,16 @@ void add_scene_commands(CLI::App& app, SceneCommands& commands) {
   s.import_cmd->add_flag("--json", s.import.json, "Print a JSON summary on stdout");
 
   s.export_cmd = app.add_subcommand("export", "Export a scene's skeleton, meshes, skins and animation to glTF 2.0");
-  s.export_cmd->footer("Examples:\n  rigel export hero.rigel -o hero.glb\n  rigel export shot.rigel -o shot.gltf --frames 0:120 --json");
+  s.export_cmd->footer("Examples:\n  rigel export hero.rigel -o hero.glb\n  rigel export shot.rigel -o shot.gltf --frames 0:120 --json\n"
+                       "  rigel export shot.rigel -o game.glb --deform-only --frames 0:200   # the skinned skeleton and mesh only");
   s.export_cmd->add_option("SCENE", s.export_args.scene, "Scene file (.rigel)")->required();
   s.export_cmd->add_option("-o,--output", s.export_args.output, "File to write (.glb binary, .gltf JSON)")->required();
   s.export_cmd->add_option("--frames", s.export_args.frames, "Bake frames FIRST:LAST (scene frames) instead of writing curves");
   s.export_cmd->add_flag("--bake", s.export_args.bake,
                          "Bake every frame even when the animation can be written as it is (default range: the keys')");
+  s.export_cmd->add_flag("--deform-only", s.export_args.deform_only,
+                         "Only the deform skeleton (the skins' joints) and the meshes, baked: no controls, rig nodes or "
+                         "helper joints (for game engines)");
   s.export_cmd->add_flag("--json", s.export_args.json, "Print a JSON report on stdout");
 
   s.bake_cmd = app.add_subcommand("bake", "Bake what the rigs make nodes do into keys on the nodes (every joint by default)");

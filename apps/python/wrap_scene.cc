@@ -94,16 +94,19 @@ void def_files(py::module_& m, SceneClass& cls) {
           "The .rigel text of the scene (deterministic: equal scenes give equal text).")
       .def(
           "export_gltf",
-          [](const SceneRef& s, const std::string& path, std::optional<std::pair<double, double>> frames, bool bake) {
+          [](const SceneRef& s, const std::string& path, std::optional<std::pair<double, double>> frames, bool bake,
+             bool deform_only) {
             io::GltfExportOptions options;
             options.frames = frames;
             options.bake = bake;
+            options.deform_only = deform_only;
             io::GltfExportReport report;
             check(io::export_gltf(*s, path, options, &report));
             return export_report(report);
           },
-          py::arg("path"), py::arg("frames") = py::none(), py::arg("bake") = false,
-          "Writes .glb or .gltf; `frames` = (first, last) bakes that range. Returns the export report as a dict.");
+          py::arg("path"), py::arg("frames") = py::none(), py::arg("bake") = false, py::arg("deform_only") = false,
+          "Writes .glb or .gltf; `frames` = (first, last) bakes that range; `deform_only` writes only the skins' "
+          "joints and the meshes, baked (a game engine's skeleton). Returns the export report as a dict.");
   m.def("open", &open_any, py::arg("path"),
         "A scene from a file by its extension: .glb/.gltf and .bvh are imported, anything else loaded as .rigel.");
 }

@@ -479,7 +479,65 @@ Returns the channels' keys: records (plug, times, frames, values).)")
 a foot's FK toe) to the IK pose, to="ik" its ik and pole controls (and a foot's toe tap) to the FK pose,
 at the current frame or at every frame of `frames` (first, last), and keys the switch to that side with
 step tangents at the range's ends. key=False sets one frame without keying. Returns a record (frames,
-keys, controls, max_error: the largest driven-joint difference between the sides afterwards, worst_frame).)");
+keys, controls, max_error: the largest driven-joint difference between the sides afterwards, worst_frame).)")
+      .def(
+          "mirror",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls, bool all, bool flip,
+             const std::string& side, const std::string& plane, const std::optional<std::pair<double, double>>& frames,
+             bool key) {
+            if (side != "L" && side != "R") raise(ErrorCode::kInvalidArgument, "side: expected 'L' or 'R', got '" + side + "'");
+            if (plane != "yz" && plane != "xy" && plane != "xz")
+              raise(ErrorCode::kInvalidArgument, "plane: expected 'yz', 'xy' or 'xz', got '" + plane + "'");
+            tools::MirrorOptions options;
+            if (controls) options.controls = key_nodes_arg(w, controls);
+            else if (!all) options.controls = w.ws->selection();
+            options.all = all;
+            options.flip = flip;
+            options.from = side[0];
+            options.plane = plane == "yz" ? tools::MirrorPlane::kYZ : plane == "xy" ? tools::MirrorPlane::kXY
+                                                                                    : tools::MirrorPlane::kXZ;
+            if (frames) {
+              options.first = frames->first;
+              options.last = frames->second;
+            }
+            options.key = key;
+            const tools::MirrorReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.mirror(options)); });
+            py::dict d;
+            d["frames"] = r.frames;
+            d["keys"] = r.keys;
+            py::list set;
+            for (NodeId n : r.set) set.append(node_ref(w.scene, n));
+            d["set"] = set;
+            return record(d);
+          },
+          py::arg("controls") = py::none(), py::arg("all") = false, py::arg("flip") = false, py::arg("side") = "L",
+          py::arg("plane") = "yz", py::arg("frames") = py::none(), py::arg("key") = true,
+          R"(Mirrors built rigs' controls (default: the selection) onto their pairs on the other side, or with
+flip=True swaps both sides (centre controls mirror in place); all=True takes every control of their rigs
+(every rig without controls) from `side`, switches and foot values too. Pairs come from the components
+(type and name, other side), never node names. At the current frame, or keyed at every frame of `frames`.
+Returns a record (frames, keys, set: the nodes it set).)")
+      .def(
+          "reset_bind_pose",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& nodes, bool key) {
+            std::vector<NodeId> ids;
+            if (nodes) {
+              for (const NodeArg& n : *nodes) ids.push_back(resolve(w.scene, n));
+            } else {
+              ids = w.ws->selection();
+            }
+            const tools::BindPoseReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.reset_bind_pose(ids, key)); });
+            py::dict d;
+            d["channels"] = r.channels;
+            py::list set;
+            for (NodeId n : r.set) set.append(node_ref(w.scene, n));
+            d["set"] = set;
+            return record(d);
+          },
+          py::arg("nodes") = py::none(), py::arg("key") = false,
+          R"(Resets controls, components (scene.resolve("hero:arm_L")) or rigs (scene.resolve("hero:")), default the
+selection, to their bind pose now: controls to their rest as built, switches and foot values to theirs; keyed
+when key=True. Returns a record (channels, set).)");
 }
 
 py::object step_record(const app::StepReport& r) {

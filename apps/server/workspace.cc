@@ -3,6 +3,9 @@
 
 #include "workspace.h"
 
+#include "animate_routes.h"
+#include "api_fields.h"
+
 #include <unistd.h>
 
 #include <atomic>
@@ -18,121 +21,11 @@
 #include "rigel/rig/manager.h"
 
 namespace rigel::server {
-namespace {
 
+using namespace api;
 using graph::NodeId;
 using math::Quat;
 using math::Vec3;
-
-// A refused request: status, message, and the request field at fault.
-struct ApiError {
-  int status = 400;
-  std::string message;
-  std::string field;
-};
-
-[[noreturn]] void refuse(int status, std::string message, std::string field = {}) {
-  throw ApiError{status, std::move(message), std::move(field)};
-}
-
-// The HTTP status of an app error: the input's fault is a bad request,
-// what the scene cannot do in its state a conflict.
-int status_of(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kInvalidArgument:
-    case ErrorCode::kParseError: return 400;
-    case ErrorCode::kNotFound: return 404;
-    case ErrorCode::kIoError: return 500;
-    default: return 409;
-  }
-}
-
-void check(const Status& s) {
-  if (!s) refuse(status_of(s.code()), s.message(), s.field());
-}
-
-template <typename T>
-T take(Result<T> r) {
-  check(r.status());
-  return std::move(*r);
-}
-
-// ---- request fields ----------------------------------------------------------
-
-const Json* opt(const Json& body, const char* key) {
-  auto it = body.find(key);
-  return it == body.end() || it->is_null() ? nullptr : &*it;
-}
-
-const Json& need(const Json& body, const char* key) {
-  const Json* j = opt(body, key);
-  if (!j) refuse(400, std::string("missing field '") + key + "'", key);
-  return *j;
-}
-
-std::string as_string(const Json& j, const std::string& field) {
-  if (!j.is_string()) refuse(400, field + ": expected a string, got " + j.type_name(), field);
-  return j.get<std::string>();
-}
-
-double as_number(const Json& j, const std::string& field) {
-  if (!j.is_number()) refuse(400, field + ": expected a number, got " + j.type_name(), field);
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) refuse(400, field + ": not a finite number", field);
-  return v;
-}
-
-// A whole number, clamped into int's range (the app checks the range it needs).
-int as_int(const Json& j, const std::string& field, const std::string& expected = "a whole number") {
-  const double v = as_number(j, field);
-  if (v != std::floor(v)) refuse(400, field + ": expected " + expected, field);
-  return static_cast<int>(std::clamp(v, static_cast<double>(INT_MIN), static_cast<double>(INT_MAX)));
-}
-
-bool as_bool(const Json& j, const std::string& field) {
-  if (!j.is_boolean()) refuse(400, field + ": expected true or false, got " + j.type_name(), field);
-  return j.get<bool>();
-}
-
-template <int N>
-Eigen::Matrix<double, N, 1> as_numbers(const Json& j, const std::string& field) {
-  if (!j.is_array() || j.size() != N)
-    refuse(400, field + ": expected an array of " + std::to_string(N) + " numbers", field);
-  Eigen::Matrix<double, N, 1> v;
-  for (int i = 0; i < N; ++i) v[i] = as_number(j[static_cast<std::size_t>(i)], field + "[" + std::to_string(i) + "]");
-  return v;
-}
-
-// A rotation: [x, y, z, w] or {"euler": [x, y, z]} (degrees, x first).
-Quat as_quat(const Json& j, const std::string& field) {
-  if (j.is_object()) return app::rotation_from_euler_degrees(as_numbers<3>(need(j, "euler"), field + ".euler"));
-  const Eigen::Vector4d v = as_numbers<4>(j, field);
-  if (v.norm() < 1e-9) refuse(400, field + ": not a rotation (zero length)", field);
-  return Quat(v[3], v[0], v[1], v[2]).normalized();
-}
-
-Json vec_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
-
-Json names_json(const std::vector<std::string>& names) {
-  Json list = Json::array();
-  for (const std::string& n : names) list.push_back(n);
-  return list;
-}
-
-Json features_json(const std::vector<app::FeatureState>& features) {
-  Json list = Json::array();
-  for (const app::FeatureState& f : features)
-    list.push_back(Json{{"feature", f.feature}, {"switch", f.switch_name}, {"enabled", f.enabled}});
-  return list;
-}
-
-Json problems_json(const std::vector<rig::Diagnostic>& problems) {
-  Json list = Json::array();
-  for (const rig::Diagnostic& d : problems) list.push_back(Json{{"where", d.str()}, {"message", d.message}});
-  return list;
-}
-
-}  // namespace
 
 struct Workspace::Impl {
   explicit Impl(app::Workspace& w) : ws(w) {}
@@ -270,6 +163,9 @@ struct Workspace::Impl {
     if (const Json* p = opt(body, "path")) path = path_field(*p, "path");
     return Json{{"path", take(ws.save(path)).string()}};
   }
+
+  // Writes the scene as glTF at a path inside the root (.glb or .gltf), as
+  // `rigel export` does.
 
   // ---- routes: posing ----------------------------------------------------------
 
@@ -455,27 +351,15 @@ struct Workspace::Impl {
     return Json{{"revision", ws.revision()}, {"keys", keys}};
   }
 
-  // ---- routes: animator tools ---------------------------------------------------
+  // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
-  Json post_match(const Request&, const Json& body) {
-    const std::string rig = as_string(need(body, "rig"), "rig");
-    const std::string component = as_string(need(body, "component"), "component");
-    const std::string to = as_string(need(body, "to"), "to");
-    if (to != "fk" && to != "ik") refuse(400, "to: expected \"fk\" or \"ik\", got \"" + to + "\"", "to");
-    tools::MatchOptions options;
-    options.to = to == "fk" ? rig::components::MatchSide::kFk : rig::components::MatchSide::kIk;
-    if (const Json* f = opt(body, "frames")) {
-      if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
-      options.first = as_number((*f)[0], "frames");
-      options.last = as_number((*f)[1], "frames");
-    }
-    if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
-    const tools::MatchReport r = take(ws.match(rig, component, options));
-    Json controls = Json::array();
-    for (NodeId c : r.controls) controls.push_back(g().node(c)->name());
-    return Json{{"revision", ws.revision()}, {"frames", r.frames},       {"keys", r.keys},
-                {"controls", controls},      {"maxError", r.max_error}, {"worstFrame", r.worst_frame}};
-  }
+  Json post_export(const Request&, const Json& body) { return routes::export_scene(ws, body); }
+  Json post_match(const Request&, const Json& body) { return routes::match(ws, body); }
+  Json post_mirror(const Request&, const Json& body) { return routes::mirror(ws, body); }
+  Json post_bind_pose(const Request&, const Json& body) { return routes::bind_pose(ws, body); }
+
+
+
 
   // ---- routes: rigs --------------------------------------------------------------
 
@@ -690,6 +574,9 @@ Response Workspace::handle(const Request& request) {
       {"GET", "/api/channel-keys", &Impl::get_channel_keys},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/match", &Impl::post_match},
+      {"POST", "/api/mirror", &Impl::post_mirror},
+      {"POST", "/api/bind-pose", &Impl::post_bind_pose},
+      {"POST", "/api/export", &Impl::post_export},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},
       {"POST", "/api/rigs/remove", &Impl::post_rigs_remove},

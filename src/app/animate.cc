@@ -1,4 +1,5 @@
-// The workspace's animator tools (workspace.h): FK/IK match and bake.
+// The workspace's animator tools (workspace.h): FK/IK match and bake, mirror,
+// bind pose.
 
 #include <algorithm>
 #include <cmath>
@@ -74,6 +75,22 @@ Result<tools::MatchReport> Workspace::match(const std::string& rig_name, const s
   const double now = scene_->frame();
   if (Status s = check_frames(*this, options.first.value_or(now), options.last.value_or(now)); !s) return s;
   Result<tools::MatchReport> report = tools::match(*scene_, meta, options);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  bump_revision();
+  return report;
+}
+
+Result<tools::MirrorReport> Workspace::mirror(const tools::MirrorOptions& options) {
+  const double now = scene_->frame();
+  if (Status s = check_frames(*this, options.first.value_or(now), options.last.value_or(now)); !s) return s;
+  Result<tools::MirrorReport> report = tools::mirror(*scene_, options);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  bump_revision();
+  return report;
+}
+
+Result<tools::BindPoseReport> Workspace::reset_bind_pose(const std::vector<NodeId>& nodes, bool key) {
+  Result<tools::BindPoseReport> report = tools::reset_bind_pose(graph(), nodes, key);
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
   bump_revision();
   return report;

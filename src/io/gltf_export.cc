@@ -44,13 +44,16 @@ Status Exporter::run(const fs::path& out, bool binary) {
   if (Status s = rest_pose(); !s) return s;
   analyse_animation();
   apply_rest_values();
-  const bool bake = options_.frames || options_.bake || !bake_reason_.empty();
+  // A deform-only export bakes: its nodes' glTF transforms are relative to
+  // other nodes than their channels are.
+  const bool bake = options_.frames || options_.bake || options_.deform_only || !bake_reason_.empty();
   if (bake) {
     report_.baked = true;
     report_.bake_reason = options_.frames ? "requested (frames " + number(options_.frames->first) + ":" +
                                                 number(options_.frames->second) + ")"
-                          : options_.bake ? "requested"
-                                          : bake_reason_;
+                          : options_.bake        ? "requested"
+                          : options_.deform_only ? "deform-only"
+                                                 : bake_reason_;
     if (Status s = bake_all(); !s) return s;
   } else if (Status s = direct_all(); !s) {
     return s;

@@ -4,10 +4,34 @@
 #include "gltf_exporter.h"
 
 #include <cmath>
+#include <unordered_set>
 
 #include "rigel/ops/deform/nodes.h"
 
 namespace rigel::io::gltf_exporter {
+namespace {
+
+// The deform skeleton (GltfExportOptions::deform_only): every transform
+// whose worldMatrix feeds a skinCluster's jointMatrices, and every mesh;
+// in a scene without skins, every joint and mesh.
+std::unordered_set<std::uint32_t> deform_set(const Graph& g, const std::vector<NodeId>& hierarchy) {
+  std::unordered_set<std::uint32_t> keep;
+  bool skinned = false;
+  for (NodeId id : g.nodes()) {
+    const Node& n = *g.node(id);
+    if (n.type().name() != ops::kSkinClusterType) continue;
+    skinned = true;
+    for (const graph::Connection& c : n.inputs())
+      if (c.dst.attr == ops::skin_cluster_attr::kJointMatrices) keep.insert(c.src.node.index);
+  }
+  for (NodeId id : hierarchy) {
+    const std::string& type = g.node(id)->type().name();
+    if (type == scene::kMeshType || (!skinned && type == scene::kJointType)) keep.insert(id.index);
+  }
+  return keep;
+}
+
+}  // namespace
 
 Status Exporter::collect_nodes() {
   Result<scene::Skeleton> skeleton = scene::Skeleton::compile(scene_);
@@ -15,7 +39,15 @@ Status Exporter::collect_nodes() {
   skeleton_ = std::move(*skeleton);
   std::unordered_map<std::uint32_t, std::size_t> in_skeleton;
   for (std::size_t i = 0; i < skeleton_.size(); ++i) in_skeleton[skeleton_.nodes()[i].index] = i;
-  for (NodeId id : scene_.hierarchy()) {
+  const std::vector<NodeId> hierarchy = scene_.hierarchy();
+  std::unordered_set<std::uint32_t> keep;
+  if (options_.deform_only) {
+    keep = deform_set(g_, hierarchy);
+    if (keep.empty())
+      return error(ErrorCode::kInvalidArgument, "deform-only export: the scene has no skinned mesh, joint or mesh to export");
+  }
+  for (NodeId id : hierarchy) {
+    if (options_.deform_only && !keep.count(id.index)) continue;
     ExportNode n;
     n.id = id;
     n.skeleton = in_skeleton.at(id.index);
@@ -33,7 +65,10 @@ int Exporter::gltf_index(NodeId id) const {
 Status Exporter::rest_pose() {
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     ExportNode& n = nodes_[i];
-    const NodeId parent = g_.parent(n.id);
+    // The nearest exported ancestor (a deform-only export leaves nodes out).
+    NodeId parent = g_.parent(n.id);
+    while (parent.is_valid() && gltf_index(parent) < 0) parent = g_.parent(parent);
+    n.reparented = parent != g_.parent(n.id);
     if (parent.is_valid() && !n.detached) {
       n.parent = gltf_index(parent);
       nodes_[static_cast<std::size_t>(n.parent)].children.push_back(static_cast<int>(i));
@@ -66,9 +101,13 @@ Status Exporter::rest_pose() {
 math::Decomposed Exporter::place(std::size_t i, std::span<const Mat4> local, std::span<const Mat4> world, Placement& p) const {
   const ExportNode& n = nodes_[i];
   const bool under_displaced = n.parent >= 0 && p.displaced[static_cast<std::size_t>(n.parent)];
-  const Mat4 wanted = under_displaced ? Mat4(p.written[static_cast<std::size_t>(n.parent)].inverse() * world[n.skeleton])
-                      : n.detached    ? world[n.skeleton]
-                                      : local[n.skeleton];
+  const Mat4 wanted =
+      under_displaced ? Mat4(p.written[static_cast<std::size_t>(n.parent)].inverse() * world[n.skeleton])
+      : n.detached    ? world[n.skeleton]
+      : n.reparented  ? (n.parent >= 0 ? Mat4(math::affine_inverse(world[nodes_[static_cast<std::size_t>(n.parent)].skeleton]) *
+                                              world[n.skeleton])
+                                       : world[n.skeleton])
+                      : local[n.skeleton];
   const math::Decomposed d = math::decompose(wanted);
   p.displaced[i] = d.shear.cwiseAbs().maxCoeff() > kShearTolerance;
   if (p.displaced[i]) {

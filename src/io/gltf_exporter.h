@@ -112,6 +112,7 @@ struct ExportNode {
   NodeId id;
   int parent = -1;        // glTF index of the parent, -1 for a root
   bool detached = false;  // a skinned mesh moved to the root: its transform is its world matrix
+  bool reparented = false;  // its scene parent is not exported: placed by world matrices under the nearest exported ancestor
   std::vector<int> children;
   std::size_t skeleton = 0;  // index in the compiled Skeleton
   math::Decomposed rest;     // local (world when detached) at the export time

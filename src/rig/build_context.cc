@@ -162,6 +162,8 @@ Result<NodeId> BuildContext::create_control(std::string_view role, int index, in
   Result<NodeId> id = create(scene::kControlType, role, index, guide, parent);
   if (!id) return id;
   if (Status s = place_zeroed(scene_, *id, world, parent); !s) return s;
+  // Its rest as built, which mirroring relates the two sides by.
+  if (Status s = graph().set_tag(*id, kTagRestWorld, rest_world_text(scene_.world_matrix(*id))); !s) return s;
   const ControlStyle style = control_style(role);
   if (Status s = scene::apply_control_shape(graph(), *id, style.shape, style.size, style.color); !s)
     return s.with_context(full_name() + " control '" + std::string(role) + "'");

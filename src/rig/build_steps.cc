@@ -2,6 +2,7 @@
 // through it (build.h): each forward or back constructs or destructs one
 // step as one undo step.
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <optional>
 #include <set>
@@ -37,6 +38,33 @@ bool step_enabled(const Definition& d, const Component* c, const std::string& fe
   for (const FeatureSwitch& s : f->switches)
     if (s.name == sw) return s.enabled;
   return true;
+}
+
+// The bind values (kTagBind) of the keyable scalars of the nodes a step
+// made that are not transforms (a limb's fkIk, a foot's roll): what a bind
+// pose reset gives them back. Controls need none: they are built zeroed.
+Status record_bind_values(graph::Graph& g, NodeId meta, const std::string& step) {
+  if (!g.node(meta)) return Status::ok();
+  for (NodeId m : meta_members(g, meta)) {
+    const graph::Node& n = *g.node(m);
+    const std::string* made = n.tag_find(kTagStep);
+    if (!made || *made != step || n.type().world_output() != graph::kNoAttr) continue;
+    std::string text;
+    for (graph::AttrIndex a = 0; a < static_cast<graph::AttrIndex>(n.type().attr_count()); ++a) {
+      const graph::AttrSpec& spec = n.type().attr(a);
+      if (!(spec.flags & graph::kKeyable) || !(spec.flags & graph::kInput) || spec.type.array ||
+          spec.type.value != graph::ValueType::kDouble)
+        continue;
+      const auto* v = std::get_if<double>(&g.evaluate(m, a));
+      if (!v) continue;
+      char buffer[64];
+      std::snprintf(buffer, sizeof buffer, "%.17g", *v);
+      text += (text.empty() ? "" : ";") + spec.name + "=" + buffer;
+    }
+    if (!text.empty())
+      if (Status s = g.set_tag(m, kTagBind, text); !s) return s;
+  }
+  return Status::ok();
 }
 
 }  // namespace
@@ -237,6 +265,7 @@ Status Build::construct(int index) {
       const std::vector<Step>& steps = steps_[p.component];
       auto it = std::find_if(steps.begin(), steps.end(), [&](const Step& s) { return s.name == p.step; });
       status = it->construct ? it->construct(ctx) : Status::ok();
+      if (status) status = record_bind_values(g, ctx.meta_, p.step);
     }
     if (status && !recorder.failure().empty()) status = error(ErrorCode::kInvalidArgument, recorder.failure());
   }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cassert>
 #include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "rigel/io/scene_file.h"
 #include "rigel/ops/registry.h"
@@ -231,6 +234,87 @@ Result<NodeId> get_meta_connection(const Graph& g, NodeId meta, std::string_view
     return error(ErrorCode::kNotFound, who + " has " + std::to_string(hits.size()) + " '" + std::string(role) +
                                            "', no index " + std::to_string(index));
   return hits[index].second;
+}
+
+std::string rest_world_text(const math::Mat4& world) {
+  std::string out;
+  char buffer[32];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      std::snprintf(buffer, sizeof buffer, "%.17g", world(r, c));
+      if (!out.empty()) out += ' ';
+      out += buffer;
+    }
+  return out;
+}
+
+std::optional<math::Mat4> rest_world(const Graph& g, NodeId control) {
+  const graph::Node* n = g.node(control);
+  const std::string* text = n ? n->tag_find(kTagRestWorld) : nullptr;
+  if (!text) return std::nullopt;
+  math::Mat4 m;
+  const char* p = text->c_str();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      char* end = nullptr;
+      m(r, c) = std::strtod(p, &end);
+      if (end == p || !std::isfinite(m(r, c))) return std::nullopt;
+      p = end;
+    }
+  return m;
+}
+
+std::vector<std::pair<std::string, double>> bind_values(const Graph& g, NodeId node) {
+  std::vector<std::pair<std::string, double>> out;
+  const graph::Node* n = g.node(node);
+  const std::string* text = n ? n->tag_find(kTagBind) : nullptr;
+  if (!text) return out;
+  std::size_t from = 0;
+  while (from < text->size()) {
+    std::size_t end = text->find(';', from);
+    if (end == std::string::npos) end = text->size();
+    const std::string item = text->substr(from, end - from);
+    const std::size_t eq = item.find('=');
+    if (eq != std::string::npos) {
+      char* stop = nullptr;
+      const double v = std::strtod(item.c_str() + eq + 1, &stop);
+      if (stop != item.c_str() + eq + 1 && std::isfinite(v)) out.emplace_back(item.substr(0, eq), v);
+    }
+    from = end + 1;
+  }
+  return out;
+}
+
+Result<NodeId> mirror_pair(const Graph& g, NodeId control) {
+  const graph::Node* n = g.node(control);
+  const NodeId meta = n ? component_of(g, control) : NodeId{};
+  auto refuse = [&](const std::string& why) {
+    return Status(ErrorCode::kInvalidArgument, (n ? "'" + n->name() + "'" : std::string("a deleted node")) + " " + why)
+        .with_field("controls");
+  };
+  if (!meta.is_valid() || !has_type(g, meta, kMetaComponentType)) return refuse("is not a control of a built rig's component");
+  const std::string side = meta_string(g, meta, "side");
+  if (side != "L" && side != "R") return control;  // a centre component: its own pair
+  const std::string other = side == "L" ? "R" : "L";
+  std::string base = meta_string(g, meta, "componentName");
+  if (base.size() > 2 && base.compare(base.size() - 2, 2, "_" + side) == 0) base.resize(base.size() - 2);
+  const std::string type = meta_string(g, meta, "metaType");
+  NodeId pair;
+  for (NodeId c : rig_components(g, rig_of(g, meta))) {
+    std::string name = meta_string(g, c, "componentName");
+    if (name.size() > 2 && name.compare(name.size() - 2, 2, "_" + other) == 0) name.resize(name.size() - 2);
+    if (meta_string(g, c, "side") == other && meta_string(g, c, "metaType") == type && name == base) pair = c;
+  }
+  if (!pair.is_valid())
+    return refuse("has no pair: its rig has no " + type + " component '" + base + "' on side " + other);
+  const std::string* role = n->tag_find(kTagRole);
+  if (!role) return refuse("has no role in its component");
+  const std::optional<int> index = int_tag(*n, kTagIndex);
+  Result<NodeId> found = get_meta_connection(g, pair, *role, index.value_or(0));
+  if (!found)
+    return refuse("has no pair: " + meta_string(g, pair, "componentName") + " has no '" + *role + "' " +
+                  std::to_string(index.value_or(0)));
+  return *found;
 }
 
 NodeId component_of(const Graph& g, NodeId node) {

@@ -30,12 +30,6 @@ bool is_transform(const graph::Node& n) {
 
 bool is_scalar(const graph::AttrSpec& a) { return a.type.value == ValueType::kDouble && !a.type.array; }
 
-// Whether something other than a curve drives `attr` of `n` (or one of its components).
-bool driven_otherwise(const graph::Graph& g, const graph::Node& n, AttrIndex attr) {
-  for (const graph::Connection& c : n.inputs())
-    if (c.dst.attr == attr && ops::anim::curve_kind(g, c.src.node) == CurveKind::kOther) return true;
-  return false;
-}
 
 std::string frame_text(const graph::Graph& g) {
   char buffer[64];
@@ -44,6 +38,14 @@ std::string frame_text(const graph::Graph& g) {
 }
 
 }  // namespace
+
+bool driven_otherwise(const graph::Graph& g, NodeId node, AttrIndex attr) {
+  const graph::Node* n = g.node(node);
+  if (!n) return false;
+  for (const graph::Connection& c : n->inputs())
+    if (c.dst.attr == attr && ops::anim::curve_kind(g, c.src.node) == CurveKind::kOther) return true;
+  return false;
+}
 
 std::vector<AttrIndex> keyable_attrs(const graph::Node& node) {
   const graph::NodeType& type = node.type();
@@ -94,7 +96,7 @@ Result<std::vector<Channel>> channels_of(const graph::Graph& graph, const std::v
     const std::vector<AttrIndex> keyable = keyable_attrs(*n);
     if (attrs.empty()) {
       for (AttrIndex a : keyable)
-        if (!driven_otherwise(graph, *n, a)) out.push_back(Channel{id, a});
+        if (!driven_otherwise(graph, id, a)) out.push_back(Channel{id, a});
       continue;
     }
     for (const std::string& name : attrs) {

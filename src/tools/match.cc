@@ -11,6 +11,7 @@
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/scene/transform_types.h"
 #include "frames.h"
+#include "tracks.h"
 
 namespace rigel::tools {
 namespace {
@@ -26,29 +27,11 @@ using rig::components::MatchSide;
 namespace xform = scene::xform;
 namespace anim = ops::anim;
 
-// One control's channels, a sample per frame.
-struct Track {
-  NodeId control;
-  bool quaternion = false;
-  math::RotateOrder order = math::RotateOrder::kXYZ;
-  std::vector<Vec3> translate, euler, scale, shear;  // euler in degrees
-  std::vector<Quat> rotation;
-  bool sheared = false;  // some sample has a shear
-};
-
-struct ValueTrack {
-  Plug plug;
-  std::vector<double> values;
-};
+using internal::Track;
+using internal::ValueTrack;
 
 double relative_difference(const Mat4& a, const Mat4& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
-}
-
-bool shear_keyed(const graph::Graph& g, NodeId node) {
-  for (const graph::Connection& c : g.node(node)->inputs())
-    if (c.dst.attr == xform::kShear && anim::curve_kind(g, c.src.node) != anim::CurveKind::kOther) return true;
-  return false;
 }
 
 // Samples one frame's plan into the tracks: each control's local channels
@@ -58,60 +41,21 @@ Status sample(scene::Scene& scene, const rig::components::FkIkMatch& plan, std::
               std::vector<ValueTrack>& values) {
   graph::Graph& g = scene.graph();
   if (tracks.empty()) {
-    for (const auto& c : plan.controls) {
-      Track t;
-      t.control = c.control;
-      t.quaternion = xform::is_quaternion_mode(*g.node(c.control));
-      t.order = static_cast<math::RotateOrder>(std::get<std::int64_t>(g.evaluate(c.control, xform::kRotateOrder)));
-      tracks.push_back(std::move(t));
-    }
+    for (const auto& c : plan.controls) tracks.push_back(Track::of(g, c.control));
     for (const auto& v : plan.values) values.push_back(ValueTrack{v.plug, {}});
   }
   if (plan.controls.size() != tracks.size() || plan.values.size() != values.size())
     return error(ErrorCode::kFailedPrecondition, "match: the controls to set changed between frames");
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     Track& t = tracks[i];
-    const NodeId parent = g.parent(t.control);
+    const NodeId parent = g.parent(t.node);
     Mat4 parent_world = parent.is_valid() ? scene.world_matrix(parent) : Mat4(Mat4::Identity());
     for (std::size_t j = 0; j < i; ++j)
       if (plan.controls[j].control == parent) parent_world = plan.controls[j].world;
-    const Mat4 offset = std::get<Mat4>(g.evaluate(t.control, xform::kOffsetParentMatrix));
-    const Mat4 local = math::affine_inverse(parent_world * offset) * plan.controls[i].world;
-    const math::TransformParts parts = math::decompose_to_parts(local, t.order);
-    t.translate.push_back(parts.translate);
-    t.scale.push_back(parts.scale);
-    t.shear.push_back(parts.shear);
-    t.sheared = t.sheared || parts.shear.cwiseAbs().maxCoeff() > 1e-12;
-    if (t.quaternion) {
-      t.rotation.push_back(math::euler_to_quat(parts.rotate, t.order));
-    } else {
-      // Euler angles closest to the previous frame's, so the curves take the short way.
-      const Vec3 radians = t.euler.empty() ? parts.rotate
-                                           : math::euler_closest(parts.rotate, math::to_radians(t.euler.back()), t.order);
-      t.euler.push_back(math::to_degrees(radians));
-    }
+    const Mat4 offset = std::get<Mat4>(g.evaluate(t.node, xform::kOffsetParentMatrix));
+    t.push(math::affine_inverse(parent_world * offset) * plan.controls[i].world);
   }
   for (std::size_t i = 0; i < values.size(); ++i) values[i].values.push_back(plan.values[i].value);
-  return Status::ok();
-}
-
-Status write_tracks(graph::Graph& g, const std::vector<double>& times, const std::vector<Track>& tracks,
-                    const std::vector<ValueTrack>& values, bool insert, std::size_t& keys) {
-  for (const Track& t : tracks) {
-    Status s = anim::write_channel_keys(g, t.control, xform::kTranslate, times, t.translate, insert);
-    if (s && t.quaternion) s = anim::write_channel_keys(g, t.control, xform::kRotateQuaternion, times, t.rotation, insert);
-    if (s && !t.quaternion) s = anim::write_channel_keys(g, t.control, xform::kRotate, times, t.euler, insert);
-    if (s) s = anim::write_channel_keys(g, t.control, xform::kScale, times, t.scale, insert);
-    const bool shear = t.sheared || shear_keyed(g, t.control);
-    if (s && shear) s = anim::write_channel_keys(g, t.control, xform::kShear, times, t.shear, insert);
-    if (!s) return s.with_context("match");
-    if (insert) keys += times.size() * (shear ? 4 : 3);
-  }
-  for (const ValueTrack& v : values) {
-    if (Status s = anim::write_channel_keys(g, v.plug.node, v.plug.attr, times, v.values, insert); !s)
-      return s.with_context("match");
-    if (insert) keys += times.size();
-  }
   return Status::ok();
 }
 
@@ -192,13 +136,14 @@ Result<MatchReport> match(scene::Scene& scene, NodeId component, const MatchOpti
 
   MatchReport report;
   report.frames = frames.size();
-  for (const Track& t : tracks) report.controls.push_back(t.control);
+  for (const Track& t : tracks) report.controls.push_back(t.node);
   std::vector<double> times(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) times[i] = frames[i] / g.fps();
   {
     graph::Transaction tx(g, o.to == MatchSide::kFk ? "match FK to IK" : "match IK to FK");
-    Status s = o.key ? write_tracks(g, times, tracks, values, true, report.keys)
-                     : write_tracks(g, {times.front()}, tracks, values, false, report.keys);
+    Status s = o.key ? internal::write_tracks(g, times, tracks, values, true, report.keys, "match")
+                     : internal::write_tracks(g, std::span<const double>(times.data(), 1), tracks, values, false,
+                                              report.keys, "match");
     if (s) s = key_switch(g, fk_ik, o.to == MatchSide::kFk ? 0.0 : 1.0, times.front(), times.back(), o.key, report.keys);
     if (!s) {
       tx.rollback();

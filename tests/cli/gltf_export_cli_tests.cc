@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -108,6 +109,37 @@ TEST(CliExportGltf, imported_character__round_trips_without_baking) {
 // The validator sweep over every kind of export the CLI writes (each
 // bundled character, the biped, a BVH; direct and baked; .glb and .gltf) is
 // tests/export/validate_exports.py, run by ctest in the optimised build.
+
+// --deform-only: the biped's skin joints and its mesh, baked; no control,
+// rig group or helper joint in the file.
+TEST(CliExportGltf, deform_only_writes_the_skinned_skeleton_and_the_mesh) {
+  TempDir dir;
+  const std::string hero = (dir.path() / "hero.rigel").string();
+  ASSERT_TRUE(exited_with(rigel({"build", (rigel::io::testing::source_dir() / "examples/biped.rig.xml").string(), "-o", hero}), 0));
+  const fs::path out = dir.path() / "game.glb";
+  const CliRun r = rigel({"export", hero, "-o", out.string(), "--deform-only", "--frames", "0:5", "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["baked"].get<bool>());
+  EXPECT_EQ(j["bakeReason"], "requested (frames 0:5)");
+  EXPECT_EQ(j["skins"], 1);
+  EXPECT_VALID_GLTF(out);
+  const tinygltf::Model model = load_glb_or_gltf(out);
+  ASSERT_EQ(model.skins.size(), 1u);
+  // Every node is a skin joint or holds the mesh (or the skin's common root).
+  std::size_t others = 0;
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    const bool joint = std::find(model.skins[0].joints.begin(), model.skins[0].joints.end(), static_cast<int>(i)) !=
+                       model.skins[0].joints.end();
+    if (!joint && model.nodes[i].mesh < 0) ++others;
+    EXPECT_EQ(model.nodes[i].name.find("hero_"), std::string::npos) << model.nodes[i].name << " is a rig node";
+  }
+  EXPECT_LE(others, 1u);
+  const CliRun full = rigel({"export", hero, "-o", (dir.path() / "all.glb").string(), "--json"});
+  ASSERT_TRUE(exited_with(full, 0)) << full;
+  EXPECT_GT(nlohmann::json::parse(full.out)["nodes"].get<int>(), static_cast<int>(model.nodes.size()) + 100)
+      << "the full export holds the rig too";
+}
 
 TEST(CliExportGltf, bad_input__exits_1_naming_the_problem) {
   TempDir dir;

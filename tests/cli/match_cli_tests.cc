@@ -66,7 +66,8 @@ TEST_F(CliMatch, fk_keyed_to_the_rolling_ik_leg_over_a_range_and_the_switch_step
   EXPECT_EQ(s["channels"][0]["values"], Json::array({0.0, 0.0}));
   const CliRun toe_keys = rigel({"keys", matched, "--control", "hero:foot_L/toeFk", "--attr", "rotate", "--json"});
   ASSERT_TRUE(exited_with(toe_keys, 0)) << toe_keys;
-  for (const Json& c : Json::parse(toe_keys.out)["channels"]) {
+  const Json toe_json = Json::parse(toe_keys.out);
+  for (const Json& c : toe_json["channels"]) {
     EXPECT_EQ(c["frames"].size(), 21u) << c;
     EXPECT_EQ(c["frames"].front(), 0.0);
     EXPECT_EQ(c["frames"].back(), 20.0);
@@ -113,6 +114,72 @@ TEST_F(CliMatch, bad_input_names_the_option_and_writes_nothing) {
   const CliRun missing = rigel({"match", out("missing.rigel"), "--rig", "hero", "--component", "leg_L", "--to", "fk", "-o", o});
   EXPECT_TRUE(exited_with(missing, 1)) << missing;
   EXPECT_NE(missing.err.find("missing.rigel"), std::string::npos) << missing;
+}
+
+}  // namespace
+}  // namespace rigel::cli::testing
+
+namespace rigel::cli::testing {
+namespace {
+
+// `rigel mirror`: the biped's left arm posed, mirrored onto the right and
+// flipped; pairs without names; bad input refused writing nothing.
+TEST(CliMirror, mirror_flip_and_refusals) {
+  TempDir dir;
+  auto out = [&](const std::string& name) { return (dir.path() / name).string(); };
+  const std::string example = (fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml").string();
+  ASSERT_TRUE(exited_with(rigel({"build", example, "-o", out("hero.rigel")}), 0));
+  // Pose the left arm's FK (a key at frame 0 with the posed value).
+  ASSERT_TRUE(exited_with(rigel({"pose", out("hero.rigel"), "--control", "hero_arm_L_fk0", "--mode", "forward", "--rotate",
+                                 "20,0,30", "-o", out("posed.rigel")}),
+                          0));
+  const CliRun m = rigel({"mirror", out("posed.rigel"), "--controls", "hero:arm_L/fk[0]", "-o", out("mirrored.rigel"),
+                          "--json"});
+  ASSERT_TRUE(exited_with(m, 0)) << m;
+  const Json j = Json::parse(m.out);
+  EXPECT_EQ(j["set"], Json::array({"hero_arm_R_fk0"})) << m.out;
+  EXPECT_EQ(j["frames"], 1);
+  const CliRun f = rigel({"mirror", out("mirrored.rigel"), "--all", "--flip", "-o", out("flipped.rigel"), "--json"});
+  ASSERT_TRUE(exited_with(f, 0)) << f;
+  EXPECT_GT(Json::parse(f.out)["set"].size(), 40u) << "every control of the rig and the switches";
+
+  // Bind pose: the posed control back at rest, keyed at frame 3.
+  const CliRun bp = rigel({"bind-pose", out("posed.rigel"), "--controls", "hero:arm_L", "--frame", "3", "--key", "-o",
+                           out("rest.rigel"), "--json"});
+  ASSERT_TRUE(exited_with(bp, 0)) << bp;
+  EXPECT_GE(Json::parse(bp.out)["set"].size(), 6u) << bp.out;
+  const CliRun keys = rigel({"keys", out("rest.rigel"), "--control", "hero_arm_L_fk0", "--attr", "rotate", "--json"});
+  ASSERT_TRUE(exited_with(keys, 0)) << keys;
+  const Json keys_json = Json::parse(keys.out);
+  for (const Json& c : keys_json["channels"]) {
+    ASSERT_FALSE(c["frames"].empty()) << keys.out;
+    EXPECT_EQ(c["frames"].back(), 3.0) << keys.out;
+    EXPECT_EQ(c["values"].back(), 0.0) << keys.out;
+  }
+  const CliRun bad_bind = rigel({"bind-pose", out("posed.rigel"), "--controls", "hand.L", "-o", out("never.rigel")});
+  EXPECT_TRUE(exited_with(bad_bind, 1)) << bad_bind;
+  EXPECT_NE(bad_bind.err.find("not a built rig's control, component or rig"), std::string::npos) << bad_bind;
+
+  struct Bad {
+    std::vector<std::string> args;
+    int code;
+    const char* says;
+  };
+  for (const Bad& b : std::vector<Bad>{{{"--controls", "hand.L"}, 1, "is not a built rig's control"},
+                                       {{"--controls", "nobody"}, 1, "no node named 'nobody'"},
+                                       {{"--controls", "hero_global_main"}, 1, "nothing to mirror"},
+                                       {{}, 2, "--controls"},
+                                       {{"--all", "--from", "X"}, 2, "--from"},
+                                       {{"--all", "--plane", "ab"}, 2, "--plane"},
+                                       {{"--all", "--frames", "9:2"}, 1, "--frames"}}) {
+    std::vector<std::string> args = {"mirror", out("posed.rigel")};
+    args.insert(args.end(), b.args.begin(), b.args.end());
+    args.insert(args.end(), {"-o", out("never.rigel")});
+    const CliRun r = rigel(args);
+    EXPECT_TRUE(exited_with(r, b.code)) << r;
+    EXPECT_NE(r.err.find(b.says), std::string::npos) << r;
+    EXPECT_FALSE(fs::exists(out("never.rigel")));
+  }
 }
 
 }  // namespace

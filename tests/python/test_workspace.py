@@ -219,6 +219,32 @@ def test_match_bakes_a_limbs_fk_to_its_animated_ik(built):
     assert info.value.field == "frames"
 
 
+def test_mirror_refuses_a_control_without_a_pair_and_flips_the_centre(built):
+    w, _ = built
+    scene = w.scene
+    fk0 = scene.resolve("arm_rig:arm_L/fk[0]")
+    with pytest.raises(rigel.InvalidArgumentError, match="has no pair") as info:
+        w.mirror([fk0])
+    assert info.value.field == "controls"
+    main = scene.resolve("arm_rig:global/main")
+    report = w.mirror([main], flip=True)
+    assert report.frames == 1 and report.set == [main]
+    with pytest.raises(rigel.InvalidArgumentError):
+        w.mirror([main], side="Q")
+
+
+def test_deform_only_export_writes_the_skin_joints_and_the_mesh(built, tmp_path):
+    w, _ = built
+    scene = w.scene
+    full = scene.export_gltf(str(tmp_path / "all.glb"))
+    report = scene.export_gltf(str(tmp_path / "game.glb"), frames=(0, 4), deform_only=True)
+    assert report["baked"] and report["skins"] == 1
+    assert report["nodes"] < full["nodes"]
+    back = rigel.open(str(tmp_path / "game.glb"))
+    names = {n.name for n in back.nodes()}
+    assert "hand.L" in names and not any(name.startswith("arm_rig_") for name in names)
+
+
 def test_time_and_keys(ws):
     scene = ws.scene
     ws.set_frame(10)

@@ -505,6 +505,51 @@ TEST(ServerApi, MatchBakesTheBipedsLegToFk) {
   }
 }
 
+// POST /api/mirror: the selection (or the named controls) onto the other
+// side, and a flip of everything; refusals name the field.
+TEST(ServerApi, MirrorAndFlipTheBuiltRig) {
+  Served s = served_character();
+  s.post("/api/definition/build", {{"definition", two_component_definition()}});
+  Response none = s.request("POST", "/api/mirror", Json{{"controls", {"arm_arm_L_fk0"}}}.dump());
+  EXPECT_EQ(none.status, 400) << none.body;
+  EXPECT_EQ(Json::parse(none.body)["field"], "controls");
+  EXPECT_NE(none.body.find("has no pair"), std::string::npos) << none.body;
+  EXPECT_EQ(s.request("POST", "/api/mirror", Json{{"all", true}, {"from", "Q"}}.dump()).status, 400);
+  EXPECT_EQ(s.request("POST", "/api/mirror", Json{{"all", true}, {"plane", "zz"}}.dump()).status, 400);
+  EXPECT_EQ(s.request("POST", "/api/mirror", Json{{"controls", {"nobody"}}}.dump()).status, 404);
+  // The global control alone: a centre control mirrors only with flip.
+  Json flipped = s.post("/api/mirror", {{"controls", {"arm_global_main"}}, {"flip", true}});
+  EXPECT_EQ(flipped["set"], Json::array({"arm_global_main"})) << flipped;
+  EXPECT_EQ(flipped["frames"], 1);
+  // Bind pose of the whole rig by its root address.
+  Json bind = s.post("/api/bind-pose", {{"controls", {"arm:"}}});
+  EXPECT_GE(bind["set"].size(), 4u) << bind;
+  EXPECT_EQ(bind["revision"], s.get("/api/revision")["revision"]);
+  Response bad = s.request("POST", "/api/bind-pose", Json{{"controls", {"hand.L"}}}.dump());
+  EXPECT_EQ(bad.status, 400) << bad.body;
+  EXPECT_EQ(Json::parse(bad.body)["field"], "controls");
+}
+
+// POST /api/export: a glTF inside the root, the deform skeleton only when
+// asked; paths outside the root and other extensions refused.
+TEST(ServerApi, ExportWritesGltfInsideTheRoot) {
+  Served s = served_character();
+  s.post("/api/definition/build", {{"definition", two_component_definition()}});
+  Json all = s.post("/api/export", {{"path", "out/all.glb"}});
+  EXPECT_TRUE(fs::exists(s.root / "out/all.glb")) << all;
+  Json game = s.post("/api/export", {{"path", "out/game.glb"}, {"deformOnly", true}, {"frames", {0, 3}}});
+  EXPECT_TRUE(game["baked"].get<bool>()) << game;
+  EXPECT_LT(game["nodes"].get<int>(), all["nodes"].get<int>()) << game;
+  EXPECT_VALID_GLTF(s.root / "out/game.glb");
+  for (const Json& bad : {Json{{"path", "../escape.glb"}}, Json{{"path", "out/x.obj"}}, Json{{"path", "/tmp/abs.glb"}},
+                          Json{{"path", "out/y.glb"}, {"frames", {3, 1}}}, Json{{"path", "out/z.glb"}, {"deformOnly", 2}}}) {
+    Response r = s.request("POST", "/api/export", bad.dump());
+    EXPECT_EQ(r.status, 400) << bad << ": " << r.body;
+  }
+  EXPECT_FALSE(fs::exists(s.root / "out/x.obj"));
+  EXPECT_FALSE(fs::exists(s.root / "out/y.glb"));
+}
+
 TEST(ServerApi, SaveIsAtomicAndConfined) {
   Served s = served_puppet();
   s.post("/api/select", {{"controls", {"hand.L"}}});
@@ -638,6 +683,9 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/key", {"controls", "delete"}},
       {"/api/channel-keys", {"controls", "attrs", "value", "delete"}},
       {"/api/match", {"rig", "component", "to", "frames", "key"}},
+      {"/api/export", {"path", "frames", "bake", "deformOnly"}},
+      {"/api/mirror", {"controls", "all", "flip", "from", "plane", "frames", "key"}},
+      {"/api/bind-pose", {"controls", "key"}},
       {"/api/undo", {}},
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},

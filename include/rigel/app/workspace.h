@@ -36,8 +36,10 @@
 #include "rigel/rig/definition.h"
 #include "rigel/rig/manager.h"
 #include "rigel/scene/scene.h"
+#include "rigel/tools/bind_pose.h"
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
+#include "rigel/tools/mirror.h"
 
 namespace rigel::app {
 
@@ -313,6 +315,15 @@ class Workspace {
   // has keys). One undo step.
   Result<tools::MatchReport> match(const std::string& rig, const std::string& component,
                                    const tools::MatchOptions& options);
+  // Mirror or flip a built rig's pose (tools::mirror) of options.controls
+  // (or, with options.all, their rigs'), at the current frame or over a
+  // range. Errors name "controls" (not a built rig's control, no pair,
+  // nothing to mirror) or "frames" (as match). One undo step.
+  Result<tools::MirrorReport> mirror(const tools::MirrorOptions& options);
+  // Controls, components (`hero:arm_L`) or rigs (`hero:`) back to their
+  // bind pose at the current time (tools::reset_bind_pose), keyed when
+  // `key`. Errors name "controls". One undo step.
+  Result<tools::BindPoseReport> reset_bind_pose(const std::vector<NodeId>& nodes, bool key);
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;

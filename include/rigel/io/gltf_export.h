@@ -123,6 +123,14 @@ struct GltfExportOptions {
   // Bake even when every channel could be written directly (over `frames`,
   // or the default range).
   bool bake = false;
+  // The deform skeleton only (seed 004's baker, skeleton mode; what a game
+  // engine imports): every transform whose worldMatrix feeds a
+  // skinCluster's jointMatrices (in a scene without skins: every joint) and
+  // every mesh; controls, rig groups, helper joints and everything else are
+  // left out. A node whose parent is left out hangs from its nearest
+  // exported ancestor (or the root), placed by world matrices, so every
+  // joint keeps its world matrix (shear aside, as always). Implies baking.
+  bool deform_only = false;
   // Called while baking with the fraction done, in [0, 1]; may be empty.
   std::function<void(double)> progress;
 };

@@ -20,12 +20,15 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
+#include "rigel/math/types.h"
 
 namespace rigel::rig {
 
@@ -42,6 +45,13 @@ inline constexpr const char* kTagIndex = "rig.index";  // its index among the ro
 inline constexpr const char* kTagStep = "rig.step";    // the build step that made it
 inline constexpr const char* kTagGuide = "rig.guide";  // the guide (joint label) it belongs to, if any
 inline constexpr const char* kTagHook = "rig.hook";    // the hook index it publishes, if it is one
+// On every control: its world matrix as built (its rest: channels zero),
+// 16 numbers row by row. What mirroring relates the two sides by.
+inline constexpr const char* kTagRestWorld = "rig.restWorld";
+// On the other keyable nodes a build makes (a limb's fkIkSwitch, a foot's
+// reverseFoot): their keyable scalars' values as built, "attr=value;...".
+// What a bind pose reset gives back.
+inline constexpr const char* kTagBind = "rig.bind";
 
 // Adds metaManager, metaRoot and metaComponent to `registry`.
 Status register_rig_types(graph::Registry& registry);
@@ -81,6 +91,21 @@ NodeId rig_of(const Graph& graph, NodeId node);
 
 // A string / int attribute of a meta node ("" / 0 when absent).
 std::string meta_string(const Graph& graph, NodeId meta, std::string_view attr);
+
+// A control's world matrix as built (kTagRestWorld); nullopt for a node
+// without one (not a built control, or built before rigel recorded it).
+std::optional<math::Mat4> rest_world(const Graph& graph, NodeId control);
+std::string rest_world_text(const math::Mat4& world);
+// A node's kTagBind values (empty without the tag).
+std::vector<std::pair<std::string, double>> bind_values(const Graph& graph, NodeId node);
+
+// The control on the other side (mirroring): the same role and index in
+// the component of the same type and name on the opposite side (L <-> R)
+// of the same rig, found by the metadata, never by node names; a centre
+// component's control is its own pair. kInvalidArgument naming the control
+// when it is not a built rig's control, or when the other side lacks the
+// component or the control.
+Result<NodeId> mirror_pair(const Graph& graph, NodeId control);
 
 // Nameless addressing (seed 003 §4.6): `RIG:COMPONENT[/joint[J]]/NAME[I]`
 // where RIG is a rigName, COMPONENT a component name or rigId, joint[J]

@@ -25,6 +25,10 @@ struct Channel {
   graph::AttrIndex attr = graph::kNoAttr;
 };
 
+// Whether something other than a time curve drives `attr` of `node` (or a
+// component of it): a connection such a channel cannot be keyed through.
+bool driven_otherwise(const graph::Graph& graph, graph::NodeId node, graph::AttrIndex attr);
+
 // The keyable channels of `node`, attribute order (empty for none).
 std::vector<graph::AttrIndex> keyable_attrs(const graph::Node& node);
 

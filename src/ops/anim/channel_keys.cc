@@ -452,7 +452,10 @@ Status write_keys(Graph& graph, NodeId control, AttrIndex attr, std::span<const 
   const std::string channel = channel_name(graph, control, attr);
   const graph::ValueType expected =
       kScalar ? graph::ValueType::kDouble : kQuat ? graph::ValueType::kQuat : graph::ValueType::kDouble3;
-  if (kQuat != (attr == xform::kRotateQuaternion) || n->type().attr(attr).type != graph::AttrType{expected, false})
+  // (A transform's rotateQuaternion, the one quaternion channel: its type
+  // decides, as attribute indices of other node types may equal its index.)
+  const bool quaternion_channel = n->type().attr(attr).type == graph::AttrType{graph::ValueType::kQuat, false};
+  if (kQuat != quaternion_channel || n->type().attr(attr).type != graph::AttrType{expected, false})
     return error(ErrorCode::kInvalidArgument,
                  "key " + channel + ": " +
                      (kQuat ? "quaternion keys go on rotateQuaternion" : kScalar ? "not a scalar channel" : "not a double3 channel"));
@@ -569,11 +572,11 @@ Status write_channel_key(Graph& graph, NodeId control, AttrIndex attr, const Val
   // one animCurve.
   const graph::AttrType& type = n->type().attr(attr).type;
   const bool scalar = type.value == graph::ValueType::kDouble && !type.array;
+  const bool quaternion = type.value == graph::ValueType::kQuat && !type.array;  // rotateQuaternion
   if (auto src = source_of(*n, Plug{control, attr, -1})) {
     const CurveKind kind = curve_kind(graph, src->node);
     const bool fits = scalar ? kind == CurveKind::kScalar
-                             : (kind == CurveKind::kVec3 && attr != xform::kRotateQuaternion) ||
-                                   (kind == CurveKind::kQuat && attr == xform::kRotateQuaternion);
+                             : (kind == CurveKind::kVec3 && !quaternion) || (kind == CurveKind::kQuat && quaternion);
     if (!fits)
       return error(ErrorCode::kInvalidArgument, channel_name(graph, control, attr) + " is driven by " +
                                                     graph.plug_name(*src) + ", not by a curve; it cannot be keyed");
@@ -586,7 +589,7 @@ Status write_channel_key(Graph& graph, NodeId control, AttrIndex attr, const Val
     if (!s) tx.rollback();
     return s;
   }
-  if (attr == xform::kRotateQuaternion) {
+  if (quaternion) {
     if (!insert) return graph.set_value(Plug{control, attr, -1}, value);
     return curve_create(graph, base, CurveKind::kQuat, t, value, Plug{control, attr, -1});
   }

@@ -1,0 +1,118 @@
+// The JSON API's animator-tool routes (docs/SERVER.md): FK/IK match,
+// mirror, bind pose, and glTF export. Each reads its request's fields and
+// calls the app layer; workspace.cc routes to them.
+
+#include "animate_routes.h"
+
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "api_fields.h"
+#include "rigel/io/gltf_export.h"
+
+namespace rigel::server::routes {
+
+namespace fs = std::filesystem;
+using namespace api;
+using graph::NodeId;
+
+Json export_scene(app::Workspace& ws, const Json& body) {
+  const fs::path path = take(ws.resolve_path(as_string(need(body, "path"), "path"), "path"));
+  if (Status s = app::check_export_path(path); !s) refuse(400, "path: " + s.message(), "path");
+  io::GltfExportOptions options;
+  if (const Json* f = opt(body, "frames")) {
+    if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
+    options.frames = std::pair{as_number((*f)[0], "frames"), as_number((*f)[1], "frames")};
+  }
+  if (const Json* b = opt(body, "bake")) options.bake = as_bool(*b, "bake");
+  if (const Json* d = opt(body, "deformOnly")) options.deform_only = as_bool(*d, "deformOnly");
+  std::error_code ec;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+  if (ec) refuse(409, "path: cannot make the folder " + path.parent_path().string() + ": " + ec.message(), "path");
+  io::GltfExportReport report;
+  if (Status s = app::export_scene(ws.scene(), path, options, &report); !s)
+    refuse(s.code() == ErrorCode::kIoError ? 409 : 400, s.message(), s.field().empty() ? "path" : s.field());
+  Json out{{"path", path.string()}, {"nodes", report.node_count},         {"meshes", report.mesh_count},
+           {"skins", report.skin_count}, {"animations", report.animation_count}, {"channels", report.channel_count},
+           {"baked", report.baked}, {"notes", report.notes}};
+  if (report.baked) out["bakedFrames"] = {report.first_frame, report.last_frame};
+  return out;
+}
+
+Json match(app::Workspace& ws, const Json& body) {
+  const std::string rig = as_string(need(body, "rig"), "rig");
+  const std::string component = as_string(need(body, "component"), "component");
+  const std::string to = as_string(need(body, "to"), "to");
+  if (to != "fk" && to != "ik") refuse(400, "to: expected \"fk\" or \"ik\", got \"" + to + "\"", "to");
+  tools::MatchOptions options;
+  options.to = to == "fk" ? rig::components::MatchSide::kFk : rig::components::MatchSide::kIk;
+  if (const Json* f = opt(body, "frames")) {
+    if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
+    options.first = as_number((*f)[0], "frames");
+    options.last = as_number((*f)[1], "frames");
+  }
+  if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
+  const tools::MatchReport r = take(ws.match(rig, component, options));
+  Json controls = Json::array();
+  for (NodeId c : r.controls) controls.push_back(ws.graph().node(c)->name());
+  return Json{{"revision", ws.revision()}, {"frames", r.frames},       {"keys", r.keys},
+              {"controls", controls},      {"maxError", r.max_error}, {"worstFrame", r.worst_frame}};
+}
+
+Json mirror(app::Workspace& ws, const Json& body) {
+  tools::MirrorOptions options;
+  if (const Json* c = opt(body, "controls")) {
+    if (!c->is_array()) refuse(400, "controls: expected an array of control names, uuids or rig addresses", "controls");
+    for (std::size_t i = 0; i < c->size(); ++i) {
+      const std::string field = "controls[" + std::to_string(i) + "]";
+      options.controls.push_back(take(ws.node(as_string((*c)[i], field), field)));
+    }
+  }
+  if (const Json* a = opt(body, "all")) options.all = as_bool(*a, "all");
+  if (const Json* f = opt(body, "flip")) options.flip = as_bool(*f, "flip");
+  if (const Json* f = opt(body, "from")) {
+    const std::string side = as_string(*f, "from");
+    if (side != "L" && side != "R") refuse(400, "from: expected \"L\" or \"R\"", "from");
+    options.from = side[0];
+  }
+  if (const Json* p = opt(body, "plane")) {
+    const std::string plane = as_string(*p, "plane");
+    if (plane != "yz" && plane != "xy" && plane != "xz") refuse(400, "plane: expected \"yz\", \"xy\" or \"xz\"", "plane");
+    options.plane = plane == "yz" ? tools::MirrorPlane::kYZ : plane == "xy" ? tools::MirrorPlane::kXY : tools::MirrorPlane::kXZ;
+  }
+  if (const Json* f = opt(body, "frames")) {
+    if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
+    options.first = as_number((*f)[0], "frames");
+    options.last = as_number((*f)[1], "frames");
+  }
+  if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
+  if (options.controls.empty() && !options.all) options.controls = ws.selection();
+  const tools::MirrorReport r = take(ws.mirror(options));
+  Json set = Json::array();
+  for (NodeId n : r.set) set.push_back(ws.graph().node(n)->name());
+  return Json{{"revision", ws.revision()}, {"frames", r.frames}, {"keys", r.keys}, {"set", set}};
+}
+
+Json bind_pose(app::Workspace& ws, const Json& body) {
+  std::vector<NodeId> nodes;
+  if (const Json* c = opt(body, "controls")) {
+    if (!c->is_array()) refuse(400, "controls: expected an array of controls, RIG:COMPONENT or RIG:", "controls");
+    for (std::size_t i = 0; i < c->size(); ++i) {
+      const std::string field = "controls[" + std::to_string(i) + "]";
+      nodes.push_back(take(ws.node(as_string((*c)[i], field), field)));
+    }
+  } else {
+    nodes = ws.selection();
+  }
+  bool key = false;
+  if (const Json* k = opt(body, "key")) key = as_bool(*k, "key");
+  const tools::BindPoseReport r = take(ws.reset_bind_pose(nodes, key));
+  Json set = Json::array();
+  for (NodeId n : r.set) set.push_back(ws.graph().node(n)->name());
+  return Json{{"revision", ws.revision()}, {"channels", r.channels}, {"set", set}};
+}
+
+}  // namespace rigel::server::routes

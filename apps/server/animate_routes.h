@@ -1,0 +1,20 @@
+#pragma once
+// The JSON API's animator-tool routes (animate_routes.cc): each takes the
+// request body and answers with JSON, refusing bad input with api::ApiError
+// (api_fields.h), as workspace.cc's routes do.
+
+#include <nlohmann/json.hpp>
+
+#include "rigel/app/workspace.h"
+
+namespace rigel::server::routes {
+
+using Json = nlohmann::ordered_json;
+
+// POST /api/export, /api/match, /api/mirror, /api/bind-pose.
+Json export_scene(app::Workspace& ws, const Json& body);
+Json match(app::Workspace& ws, const Json& body);
+Json mirror(app::Workspace& ws, const Json& body);
+Json bind_pose(app::Workspace& ws, const Json& body);
+
+}  // namespace rigel::server::routes
