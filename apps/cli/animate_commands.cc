@@ -196,6 +196,13 @@ int run_bind_pose(const BindPoseArgs& args) {
   return 0;
 }
 
+// --frame F and --frames A:B, one or the other.
+void add_frame_options(CLI::App* cmd, std::optional<double>& frame, std::string& frames) {
+  CLI::Option* one = cmd->add_option("--frame", frame, "One frame (default: the scene's current frame)");
+  CLI::Option* range = cmd->add_option("--frames", frames, "A range FIRST:LAST, every frame keyed");
+  one->excludes(range);
+}
+
 }  // namespace
 
 struct AnimateCommands::State {
@@ -223,9 +230,7 @@ void add_animate_commands(CLI::App& app, AnimateCommands& commands) {
   s.match_cmd->add_option("--rig", s.match.rig, "The built rig's name")->required();
   s.match_cmd->add_option("--component", s.match.component, "The limb: component name or rigId")->required();
   s.match_cmd->add_option("--to", s.match.to, "The side to key and switch to: fk or ik")->required();
-  CLI::Option* frame = s.match_cmd->add_option("--frame", s.match.frame, "One frame (default: the scene's current frame)");
-  CLI::Option* frames = s.match_cmd->add_option("--frames", s.match.frames, "A range FIRST:LAST, every frame keyed");
-  frame->excludes(frames);
+  add_frame_options(s.match_cmd, s.match.frame, s.match.frames);
   s.match_cmd->add_option("-o,--output", s.match.output, "Scene file to write (.rigel)")->required();
   s.match_cmd->add_flag("--json", s.match.json, "Print a JSON report on stdout");
 
@@ -242,9 +247,7 @@ void add_animate_commands(CLI::App& app, AnimateCommands& commands) {
   s.mirror_cmd->add_option("--from", s.mirror.from, "With --all: the side copied, L (default) or R");
   s.mirror_cmd->add_flag("--flip", s.mirror.flip, "Swap both sides' poses (centre controls mirror in place)");
   s.mirror_cmd->add_option("--plane", s.mirror.plane, "Mirror plane: yz (x -> -x, the default), xy or xz");
-  CLI::Option* mframe = s.mirror_cmd->add_option("--frame", s.mirror.frame, "One frame (default: the scene's current frame)");
-  CLI::Option* mframes = s.mirror_cmd->add_option("--frames", s.mirror.frames, "A range FIRST:LAST, every frame keyed");
-  mframe->excludes(mframes);
+  add_frame_options(s.mirror_cmd, s.mirror.frame, s.mirror.frames);
   s.mirror_cmd->add_option("-o,--output", s.mirror.output, "Scene file to write (.rigel)")->required();
   s.mirror_cmd->add_flag("--json", s.mirror.json, "Print a JSON report on stdout");
 

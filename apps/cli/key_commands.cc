@@ -6,6 +6,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "cli_util.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/ops/anim/channel_keys.h"
 
 namespace rigel::cli {
 namespace {
@@ -33,6 +35,18 @@ Result<NodeId> key_node(const app::Workspace& ws, const std::string& scene, cons
     return Status(id.status().code(), scene + ": --control: " + message);
   }
   return *id;
+}
+
+// Every name given to --control, as key_node resolves it.
+Result<std::vector<NodeId>> key_nodes(const app::Workspace& ws, const std::string& scene,
+                                      const std::vector<std::string>& names) {
+  std::vector<NodeId> nodes;
+  for (const std::string& name : names) {
+    auto id = key_node(ws, scene, name);
+    if (!id) return id.status();
+    nodes.push_back(*id);
+  }
+  return nodes;
 }
 
 Json value_json(const graph::Value& v) {
@@ -56,7 +70,12 @@ Json keys_json(const std::vector<tools::PlugKeys>& keys, double fps) {
     Json frames = Json::array(), values = Json::array();
     for (double t : k.times) frames.push_back(app::key_frame(t, fps));
     for (const graph::Value& v : k.values) values.push_back(value_json(v));
-    out.push_back(Json{{"plug", k.name}, {"frames", frames}, {"seconds", k.times}, {"values", values}});
+    Json entry{{"plug", k.name}, {"frames", frames}, {"seconds", k.times}, {"values", values}};
+    if (!k.in_tangents.empty()) {
+      entry["inTangents"] = k.in_tangents;
+      entry["outTangents"] = k.out_tangents;
+    }
+    out.push_back(std::move(entry));
   }
   return out;
 }
@@ -68,6 +87,7 @@ struct KeyArgs {
   std::vector<std::string> controls;
   std::vector<std::string> attrs;
   std::optional<double> frame, time, value;
+  std::string tangent, in_tangent, out_tangent;
   bool remove = false;
   std::string output;
   bool json = false;
@@ -78,6 +98,19 @@ int run_key(const KeyArgs& args) {
     return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
   if (args.value && !std::isfinite(*args.value)) return usage_error("--value must be a finite number");
   if (args.value && args.remove) return usage_error("--value sets a key; --delete removes one: give one of them");
+  tools::Tangents tangents;
+  for (auto [text, option, both, in] :
+       {std::tuple{&args.tangent, "--tangent", true, false}, {&args.in_tangent, "--in-tangent", false, true},
+        {&args.out_tangent, "--out-tangent", false, false}}) {
+    if (text->empty()) continue;
+    const auto type = ops::anim::tangent_type_from_name(*text);
+    if (!type)
+      return usage_error(std::string(option) + " '" + *text +
+                         "': expected auto, spline, linear, flat, step, stepNext, clamped, plateau or fixed");
+    if (both || in) tangents.in = type;
+    if (both || !in) tangents.out = type;
+  }
+  if (tangents.any() && args.remove) return usage_error("--delete removes keys; a tangent type applies to keys it sets");
   for (const std::string& name : args.controls)
     if (name.empty()) return usage_error("--control: empty name (expected A,B,...)");
   for (const std::string& name : args.attrs)
@@ -85,12 +118,9 @@ int run_key(const KeyArgs& args) {
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
-  std::vector<NodeId> nodes;
-  for (const std::string& name : args.controls) {
-    auto id = key_node(ws, args.scene, name);
-    if (!id) return fail(id.status());
-    nodes.push_back(*id);
-  }
+  auto resolved = key_nodes(ws, args.scene, args.controls);
+  if (!resolved) return fail(resolved.status());
+  const std::vector<NodeId>& nodes = *resolved;
   if (args.frame) {
     if (Status s = ws.set_frame(*args.frame); !s) return usage_error("--" + s.message());
   }
@@ -99,10 +129,11 @@ int run_key(const KeyArgs& args) {
   }
   auto channels = ws.key_channels(nodes, args.attrs);
   if (!channels) return fail(channels.status().with_context(args.scene + ": --" + (channels.status().field() == "attrs" ? "attr" : "control")));
-  auto keys = args.remove ? ws.delete_channel_keys(nodes, args.attrs) : ws.set_channel_keys(nodes, args.attrs, args.value);
+  auto keys = args.remove ? ws.delete_channel_keys(nodes, args.attrs)
+                          : ws.set_channel_keys(nodes, args.attrs, args.value, tangents);
   if (!keys) {
     const Status& s = keys.status();
-    return fail(s.with_context(args.scene + (s.field() == "value" ? ": --value" : "")));
+    return fail(s.with_context(args.scene + (s.field() == "value" ? ": --value" : s.field() == "tangent" ? ": --tangent" : "")));
   }
   if (auto saved = ws.save(args.output); !saved) return fail(saved.status());
   const double fps = ws.graph().fps();
@@ -155,6 +186,47 @@ int run_keys(const KeysArgs& args) {
   return 0;
 }
 
+// ---- tween ---------------------------------------------------------------
+
+struct TweenArgs {
+  std::string scene;
+  std::vector<std::string> controls, attrs;
+  double fraction = 0.5;
+  std::optional<double> frame;
+  bool no_key = false;
+  std::string output;
+  bool json = false;
+};
+
+int run_tween(const TweenArgs& args) {
+  if (!std::isfinite(args.fraction)) return usage_error("--fraction must be a finite number");
+  if (args.frame && !std::isfinite(*args.frame)) return usage_error("--frame must be a finite number");
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  auto resolved = key_nodes(ws, args.scene, args.controls);
+  if (!resolved) return fail(resolved.status());
+  const std::vector<NodeId>& nodes = *resolved;
+  if (args.frame) {
+    if (Status s = ws.set_frame(*args.frame); !s) return usage_error("--" + s.message());
+  }
+  auto keys = ws.tween(nodes, args.attrs, args.fraction, !args.no_key);
+  if (!keys) {
+    const Status& s = keys.status();
+    const std::string option = s.field() == "attrs" ? "--attr" : s.field() == "fraction" ? "--fraction" : "--control";
+    return fail(s.with_context(args.scene + ": " + option));
+  }
+  if (auto saved = ws.save(args.output); !saved) return fail(saved.status());
+  const double fps = ws.graph().fps();
+  const double frame = app::key_frame(ws.graph().time(), fps);
+  if (args.json)
+    std::cout << Json{{"frame", frame}, {"fraction", args.fraction}, {"keys", keys_json(*keys, fps)}, {"output", args.output}}.dump()
+              << "\n";
+  std::cerr << "rigel: tweened at frame " << number_text(frame) << " by " << number_text(args.fraction) << "; wrote "
+            << args.output << "\n";
+  return 0;
+}
+
 }  // namespace
 
 struct KeyCommands::State {
@@ -162,6 +234,8 @@ struct KeyCommands::State {
   KeyArgs key;
   CLI::App* keys_cmd = nullptr;
   KeysArgs keys;
+  CLI::App* tween_cmd = nullptr;
+  TweenArgs tween;
 };
 
 KeyCommands::KeyCommands() : state_(std::make_unique<State>()) {}
@@ -175,7 +249,8 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
       "keying set); with --attr only those channels of the nodes named.\n"
       "Examples:\n  rigel key hero.rigel --control hero_arm_L_fk1 --frame 10 -o keyed.rigel\n"
       "  rigel key keyed.rigel --control hero_arm_L_fkIkSwitch --attr fkIk --value 1 --frame 24 -o keyed.rigel\n"
-      "  rigel key keyed.rigel --control hero_arm_L_fk1 --attr rotate --frame 10 --delete -o keyed.rigel");
+      "  rigel key keyed.rigel --control hero_arm_L_fk1 --attr rotate --frame 10 --delete -o keyed.rigel\n"
+      "  rigel key keyed.rigel --control hero:arm_L/fkIkSwitch --attr fkIk --value 0 --frame 30 --tangent step -o keyed.rigel");
   s.key_cmd->add_option("SCENE", s.key.scene, "Scene file (.rigel)")->required();
   s.key_cmd->add_option("--control", s.key.controls, "Controls or other nodes (a switch) to key")->delimiter(',')->required();
   s.key_cmd->add_option("--attr", s.key.attrs, "Only these channels (translate, rotate, fkIk, ...)")->delimiter(',');
@@ -183,6 +258,11 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
   CLI::Option* time = s.key_cmd->add_option("--time", s.key.time, "Time in seconds to key at");
   frame->excludes(time);
   s.key_cmd->add_option("--value", s.key.value, "The key's value (scalar channels such as fkIk); default: the current value");
+  s.key_cmd->add_option("--tangent", s.key.tangent,
+                        "Tangent type of the keys made, in and out: auto (default), spline, linear, flat, step, stepNext, "
+                        "clamped, plateau, fixed");
+  s.key_cmd->add_option("--in-tangent", s.key.in_tangent, "In-tangent type of the keys made");
+  s.key_cmd->add_option("--out-tangent", s.key.out_tangent, "Out-tangent type of the keys made");
   s.key_cmd->add_flag("--delete", s.key.remove, "Delete the keys at that time instead");
   s.key_cmd->add_option("-o,--output", s.key.output, "Scene file to write (.rigel)")->required();
   s.key_cmd->add_flag("--json", s.key.json, "Print a JSON report on stdout");
@@ -194,12 +274,28 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
   s.keys_cmd->add_option("--control", s.keys.control, "The control or node")->required();
   s.keys_cmd->add_option("--attr", s.keys.attrs, "Only these channels")->delimiter(',');
   s.keys_cmd->add_flag("--json", s.keys.json, "Print JSON on stdout");
+
+  s.tween_cmd = app.add_subcommand("tween", "Tween / breakdown: channels set between their previous and next keys");
+  s.tween_cmd->footer(
+      "--fraction 0 gives the previous key's values, 1 the next's, 0.5 halfway; below 0 or above 1 overshoots. "
+      "Rotations blend by quaternion slerp. Keyed at the frame (--no-key: only keys already there change).\n"
+      "Examples:\n  rigel tween shot.rigel --control hero_arm_L_fk1 --frame 12 --fraction 0.3 -o shot.rigel\n"
+      "  rigel tween shot.rigel --control hero_global_main --attr translate --frame 8 --fraction 1.1 -o shot.rigel");
+  s.tween_cmd->add_option("SCENE", s.tween.scene, "Scene file (.rigel)")->required();
+  s.tween_cmd->add_option("--control", s.tween.controls, "Controls (their keying group) or other nodes")->delimiter(',')->required();
+  s.tween_cmd->add_option("--attr", s.tween.attrs, "Only these channels")->delimiter(',');
+  s.tween_cmd->add_option("--fraction", s.tween.fraction, "0: the previous key, 1: the next (default 0.5)");
+  s.tween_cmd->add_option("--frame", s.tween.frame, "The frame (default: the scene's current frame)");
+  s.tween_cmd->add_flag("--no-key", s.tween.no_key, "Do not add keys: only keys at the frame take the blend");
+  s.tween_cmd->add_option("-o,--output", s.tween.output, "Scene file to write (.rigel)")->required();
+  s.tween_cmd->add_flag("--json", s.tween.json, "Print a JSON report on stdout");
 }
 
 std::optional<int> run_key_commands(const KeyCommands& commands) {
   const KeyCommands::State& s = commands.state();
   if (*s.key_cmd) return run_key(s.key);
   if (*s.keys_cmd) return run_keys(s.keys);
+  if (*s.tween_cmd) return run_tween(s.tween);
   return std::nullopt;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// `rigel key` and `rigel keys`: keys on any keyable channel of any rig's
+// `rigel key`, `rigel keys` and `rigel tween`: keys on any keyable channel of any rig's
 // controls and switches (built and ephemeral rigs alike), through
 // app::Workspace's channel keys (tools/keys.h). main.cc registers them
 // with add_key_commands() and runs the chosen one with run_key_commands().

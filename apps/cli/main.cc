@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   // `inspect`, `eval`, `import`, `export`, `bake`: scene files.
   rigel::cli::SceneCommands scene;
   rigel::cli::add_scene_commands(app, scene);
-  // `key`, `keys`: keys on any rig's channels.
+  // `key`, `keys`, `tween`: keys on any rig's channels.
   rigel::cli::KeyCommands keys;
   rigel::cli::add_key_commands(app, keys);
   // `match`, `mirror`, `bind-pose`: the animator tools.

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "common.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 
@@ -143,6 +144,8 @@ py::list plug_keys_list(const WorkspaceRef& w, const std::vector<tools::PlugKeys
     py::list values;
     for (const graph::Value& v : k.values) values.append(to_python(v));
     d["values"] = values;
+    d["in_tangents"] = k.in_tangents;
+    d["out_tangents"] = k.out_tangents;
     out.append(record(d));
   }
   return out;
@@ -427,14 +430,29 @@ void def_time_and_keys(WorkspaceClass& cls) {
       .def(
           "set_channel_keys",
           [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls,
-             const std::vector<std::string>& attrs, std::optional<double> value) {
+             const std::vector<std::string>& attrs, std::optional<double> value, const std::optional<std::string>& tangent,
+             const std::optional<std::string>& in_tangent, const std::optional<std::string>& out_tangent) {
             const std::vector<NodeId> ids = key_nodes_arg(w, controls);
-            return plug_keys_list(w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.set_channel_keys(ids, attrs, value)); }));
+            tools::Tangents tangents;
+            auto type = [](const std::optional<std::string>& name, const char* field) -> std::optional<ops::anim::TangentType> {
+              if (!name) return std::nullopt;
+              auto t = ops::anim::tangent_type_from_name(*name);
+              if (!t) raise(Status(ErrorCode::kInvalidArgument, std::string(field) + ": '" + *name + "' is not a tangent type").with_field(field));
+              return t;
+            };
+            if (auto both = type(tangent, "tangent")) tangents.in = tangents.out = both;
+            if (auto in = type(in_tangent, "in_tangent")) tangents.in = in;
+            if (auto out = type(out_tangent, "out_tangent")) tangents.out = out;
+            return plug_keys_list(
+                w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.set_channel_keys(ids, attrs, value, tangents)); }));
           },
           py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{}, py::arg("value") = py::none(),
+          py::arg("tangent") = py::none(), py::arg("in_tangent") = py::none(), py::arg("out_tangent") = py::none(),
           R"(Keys any rig's controls and switches now (default: the selection). Without `attrs` every keyable
 channel of their keying group (a built rig's whole character, an ephemeral rig's keying set); with
-`attrs` (e.g. ["fkIk"]) those channels of the nodes given. `value` keys a scalar channel at that value.
+`attrs` (e.g. ["fkIk"]) those channels of the nodes given. `value` keys a scalar channel at that value;
+`tangent` (or `in_tangent` / `out_tangent`) gives the keys that tangent type (auto, spline, linear,
+flat, step, stepNext, clamped, plateau, fixed).
 Returns the channels' keys: records (plug, times, frames, values).)")
       .def(
           "delete_channel_keys",
@@ -450,7 +468,24 @@ Returns the channels' keys: records (plug, times, frames, values).)")
             return plug_keys_list(w, unwrap(w.ws->channel_keys(key_nodes_arg(w, controls), attrs)));
           },
           py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{},
-          "The keys of the nodes' own channels (those named, or every keyable one): records (plug, times, frames, values).")
+          "The keys of the nodes' own channels (those named, or every keyable one): records (plug, times, frames, values).");
+}
+
+// The animator tools (tools/: tween, FK/IK match, mirror, bind pose).
+void def_animator_tools(WorkspaceClass& cls) {
+  cls.def(
+          "tween",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls, const std::vector<std::string>& attrs,
+             double fraction, bool key) {
+            const std::vector<NodeId> ids = key_nodes_arg(w, controls);
+            return plug_keys_list(w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.tween(ids, attrs, fraction, key)); }));
+          },
+          py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{}, py::arg("fraction") = 0.5,
+          py::arg("key") = true,
+          R"(Tween / breakdown now: the channels set_channel_keys would key (default: the selection's keying group),
+each set between its previous and next key by `fraction` (0: the previous, 1: the next, beyond: overshoot;
+rotations by quaternion slerp), keyed (key=False: only keys already there change). Returns the channels'
+keys as records.)")
       .def(
           "match",
           [](const WorkspaceRef& w, const std::string& rig, const std::string& component, const std::string& to,
@@ -713,6 +748,7 @@ cannot do it in its state.)");
   def_reports(cls);
   def_posing(cls);
   def_time_and_keys(cls);
+  def_animator_tools(cls);
   def_rigs(cls);
   def_definitions(cls);
 }

@@ -115,4 +115,34 @@ Json bind_pose(app::Workspace& ws, const Json& body) {
   return Json{{"revision", ws.revision()}, {"channels", r.channels}, {"set", set}};
 }
 
+Json tween(app::Workspace& ws, const Json& body) {
+  std::vector<NodeId> nodes;
+  if (const Json* c = opt(body, "controls")) {
+    if (!c->is_array()) refuse(400, "controls: expected an array of node uuids, names or rig addresses", "controls");
+    for (std::size_t i = 0; i < c->size(); ++i) {
+      const std::string field = "controls[" + std::to_string(i) + "]";
+      nodes.push_back(take(ws.key_target(as_string((*c)[i], field), field)));
+    }
+  } else {
+    nodes = ws.selection();
+  }
+  std::vector<std::string> attrs;
+  if (const Json* a = opt(body, "attrs")) {
+    if (!a->is_array()) refuse(400, "attrs: expected an array of attribute names", "attrs");
+    for (std::size_t i = 0; i < a->size(); ++i) attrs.push_back(as_string((*a)[i], "attrs[" + std::to_string(i) + "]"));
+  }
+  const double fraction = as_number(need(body, "fraction"), "fraction");
+  bool key = true;
+  if (const Json* k = opt(body, "key")) key = as_bool(*k, "key");
+  const std::vector<tools::PlugKeys> keys = take(ws.tween(nodes, attrs, fraction, key));
+  Json list = Json::array();
+  const double fps = ws.graph().fps();
+  for (const tools::PlugKeys& k : keys) {
+    Json frames = Json::array();
+    for (double t : k.times) frames.push_back(app::key_frame(t, fps));
+    list.push_back(Json{{"plug", k.name}, {"frames", frames}});
+  }
+  return Json{{"revision", ws.revision()}, {"keys", list}};
+}
+
 }  // namespace rigel::server::routes

@@ -11,10 +11,11 @@ namespace rigel::server::routes {
 
 using Json = nlohmann::ordered_json;
 
-// POST /api/export, /api/match, /api/mirror, /api/bind-pose.
+// POST /api/export, /api/match, /api/mirror, /api/bind-pose, /api/tween.
 Json export_scene(app::Workspace& ws, const Json& body);
 Json match(app::Workspace& ws, const Json& body);
 Json mirror(app::Workspace& ws, const Json& body);
 Json bind_pose(app::Workspace& ws, const Json& body);
+Json tween(app::Workspace& ws, const Json& body);
 
 }  // namespace rigel::server::routes

@@ -17,6 +17,7 @@
 
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/gltf_export.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/manager.h"
 
@@ -289,7 +290,12 @@ struct Workspace::Impl {
         else if (const auto* p = std::get_if<math::Vec3>(&v)) values.push_back(Json::array({p->x(), p->y(), p->z()}));
         else if (const auto* q = std::get_if<math::Quat>(&v)) values.push_back(Json::array({q->x(), q->y(), q->z(), q->w()}));
       }
-      out.push_back(Json{{"plug", k.name}, {"frames", frames}, {"times", k.times}, {"values", values}});
+      Json entry{{"plug", k.name}, {"frames", frames}, {"times", k.times}, {"values", values}};
+      if (!k.in_tangents.empty()) {
+        entry["inTangents"] = k.in_tangents;
+        entry["outTangents"] = k.out_tangents;
+      }
+      out.push_back(std::move(entry));
     }
     return out;
   }
@@ -347,7 +353,24 @@ struct Workspace::Impl {
     }
     std::optional<double> v;
     if (value) v = as_number(*value, "value");
-    Json keys = plug_keys_json(take(ws.set_channel_keys(nodes, attrs, v)));
+    // Tangent types of the keys made: "tangent" (both), "inTangent", "outTangent".
+    tools::Tangents tangents;
+    auto tangent = [&](const char* field) -> std::optional<ops::anim::TangentType> {
+      const Json* t = opt(body, field);
+      if (!t) return std::nullopt;
+      const std::string name = as_string(*t, field);
+      auto type = ops::anim::tangent_type_from_name(name);
+      if (!type)
+        refuse(400, std::string(field) + ": '" + name +
+                        "' is not a tangent type (auto, spline, linear, flat, step, stepNext, clamped, plateau, fixed)",
+               field);
+      return type;
+    };
+    if (auto both = tangent("tangent")) tangents.in = tangents.out = both;
+    if (auto in = tangent("inTangent")) tangents.in = in;
+    if (auto out = tangent("outTangent")) tangents.out = out;
+    if (tangents.any() && del && as_bool(*del, "delete")) refuse(400, "tangent: a delete takes no tangent", "tangent");
+    Json keys = plug_keys_json(take(ws.set_channel_keys(nodes, attrs, v, tangents)));
     return Json{{"revision", ws.revision()}, {"keys", keys}};
   }
 
@@ -357,6 +380,7 @@ struct Workspace::Impl {
   Json post_match(const Request&, const Json& body) { return routes::match(ws, body); }
   Json post_mirror(const Request&, const Json& body) { return routes::mirror(ws, body); }
   Json post_bind_pose(const Request&, const Json& body) { return routes::bind_pose(ws, body); }
+  Json post_tween(const Request&, const Json& body) { return routes::tween(ws, body); }
 
 
 
@@ -576,6 +600,7 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/match", &Impl::post_match},
       {"POST", "/api/mirror", &Impl::post_mirror},
       {"POST", "/api/bind-pose", &Impl::post_bind_pose},
+      {"POST", "/api/tween", &Impl::post_tween},
       {"POST", "/api/export", &Impl::post_export},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},

@@ -1,5 +1,5 @@
 // The workspace's animator tools (workspace.h): FK/IK match and bake, mirror,
-// bind pose.
+// bind pose, tween.
 
 #include <algorithm>
 #include <cmath>
@@ -94,6 +94,20 @@ Result<tools::BindPoseReport> Workspace::reset_bind_pose(const std::vector<NodeI
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
   bump_revision();
   return report;
+}
+
+Result<std::vector<tools::PlugKeys>> Workspace::tween(const std::vector<NodeId>& controls,
+                                                      const std::vector<std::string>& attrs, double fraction, bool key) {
+  auto channels = key_channels(controls, attrs);
+  if (!channels) return channels.status();
+  Result<std::size_t> blended = tools::tween(graph(), *channels, fraction, key);
+  if (!blended) return blended.status().field().empty() ? conflict(blended.status()) : blended.status();
+  if (*blended == 0)
+    return Status(ErrorCode::kFailedPrecondition,
+                  "tween: no channel has a key both before and after frame " + frame_text(scene_->frame()))
+        .with_field("controls");
+  bump_revision();
+  return tools::keys_of(graph(), *channels);
 }
 
 }  // namespace rigel::app

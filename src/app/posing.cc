@@ -272,10 +272,11 @@ Result<std::vector<tools::Channel>> Workspace::key_channels(const std::vector<No
 
 Result<std::vector<tools::PlugKeys>> Workspace::set_channel_keys(const std::vector<NodeId>& controls,
                                                                  const std::vector<std::string>& attrs,
-                                                                 const std::optional<double>& value) {
+                                                                 const std::optional<double>& value,
+                                                                 const tools::Tangents& tangents) {
   auto channels = key_channels(controls, attrs);
   if (!channels) return channels.status();
-  if (Status s = tools::set_keys(graph(), *channels, value); !s) return s.field().empty() ? conflict(s) : s;
+  if (Status s = tools::set_keys(graph(), *channels, value, tangents); !s) return s.field().empty() ? conflict(s) : s;
   bump_revision();
   return tools::keys_of(graph(), *channels);
 }

@@ -115,7 +115,8 @@ Result<std::vector<Channel>> channels_of(const graph::Graph& graph, const std::v
   return out;
 }
 
-Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels, const std::optional<double>& value) {
+Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels, const std::optional<double>& value,
+                const Tangents& tangents) {
   if (value && !std::isfinite(*value))
     return Status(ErrorCode::kInvalidArgument, "the value must be a finite number").with_field("value");
   graph::Transaction tx(graph, "set key (" + frame_text(graph) + ")");
@@ -146,6 +147,12 @@ Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels, const
       tx.rollback();
       return s.with_context("set key");
     }
+    if (tangents.any()) {
+      if (Status s = ops::anim::set_key_tangents(graph, c.node, c.attr, graph.time(), tangents.in, tangents.out); !s) {
+        tx.rollback();
+        return Status(s).with_field("tangent");
+      }
+    }
   }
   return Status::ok();
 }
@@ -174,6 +181,10 @@ std::vector<PlugKeys> keys_of(const graph::Graph& graph, const std::vector<Chann
       k.name = graph.plug_name(conn->dst);
       k.times = ops::anim::curve_key_times(graph, conn->src.node);
       k.values = ops::anim::curve_key_values(graph, conn->src.node);
+      const auto [in, tout] = ops::anim::curve_key_tangents(graph, conn->src.node);
+      const auto names = ops::anim::tangent_type_names();
+      for (ops::anim::TangentType t : in) k.in_tangents.emplace_back(names[static_cast<std::size_t>(t)]);
+      for (ops::anim::TangentType t : tout) k.out_tangents.emplace_back(names[static_cast<std::size_t>(t)]);
       out.push_back(std::move(k));
     }
   }

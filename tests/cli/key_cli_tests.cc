@@ -64,6 +64,24 @@ TEST_F(CliKey, the_fk_ik_switch_is_keyed_by_address_with_values_and_deleted) {
   EXPECT_EQ(j["keys"][0]["frames"], Json::array({0.0, 24.0}));
   EXPECT_EQ(j["keys"][0]["values"], Json::array({0.0, 1.0}));
 
+  EXPECT_EQ(j["keys"][0]["outTangents"], Json::array({"auto", "auto"})) << k.out;
+  // A step key: the switch holds until the next key.
+  const CliRun step = rigel({"key", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "0",
+                             "--frame", "12", "--tangent", "step", "-o", out("switch_step.rigel"), "--json"});
+  ASSERT_TRUE(exited_with(step, 0)) << step;
+  const Json sj = Json::parse(step.out);
+  EXPECT_EQ(sj["keys"][0]["outTangents"], Json::array({"auto", "step", "auto"})) << step.out;
+  EXPECT_EQ(sj["keys"][0]["inTangents"], Json::array({"auto", "step", "auto"})) << step.out;
+  const CliRun out_only = rigel({"key", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--frame", "24",
+                                 "--out-tangent", "linear", "-o", out("switch_lin.rigel"), "--json"});
+  ASSERT_TRUE(exited_with(out_only, 0)) << out_only;
+  EXPECT_EQ(Json::parse(out_only.out)["keys"][0]["outTangents"], Json::array({"auto", "linear"})) << out_only.out;
+  const CliRun bad_type = rigel({"key", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--tangent", "curly",
+                                 "-o", out("never_t.rigel")});
+  EXPECT_TRUE(exited_with(bad_type, 2)) << bad_type;
+  EXPECT_TRUE(contains(bad_type.err, "--tangent 'curly'")) << bad_type;
+  EXPECT_FALSE(fs::exists(out("never_t.rigel")));
+
   // Halfway, the switch blends: the evaluated scene says so.
   const CliRun text = rigel({"keys", b, "--control", "hero:arm_L/fkIkSwitch"});
   ASSERT_TRUE(exited_with(text, 0)) << text;
@@ -78,6 +96,29 @@ TEST_F(CliKey, the_fk_ik_switch_is_keyed_by_address_with_values_and_deleted) {
   EXPECT_TRUE(exited_with(again, 1)) << "no key there: " << again;
   EXPECT_TRUE(contains(again.err, "no key at frame 24")) << again;
   EXPECT_FALSE(fs::exists(out("switch_d.rigel")));
+}
+
+TEST_F(CliKey, tween_puts_the_switch_between_its_keys) {
+  const std::string a = out("tw_a.rigel"), b = out("tw_b.rigel"), c = out("tw_c.rigel");
+  ASSERT_TRUE(exited_with(rigel({"key", hero(), "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "0",
+                                 "--frame", "0", "-o", a}),
+                          0));
+  ASSERT_TRUE(exited_with(rigel({"key", a, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "1",
+                                 "--frame", "20", "-o", b}),
+                          0));
+  const CliRun t = rigel({"tween", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--frame", "5",
+                          "--fraction", "0.8", "-o", c, "--json"});
+  ASSERT_TRUE(exited_with(t, 0)) << t;
+  const Json j = Json::parse(t.out);
+  ASSERT_EQ(j["keys"].size(), 1u) << t.out;
+  EXPECT_EQ(j["keys"][0]["frames"], Json::array({0.0, 5.0, 20.0}));
+  EXPECT_NEAR(j["keys"][0]["values"][1].get<double>(), 0.8, 1e-12);
+  const CliRun outside = rigel({"tween", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--frame", "30",
+                                "-o", out("tw_never.rigel")});
+  EXPECT_TRUE(exited_with(outside, 1)) << outside;
+  EXPECT_TRUE(contains(outside.err, "no channel has a key both before and after frame 30")) << outside;
+  EXPECT_FALSE(fs::exists(out("tw_never.rigel")));
+  EXPECT_TRUE(exited_with(rigel({"tween", b, "--control", "hero:arm_L/fkIkSwitch", "--fraction", "x", "-o", c}), 2));
 }
 
 TEST_F(CliKey, bad_input_names_the_thing_and_writes_nothing) {

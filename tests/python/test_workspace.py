@@ -178,6 +178,11 @@ def test_channel_keys_on_a_built_rig(built):
     [k] = w.set_channel_keys([switch], attrs=["fkIk"], value=1.0)
     assert (k.plug.endswith(".fkIk"), k.frames, k.values) == (True, [0.0, 24.0], [0.0, 1.0])
     assert w.channel_keys([switch]) == [k]
+    [k] = w.set_channel_keys([switch], attrs=["fkIk"], value=1.0, out_tangent="step")
+    assert k.out_tangents == ["auto", "step"] and k.in_tangents == ["auto", "auto"]
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.set_channel_keys([switch], attrs=["fkIk"], tangent="curly")
+    assert info.value.field == "tangent"
     [k] = w.delete_channel_keys([switch], attrs=["fkIk"])
     assert k.frames == [0.0]
     with pytest.raises(rigel.NotFoundError):
@@ -217,6 +222,24 @@ def test_match_bakes_a_limbs_fk_to_its_animated_ik(built):
     with pytest.raises(rigel.InvalidArgumentError) as info:
         w.match("arm_rig", "arm_L", "fk", frames=(8, 2))
     assert info.value.field == "frames"
+
+
+def test_tween_sets_a_channel_between_its_keys(built):
+    w, _ = built
+    switch = w.scene.resolve("arm_rig:arm_L/fkIkSwitch")
+    w.set_frame(0)
+    w.set_channel_keys([switch], attrs=["fkIk"], value=0.0)
+    w.set_frame(10)
+    w.set_channel_keys([switch], attrs=["fkIk"], value=1.0)
+    w.set_frame(4)
+    [k] = w.tween([switch], attrs=["fkIk"], fraction=0.25)
+    assert k.frames == [0.0, 4.0, 10.0] and abs(k.values[1] - 0.25) < 1e-12
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.tween([switch], attrs=["fkIk"], fraction=float("nan"))
+    assert info.value.field == "fraction"
+    w.set_frame(20)
+    with pytest.raises(rigel.StateError):
+        w.tween([switch], attrs=["fkIk"])
 
 
 def test_mirror_refuses_a_control_without_a_pair_and_flips_the_centre(built):

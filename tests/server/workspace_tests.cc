@@ -445,6 +445,11 @@ TEST(ServerApi, ChannelKeysOnABuiltRig) {
                              Json{{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"value", 2}}.dump());
   EXPECT_EQ(value.status, 400) << value.body;
   EXPECT_EQ(Json::parse(value.body)["field"], "value") << value.body;
+  Json stepped = s.post("/api/channel-keys", {{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"tangent", "step"}});
+  EXPECT_EQ(stepped["keys"][2]["outTangents"], Json::array({"auto", "step"})) << stepped;
+  Response curly = s.request("POST", "/api/channel-keys", Json{{"controls", {"arm_arm_L_fk0"}}, {"tangent", "curly"}}.dump());
+  EXPECT_EQ(curly.status, 400) << curly.body;
+  EXPECT_EQ(Json::parse(curly.body)["field"], "tangent") << curly.body;
   s.post("/api/time", {{"frame", 6}});
   Response none = s.request("POST", "/api/channel-keys",
                             Json{{"controls", {"arm_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"delete", true}}.dump());
@@ -681,11 +686,12 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/release", {}},
       {"/api/time", {"frame", "time"}},
       {"/api/key", {"controls", "delete"}},
-      {"/api/channel-keys", {"controls", "attrs", "value", "delete"}},
+      {"/api/channel-keys", {"controls", "attrs", "value", "delete", "tangent", "inTangent", "outTangent"}},
       {"/api/match", {"rig", "component", "to", "frames", "key"}},
       {"/api/export", {"path", "frames", "bake", "deformOnly"}},
       {"/api/mirror", {"controls", "all", "flip", "from", "plane", "frames", "key"}},
       {"/api/bind-pose", {"controls", "key"}},
+      {"/api/tween", {"controls", "attrs", "fraction", "key"}},
       {"/api/undo", {}},
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},

@@ -2,6 +2,7 @@
 // its fkIk switch on the bundled character with examples/biped.rig.xml.
 
 #include "rigel/tools/keys.h"
+#include "rigel/tools/tween.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/ops/util/blend.h"
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
@@ -212,6 +214,59 @@ TEST(Keys, bad_channels_and_values_name_the_input) {
   EXPECT_FALSE(g.can_undo()) << "nothing changed";
   auto nothing = channels_of(g, {});
   EXPECT_EQ(nothing.status().field(), "controls");
+}
+
+}  // namespace
+}  // namespace rigel::tools
+
+
+namespace rigel::tools {
+namespace {
+
+// Tween: at 0 and 1 the neighbouring keys, at 0.5 the halfway blend
+// (translate linear, rotation by slerp), beyond 1 an overshoot; channels
+// without keys on both sides are left; bad fractions refused.
+TEST(Tween, blends_between_the_previous_and_the_next_key) {
+  auto s = biped();
+  graph::Graph& g = s->graph();
+  const NodeId fk = g.find("hero_arm_L_fk1");
+  auto key = [&](double frame, const math::Vec3& t, const math::Vec3& r) {
+    g.set_time(frame / g.fps());
+    ASSERT_TRUE(ops::anim::write_channel_key(g, fk, xform::kTranslate, Value(t), g.time(), true).is_ok());
+    ASSERT_TRUE(ops::anim::write_channel_key(g, fk, xform::kRotate, Value(r), g.time(), true).is_ok());
+  };
+  key(0, math::Vec3(0, 0, 0), math::Vec3(0, 0, 0));
+  key(20, math::Vec3(0.2, 0, 0), math::Vec3(0, 90, 0));
+  auto channels = channels_of(g, {fk}, {"translate", "rotate"});
+  ASSERT_TRUE(channels.is_ok());
+  auto at = [&](double f) {
+    g.set_time(10 / g.fps());
+    EXPECT_TRUE(tween(g, *channels, f, true).is_ok());
+    return std::pair{std::get<math::Vec3>(*g.evaluate(Plug{fk, xform::kTranslate, -1})),
+                     std::get<math::Vec3>(*g.evaluate(Plug{fk, xform::kRotate, -1}))};
+  };
+  auto [t0, r0] = at(0.0);
+  EXPECT_LT((t0 - math::Vec3(0, 0, 0)).norm(), 1e-12);
+  EXPECT_LT(r0.norm(), 1e-9);
+  auto [t1, r1] = at(1.0);
+  EXPECT_LT((t1 - math::Vec3(0.2, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((r1 - math::Vec3(0, 90, 0)).norm(), 1e-9);
+  auto [th, rh] = at(0.5);
+  EXPECT_LT((th - math::Vec3(0.1, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((rh - math::Vec3(0, 45, 0)).norm(), 1e-9) << "slerp halfway about the one axis";
+  auto [to, ro] = at(1.5);
+  EXPECT_LT((to - math::Vec3(0.3, 0, 0)).norm(), 1e-12) << "overshoot";
+  EXPECT_LT((ro - math::Vec3(0, 135, 0)).norm(), 1e-9);
+  // One undo step per tween; keyed at frame 10.
+  EXPECT_EQ(g.undo_label(), "tween");
+  for (const PlugKeys& k : keys_of(g, *channels)) EXPECT_EQ(k.times.size(), 3u) << k.name;
+  // Outside the keys: nothing on both sides, nothing blended.
+  g.set_time(30 / g.fps());
+  auto none = tween(g, *channels, 0.5, true);
+  ASSERT_TRUE(none.is_ok());
+  EXPECT_EQ(*none, 0u);
+  EXPECT_EQ(tween(g, *channels, std::nan(""), true).status().field(), "fraction");
+  EXPECT_FALSE(tween(g, *channels, 50, true).is_ok());
 }
 
 }  // namespace

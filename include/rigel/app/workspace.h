@@ -40,6 +40,7 @@
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
 #include "rigel/tools/mirror.h"
+#include "rigel/tools/tween.h"
 
 namespace rigel::app {
 
@@ -293,11 +294,20 @@ class Workspace {
   // scalar channels only: kInvalidArgument naming "value"), or deletes their
   // keys there (kNotFound when none has one); one undo step. The answer:
   // the keys of those channels afterwards.
+  // `tangents`: the keys' tangent types (tools::set_keys; "tangent" names a
+  // channel keyed by a track).
   Result<std::vector<tools::PlugKeys>> set_channel_keys(const std::vector<NodeId>& controls,
                                                         const std::vector<std::string>& attrs,
-                                                        const std::optional<double>& value = std::nullopt);
+                                                        const std::optional<double>& value = std::nullopt,
+                                                        const tools::Tangents& tangents = {});
   Result<std::vector<tools::PlugKeys>> delete_channel_keys(const std::vector<NodeId>& controls,
                                                            const std::vector<std::string>& attrs);
+  // Tween / breakdown (tools::tween) of the channels set_channel_keys would
+  // key, at the current time, by `fraction` (0: the previous key, 1: the
+  // next); keyed when `key`. Errors name "controls", "attrs" or "fraction".
+  // The answer: the blended channels' keys afterwards.
+  Result<std::vector<tools::PlugKeys>> tween(const std::vector<NodeId>& controls, const std::vector<std::string>& attrs,
+                                             double fraction, bool key = true);
   // The keys of the nodes' own channels: those named in `attrs`, or every
   // keyable one (no keying group: what `rigel keys` lists for a control).
   Result<std::vector<tools::PlugKeys>> channel_keys(const std::vector<NodeId>& controls,

@@ -17,6 +17,7 @@
 
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
+#include "rigel/ops/anim/curve.h"
 
 namespace rigel::tools {
 
@@ -53,8 +54,15 @@ Result<std::vector<Channel>> channels_of(const graph::Graph& graph, const std::v
 // `value` (scalar channels only; kInvalidArgument naming "value" otherwise).
 // Fails, changing nothing, on a channel driven by something that is not a
 // curve. One undo step.
+// With `in` / `out`, the keys made get those tangent types (Maya's: auto,
+// spline, linear, flat, step, stepNext, clamped, plateau, fixed): curves
+// only, kInvalidArgument naming "tangent" for a channel keyed by a track.
+struct Tangents {
+  std::optional<ops::anim::TangentType> in, out;
+  bool any() const { return in || out; }
+};
 Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels,
-                const std::optional<double>& value = std::nullopt);
+                const std::optional<double>& value = std::nullopt, const Tangents& tangents = {});
 
 // Removes the keys of `channels` at the graph's time; a curve left without
 // keys is deleted and its channel keeps its current value. kNotFound when
@@ -69,6 +77,8 @@ struct PlugKeys {
   std::string name;  // "hero_arm_L_ik.translateX"
   std::vector<double> times;  // seconds, the active clip's
   std::vector<graph::Value> values;
+  // Per key (scalar curves; empty for tracks): tangent type names.
+  std::vector<std::string> in_tangents, out_tangents;
 };
 // The keyed plugs of `channels`, channel order (free channels have none).
 std::vector<PlugKeys> keys_of(const graph::Graph& graph, const std::vector<Channel>& channels);

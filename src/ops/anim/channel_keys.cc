@@ -548,6 +548,33 @@ std::vector<Value> curve_key_values(const Graph& graph, NodeId curve) {
   return out;
 }
 
+std::pair<std::vector<TangentType>, std::vector<TangentType>> curve_key_tangents(const Graph& graph, NodeId curve) {
+  std::pair<std::vector<TangentType>, std::vector<TangentType>> out;
+  if (curve_kind(graph, curve) != CurveKind::kScalar) return out;
+  const graph::Node& n = *graph.node(curve);
+  const CurveLayout l = layout(CurveKind::kScalar);
+  const KeyRange r = active_range(n, l);
+  const std::size_t count = std::get<std::vector<double>>(n.value(l.times)).size();
+  const auto& in = std::get<std::vector<std::int64_t>>(n.value(curve_attr::kInTangentType));
+  const auto& tout = std::get<std::vector<std::int64_t>>(n.value(curve_attr::kOutTangentType));
+  auto type_at = [&](const std::vector<std::int64_t>& types, std::size_t i) {
+    const std::int64_t v = types.size() == count ? types[i] : kAutoTangent;
+    return static_cast<TangentType>(std::clamp<std::int64_t>(v, 0, kTangentTypeCount - 1));
+  };
+  for (std::size_t i = r.begin; i < r.end && i < count; ++i) {
+    out.first.push_back(type_at(in, i));
+    out.second.push_back(type_at(tout, i));
+  }
+  return out;
+}
+
+std::optional<TangentType> tangent_type_from_name(std::string_view name) {
+  const auto names = tangent_type_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<TangentType>(i);
+  return std::nullopt;
+}
+
 bool curve_has_key_at(const Graph& graph, NodeId curve, double t) {
   const CurveKind kind = curve_kind(graph, curve);
   if (kind == CurveKind::kOther) return false;

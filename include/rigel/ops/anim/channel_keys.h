@@ -16,6 +16,8 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rigel/base/status.h"
@@ -38,6 +40,12 @@ std::vector<double> curve_key_times(const graph::Graph& graph, graph::NodeId cur
 // The values of those keys, in the same order: double (animCurve),
 // math::Vec3 (animCurveVec3) or math::Quat (animCurveQuat).
 std::vector<graph::Value> curve_key_values(const graph::Graph& graph, graph::NodeId curve);
+// The in and out tangent types of those keys (scalar curves; empty for
+// tracks, whose interpolation is the track's).
+std::pair<std::vector<TangentType>, std::vector<TangentType>> curve_key_tangents(const graph::Graph& graph,
+                                                                                  graph::NodeId curve);
+// "auto", "step", ... (tangent_type_names()); nullopt for anything else.
+std::optional<TangentType> tangent_type_from_name(std::string_view name);
 // True when the curve has a key at `t` in its active clip.
 bool curve_has_key_at(const graph::Graph& graph, graph::NodeId curve, double t);
 
