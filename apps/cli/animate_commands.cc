@@ -20,6 +20,17 @@ namespace {
 using Json = nlohmann::ordered_json;
 using rig::components::MatchSide;
 
+// --frames FIRST:LAST into first and last (both left unset when empty);
+// false when the text is not a range.
+bool read_frames(const std::string& text, std::optional<double>& first, std::optional<double>& last) {
+  if (text.empty()) return true;
+  const auto range = parse_frames(text);
+  if (!range) return false;
+  first = range->first;
+  last = range->second;
+  return true;
+}
+
 // ---- match ---------------------------------------------------------------
 
 struct MatchArgs {
@@ -44,12 +55,8 @@ int run_match(const MatchArgs& args) {
   if (args.frame && !std::isfinite(*args.frame)) return usage_error("--frame must be a finite number");
   tools::MatchOptions options;
   options.to = args.to == "fk" ? MatchSide::kFk : MatchSide::kIk;
-  if (!args.frames.empty()) {
-    const auto range = parse_frames(args.frames);
-    if (!range) return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
-    options.first = range->first;
-    options.last = range->second;
-  }
+  if (!read_frames(args.frames, options.first, options.last))
+    return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
@@ -115,12 +122,8 @@ int run_mirror(const MirrorArgs& args) {
   options.from = args.from[0];
   options.plane = args.plane == "yz" ? tools::MirrorPlane::kYZ : args.plane == "xy" ? tools::MirrorPlane::kXY
                                                                                     : tools::MirrorPlane::kXZ;
-  if (!args.frames.empty()) {
-    const auto range = parse_frames(args.frames);
-    if (!range) return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
-    options.first = range->first;
-    options.last = range->second;
-  }
+  if (!read_frames(args.frames, options.first, options.last))
+    return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());

@@ -23,10 +23,7 @@ Json export_scene(app::Workspace& ws, const Json& body) {
   const fs::path path = take(ws.resolve_path(as_string(need(body, "path"), "path"), "path"));
   if (Status s = app::check_export_path(path); !s) refuse(400, "path: " + s.message(), "path");
   io::GltfExportOptions options;
-  if (const Json* f = opt(body, "frames")) {
-    if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
-    options.frames = std::pair{as_number((*f)[0], "frames"), as_number((*f)[1], "frames")};
-  }
+  options.frames = frames_field(body);
   if (const Json* b = opt(body, "bake")) options.bake = as_bool(*b, "bake");
   if (const Json* d = opt(body, "deformOnly")) options.deform_only = as_bool(*d, "deformOnly");
   std::error_code ec;
@@ -49,10 +46,9 @@ Json match(app::Workspace& ws, const Json& body) {
   if (to != "fk" && to != "ik") refuse(400, "to: expected \"fk\" or \"ik\", got \"" + to + "\"", "to");
   tools::MatchOptions options;
   options.to = to == "fk" ? rig::components::MatchSide::kFk : rig::components::MatchSide::kIk;
-  if (const Json* f = opt(body, "frames")) {
-    if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
-    options.first = as_number((*f)[0], "frames");
-    options.last = as_number((*f)[1], "frames");
+  if (const auto f = frames_field(body)) {
+    options.first = f->first;
+    options.last = f->second;
   }
   if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
   const tools::MatchReport r = take(ws.match(rig, component, options));
@@ -64,13 +60,8 @@ Json match(app::Workspace& ws, const Json& body) {
 
 Json mirror(app::Workspace& ws, const Json& body) {
   tools::MirrorOptions options;
-  if (const Json* c = opt(body, "controls")) {
-    if (!c->is_array()) refuse(400, "controls: expected an array of control names, uuids or rig addresses", "controls");
-    for (std::size_t i = 0; i < c->size(); ++i) {
-      const std::string field = "controls[" + std::to_string(i) + "]";
-      options.controls.push_back(take(ws.node(as_string((*c)[i], field), field)));
-    }
-  }
+  auto node = [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); };
+  if (auto c = nodes_field(body, "controls", node)) options.controls = std::move(*c);
   if (const Json* a = opt(body, "all")) options.all = as_bool(*a, "all");
   if (const Json* f = opt(body, "flip")) options.flip = as_bool(*f, "flip");
   if (const Json* f = opt(body, "from")) {
@@ -83,10 +74,9 @@ Json mirror(app::Workspace& ws, const Json& body) {
     if (plane != "yz" && plane != "xy" && plane != "xz") refuse(400, "plane: expected \"yz\", \"xy\" or \"xz\"", "plane");
     options.plane = plane == "yz" ? tools::MirrorPlane::kYZ : plane == "xy" ? tools::MirrorPlane::kXY : tools::MirrorPlane::kXZ;
   }
-  if (const Json* f = opt(body, "frames")) {
-    if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
-    options.first = as_number((*f)[0], "frames");
-    options.last = as_number((*f)[1], "frames");
+  if (const auto f = frames_field(body)) {
+    options.first = f->first;
+    options.last = f->second;
   }
   if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
   if (options.controls.empty() && !options.all) options.controls = ws.selection();
@@ -97,16 +87,8 @@ Json mirror(app::Workspace& ws, const Json& body) {
 }
 
 Json bind_pose(app::Workspace& ws, const Json& body) {
-  std::vector<NodeId> nodes;
-  if (const Json* c = opt(body, "controls")) {
-    if (!c->is_array()) refuse(400, "controls: expected an array of controls, RIG:COMPONENT or RIG:", "controls");
-    for (std::size_t i = 0; i < c->size(); ++i) {
-      const std::string field = "controls[" + std::to_string(i) + "]";
-      nodes.push_back(take(ws.node(as_string((*c)[i], field), field)));
-    }
-  } else {
-    nodes = ws.selection();
-  }
+  auto node = [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); };
+  const std::vector<NodeId> nodes = nodes_field(body, "controls", node).value_or(ws.selection());
   bool key = false;
   if (const Json* k = opt(body, "key")) key = as_bool(*k, "key");
   const tools::BindPoseReport r = take(ws.reset_bind_pose(nodes, key));
@@ -116,16 +98,8 @@ Json bind_pose(app::Workspace& ws, const Json& body) {
 }
 
 Json tween(app::Workspace& ws, const Json& body) {
-  std::vector<NodeId> nodes;
-  if (const Json* c = opt(body, "controls")) {
-    if (!c->is_array()) refuse(400, "controls: expected an array of node uuids, names or rig addresses", "controls");
-    for (std::size_t i = 0; i < c->size(); ++i) {
-      const std::string field = "controls[" + std::to_string(i) + "]";
-      nodes.push_back(take(ws.key_target(as_string((*c)[i], field), field)));
-    }
-  } else {
-    nodes = ws.selection();
-  }
+  auto target = [&](const std::string& ref, const std::string& field) { return ws.key_target(ref, field); };
+  const std::vector<NodeId> nodes = nodes_field(body, "controls", target).value_or(ws.selection());
   std::vector<std::string> attrs;
   if (const Json* a = opt(body, "attrs")) {
     if (!a->is_array()) refuse(400, "attrs: expected an array of attribute names", "attrs");

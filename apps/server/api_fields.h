@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -128,5 +130,28 @@ inline Json problems_json(const std::vector<rig::Diagnostic>& problems) {
   return list;
 }
 
+
+// "frames": [first, last] (nullopt when absent).
+inline std::optional<std::pair<double, double>> frames_field(const Json& body) {
+  const Json* f = opt(body, "frames");
+  if (!f) return std::nullopt;
+  if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
+  return std::pair{as_number((*f)[0], "frames"), as_number((*f)[1], "frames")};
+}
+
+// An array field of node references, each resolved by `resolve(ref,
+// field)` (a Result<NodeId>); nullopt when absent.
+template <typename Resolve>
+std::optional<std::vector<graph::NodeId>> nodes_field(const Json& body, const char* key, Resolve&& resolve) {
+  const Json* c = opt(body, key);
+  if (!c) return std::nullopt;
+  if (!c->is_array()) refuse(400, std::string(key) + ": expected an array of node names, uuids or rig addresses", key);
+  std::vector<graph::NodeId> out;
+  for (std::size_t i = 0; i < c->size(); ++i) {
+    const std::string field = std::string(key) + "[" + std::to_string(i) + "]";
+    out.push_back(take(resolve(as_string((*c)[i], field), field)));
+  }
+  return out;
+}
 
 }  // namespace rigel::server::api

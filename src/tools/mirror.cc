@@ -33,8 +33,9 @@ struct ValueJob {
 };
 
 Mat4 reflection(MirrorPlane plane) {
+  const int axis = plane == MirrorPlane::kYZ ? 0 : plane == MirrorPlane::kXZ ? 1 : 2;  // the axis it negates
   Mat4 m = Mat4::Identity();
-  m(plane == MirrorPlane::kYZ ? 0 : plane == MirrorPlane::kXZ ? 1 : 2, plane == MirrorPlane::kYZ ? 0 : plane == MirrorPlane::kXZ ? 1 : 2) = -1;
+  m(axis, axis) = -1;
   return m;
 }
 

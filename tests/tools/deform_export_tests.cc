@@ -27,6 +27,7 @@
 #include "rigel/scene/transform_types.h"
 #include "rigel/tools/match.h"
 #include "../io/io_test_util.h"
+#include "tools_test_util.h"
 
 namespace rigel::tools {
 namespace {
@@ -39,21 +40,12 @@ using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
 
-std::unique_ptr<scene::Scene> import(const fs::path& path) {
-  io::GltfImportOptions options;
-  options.registry = ephemeral::default_registry();
-  auto imported = io::import_gltf(path, options);
-  EXPECT_TRUE(imported.is_ok()) << path << ": " << imported.status().message();
-  return imported ? std::move(*imported) : nullptr;
-}
 
 // The biped built on the bundled body (the metarig's 159 joints with a
 // 10,037-vertex skinned body), with an animated shot: the left arm's FK,
 // the right leg's IK and the spine keyed over 0..200.
 std::unique_ptr<scene::Scene> shot() {
-  auto s = import(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb");
-  auto added = rig::add_rig(*s, fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml", ephemeral::components());
-  EXPECT_TRUE(added.is_ok()) << added.status().message();
+  auto s = testing::built_rig(testing::source("examples/biped.rig.xml"), testing::source("tests/data/gltf/rigify_human_body.glb"));
   graph::Graph& g = s->graph();
   auto key = [&](const std::string& address, graph::AttrIndex attr, double frame, const Vec3& v) {
     auto id = rig::resolve_address(g, address);
@@ -96,7 +88,7 @@ TEST(DeformExport, a_baked_shot_exports_the_skinned_skeleton_only_and_reimports_
   EXPECT_EQ(report.skin_count, 1u);
   EXPECT_VALID_GLTF(out);
 
-  auto back = import(out);
+  auto back = testing::import_character(out);
   ASSERT_TRUE(back);
   graph::Graph& b = back->graph();
   // Only the skin's joints and the mesh: no control, rig group or helper

@@ -25,6 +25,7 @@
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 #include "../io/io_test_util.h"
+#include "tools_test_util.h"
 
 namespace rigel::tools {
 namespace {
@@ -35,22 +36,10 @@ using graph::Plug;
 using graph::Value;
 namespace xform = scene::xform;
 
-std::unique_ptr<scene::Scene> biped() {
-  io::GltfImportOptions options;
-  options.registry = ephemeral::default_registry();
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb", options);
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  auto added = rig::add_rig(**imported, fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml", ephemeral::components());
-  EXPECT_TRUE(added.is_ok()) << added.status().message();
-  (*imported)->graph().clear_history();
-  return std::move(*imported);
-}
 
-NodeId at(const graph::Graph& g, const std::string& address) {
-  auto id = rig::resolve_address(g, address);
-  EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
-  return id ? *id : NodeId{};
-}
+using testing::at;
+
+std::unique_ptr<scene::Scene> biped() { return testing::built_rig(); }
 
 std::vector<std::string> names(const graph::Node& n, const std::vector<graph::AttrIndex>& attrs) {
   std::vector<std::string> out;

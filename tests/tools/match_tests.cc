@@ -6,6 +6,8 @@
 
 #include "rigel/tools/match.h"
 
+#include "tools_test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,30 +47,13 @@ namespace anim = ops::anim;
 
 constexpr double kTol = 1e-6;  // relative, as the issue asks
 
-// The biped on the metarig. `unit_scales`: the joints' scales set to
-// exactly 1 first (the file's are single precision, 1 +- 3e-6).
-std::unique_ptr<scene::Scene> biped(bool unit_scales = false) {
-  io::GltfImportOptions options;
-  options.registry = ephemeral::default_registry();
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb", options);
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  if (unit_scales) {
-    for (NodeId id : (*imported)->hierarchy()) {
-      if ((*imported)->graph().node(id)->type().name() == scene::kJointType) {
-        EXPECT_TRUE((*imported)->graph().set_value(Plug{id, xform::kScale, -1}, Value(Vec3(Vec3::Ones()))).is_ok());
-      }
-    }
-  }
-  auto added = rig::add_rig(**imported, fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml", ephemeral::components());
-  EXPECT_TRUE(added.is_ok()) << added.status().message();
-  (*imported)->graph().clear_history();
-  return std::move(*imported);
-}
 
-NodeId at(const graph::Graph& g, const std::string& address) {
-  auto id = rig::resolve_address(g, address);
-  EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
-  return id ? *id : NodeId{};
+using testing::at;
+
+// The biped on the metarig; `unit_scales`: its joints' scales exactly 1.
+std::unique_ptr<scene::Scene> biped(bool unit_scales = false) {
+  return testing::built_rig(testing::source("examples/biped.rig.xml"),
+                            testing::source("tests/data/gltf/rigify_human_metarig.glb"), unit_scales);
 }
 
 NodeId component(const graph::Graph& g, const std::string& name) {

@@ -30,6 +30,7 @@
 #include "rigel/scene/transform_types.h"
 #include "rigel/tools/bind_pose.h"
 #include "../io/io_test_util.h"
+#include "tools_test_util.h"
 
 namespace rigel::tools {
 namespace {
@@ -42,21 +43,11 @@ using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
 
-std::unique_ptr<scene::Scene> built(const fs::path& definition = fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml") {
-  io::GltfImportOptions options;
-  options.registry = ephemeral::default_registry();
-  auto imported = io::import_gltf(fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb", options);
-  EXPECT_TRUE(imported.is_ok()) << imported.status().message();
-  auto added = rig::add_rig(**imported, definition, ephemeral::components());
-  EXPECT_TRUE(added.is_ok()) << added.status().message();
-  (*imported)->graph().clear_history();
-  return std::move(*imported);
-}
 
-NodeId at(const graph::Graph& g, const std::string& address) {
-  auto id = rig::resolve_address(g, address);
-  EXPECT_TRUE(id.is_ok()) << address << ": " << id.status().message();
-  return id ? *id : NodeId{};
+using testing::at;
+
+std::unique_ptr<scene::Scene> built(const fs::path& definition = testing::source("examples/biped.rig.xml")) {
+  return testing::built_rig(definition);
 }
 
 const std::vector<std::string> kLeft = {"hero:arm_L/fk[0]", "hero:arm_L/fk[1]", "hero:arm_L/fk[2]", "hero:arm_L/ik",
