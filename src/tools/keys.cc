@@ -9,6 +9,7 @@
 #include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/ops/anim/channel_keys.h"
+#include "rigel/ops/anim/key_copy.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 
@@ -31,11 +32,12 @@ bool is_transform(const graph::Node& n) {
 bool is_scalar(const graph::AttrSpec& a) { return a.type.value == ValueType::kDouble && !a.type.array; }
 
 
-std::string frame_text(const graph::Graph& g) {
+std::string frame_text(const graph::Graph& g, double t) {
   char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "frame %g", g.time() * g.fps());
+  std::snprintf(buffer, sizeof buffer, "frame %g", t * g.fps());
   return buffer;
 }
+std::string frame_text(const graph::Graph& g) { return frame_text(g, g.time()); }
 
 }  // namespace
 
@@ -161,6 +163,85 @@ Status delete_keys(graph::Graph& graph, const std::vector<Channel>& channels) {
   std::vector<std::pair<NodeId, AttrIndex>> list;
   for (const Channel& c : channels) list.emplace_back(c.node, c.attr);
   return ephemeral::delete_channel_keys(graph, list);
+}
+
+Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& channels, double from, double to) {
+  if (!std::isfinite(from) || !std::isfinite(to))
+    return Status(ErrorCode::kInvalidArgument, "move keys: the times must be finite").with_field("moveTo");
+  const double tolerance = ephemeral::key_time_tolerance(graph);
+  graph::Transaction tx(graph, "move keys (" + frame_text(graph, from) + " to " + frame_text(graph, to) + ")");
+  std::size_t moved = 0;
+  bool any = false;
+  for (const Channel& c : channels) {
+    const graph::Node* n = graph.node(c.node);
+    if (!n) {
+      tx.rollback();
+      return Status(ErrorCode::kNotFound, "move keys: no such node (stale handle)").with_field("controls");
+    }
+    std::vector<graph::Connection> curves;
+    for (const graph::Connection& conn : n->inputs())
+      if (conn.dst.attr == c.attr && ops::anim::curve_kind(graph, conn.src.node) != CurveKind::kOther) curves.push_back(conn);
+    for (const graph::Connection& conn : curves) {
+      // The key nearest `from` within the tolerance.
+      std::optional<double> at;
+      for (double t : ops::anim::curve_key_times(graph, conn.src.node))
+        if (std::abs(t - from) <= tolerance && (!at || std::abs(t - from) < std::abs(*at - from))) at = t;
+      if (!at) continue;
+      any = true;
+      if (std::abs(*at - to) <= ops::anim::kKeyTimeTolerance) continue;  // already there
+      const ops::anim::KeyCopy copy{*at, *at, to - *at, tolerance};
+      Status s = ops::anim::copy_curve_keys(graph, conn.src.node, copy, conn.dst);
+      bool removed = false;
+      // (The curve keeps at least the moved key, so it is not deleted.)
+      if (s) s = ops::anim::delete_curve_key(graph, conn.src.node, *at, conn.dst, graph::Value(0.0), removed);
+      if (!s) {
+        tx.rollback();
+        return s.with_context("move keys");
+      }
+      ++moved;
+    }
+  }
+  if (!any) {
+    tx.rollback();
+    return Status(ErrorCode::kNotFound, "move keys: no channel given has a key at " + frame_text(graph, from))
+        .with_field("controls");
+  }
+  return moved;
+}
+
+Status set_values(graph::Graph& graph, const std::vector<Channel>& channels, const std::vector<double>& values,
+                  bool auto_key) {
+  auto bad = [](const std::string& message) {
+    return Status(ErrorCode::kInvalidArgument, "set value: " + message).with_field("value");
+  };
+  if (values.size() != 1 && values.size() != channels.size())
+    return bad("give one value, or one per channel (" + std::to_string(channels.size()) + "); got " +
+               std::to_string(values.size()));
+  for (double v : values)
+    if (!std::isfinite(v)) return bad("the value must be a finite number");
+  graph::Transaction tx(graph, "set value (" + frame_text(graph) + ")");
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    const Channel& c = channels[i];
+    const graph::Node* n = graph.node(c.node);
+    if (!n) {
+      tx.rollback();
+      return Status(ErrorCode::kNotFound, "set value: no such node (stale handle)").with_field("controls");
+    }
+    if (!is_scalar(n->type().attr(c.attr))) {
+      tx.rollback();
+      return bad(graph.plug_name(Plug{c.node, c.attr, -1}) +
+                 " is not a scalar channel (a value sets switches such as fkIk, a foot's roll, a finger's curl)");
+    }
+    bool keyed = false;
+    for (const graph::Connection& conn : n->inputs())
+      if (conn.dst.attr == c.attr) keyed = keyed || ops::anim::curve_kind(graph, conn.src.node) == CurveKind::kScalar;
+    const double v = values.size() == 1 ? values[0] : values[i];
+    if (Status s = ephemeral::write_channel(graph, c.node, c.attr, Value(v), keyed || auto_key); !s) {
+      tx.rollback();
+      return s.with_context("set value");
+    }
+  }
+  return Status::ok();
 }
 
 std::vector<PlugKeys> keys_of(const graph::Graph& graph, const std::vector<Channel>& channels) {

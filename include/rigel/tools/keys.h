@@ -11,6 +11,7 @@
 // layer's kKeyFrameTolerance of that time is the key at that time (a key a
 // hair off a frame is that frame's key). Each edit is one undo step.
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +69,26 @@ Status set_keys(graph::Graph& graph, const std::vector<Channel>& channels,
 // keys is deleted and its channel keeps its current value. kNotFound when
 // none of them has a key there. One undo step.
 Status delete_keys(graph::Graph& graph, const std::vector<Channel>& channels);
+
+// Moves the keys of `channels` at time `from` (seconds; a key within the
+// ephemeral layer's kKeyFrameTolerance of it is its key) to `to`, each
+// keeping its value and tangents (ops::anim::copy_curve_keys); a key
+// already at `to` (within that tolerance) is replaced. Every curve of a
+// channel moves its key (each component of a double3). kInvalidArgument
+// naming "moveTo" for a time that is not finite; kNotFound when none of
+// the channels has a key at `from`. One undo step; returns the number of
+// keys moved (0 when `to` is `from`'s key time).
+Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& channels, double from, double to);
+
+// Sets scalar channels to values at the graph's time: a keyed channel gets
+// a key there with its value (a curve drives it, so a set alone would not
+// hold), a free one is set, and keyed too when `auto_key`. `values`: one
+// for every channel, or one per channel. kInvalidArgument naming "value"
+// for a value that is not finite, a count that fits neither, or a channel
+// that is not scalar; fails as set_keys on a channel driven otherwise. One
+// undo step.
+Status set_values(graph::Graph& graph, const std::vector<Channel>& channels, const std::vector<double>& values,
+                  bool auto_key);
 
 // The keys of one keyed plug: a scalar channel or one component of a
 // double3 channel keyed by its own curve (values double), a double3 keyed

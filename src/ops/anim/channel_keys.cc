@@ -12,6 +12,7 @@
 #include "rigel/math/types.h"
 #include "rigel/ops/anim/nodes.h"
 #include "rigel/scene/transform_types.h"
+#include "curve_layout.h"
 
 namespace rigel::ops::anim {
 namespace {
@@ -24,6 +25,10 @@ using graph::Value;
 using math::Quat;
 using math::Vec3;
 namespace xform = scene::xform;
+using internal::active_range;
+using internal::CurveLayout;
+using internal::KeyRange;
+using internal::layout;
 
 // curve_attr tangent type "auto" (fixed linear flat step stepNext spline clamped plateau auto).
 constexpr std::int64_t kAutoTangent = 8;
@@ -41,45 +46,6 @@ std::optional<Plug> source_of(const graph::Node& node, const Plug& dst) {
 }
 
 
-
-// The arrays of a curve node that hold one entry per key, and its clips.
-struct CurveLayout {
-  AttrIndex times, values;
-  std::vector<AttrIndex> per_key;  // besides times and values (empty or one per key)
-  AttrIndex offsets, clip;
-};
-CurveLayout layout(CurveKind kind) {
-  if (kind == CurveKind::kScalar)
-    return {curve_attr::kKeyTimes,
-            curve_attr::kKeyValues,
-            {curve_attr::kInTangentType, curve_attr::kOutTangentType, curve_attr::kInSlope, curve_attr::kOutSlope,
-             curve_attr::kInWeight, curve_attr::kOutWeight},
-            anim_curve_attr::kClipOffsets,
-            anim_curve_attr::kClip};
-  return {track_attr::kKeyTimes,
-          track_attr::kKeyValues,
-          {track_attr::kInTangents, track_attr::kOutTangents},
-          track_attr::kClipOffsets,
-          track_attr::kClip};
-}
-
-// Keys [begin, end) of the active clip (all keys when the curve has no clips).
-struct KeyRange {
-  std::size_t begin = 0, end = 0;
-  int clip = -1;  // -1: no clips
-};
-KeyRange active_range(const graph::Node& curve, const CurveLayout& l) {
-  const auto& times = std::get<std::vector<double>>(curve.value(l.times));
-  const auto& offsets = std::get<std::vector<std::int64_t>>(curve.value(l.offsets));
-  KeyRange r{0, times.size(), -1};
-  if (offsets.size() < 2) return r;
-  const std::int64_t c = std::get<std::int64_t>(curve.value(l.clip));
-  if (c < 0 || c + 1 >= static_cast<std::int64_t>(offsets.size())) return KeyRange{0, 0, -2};  // rest value
-  r.begin = static_cast<std::size_t>(std::clamp<std::int64_t>(offsets[c], 0, static_cast<std::int64_t>(times.size())));
-  r.end = static_cast<std::size_t>(std::clamp<std::int64_t>(offsets[c + 1], 0, static_cast<std::int64_t>(times.size())));
-  r.clip = static_cast<int>(c);
-  return r;
-}
 
 // Whether a key at `key` is the key at `t`.
 bool same_time(double key, double t) { return std::abs(key - t) <= kKeyTimeTolerance; }
