@@ -86,7 +86,7 @@ struct KeyArgs {
   std::string scene;
   std::vector<std::string> controls;
   std::vector<std::string> attrs;
-  std::optional<double> frame, time, value;
+  std::optional<double> frame, time, value, move_to;
   std::string tangent, in_tangent, out_tangent;
   bool remove = false;
   std::string output;
@@ -98,6 +98,9 @@ int run_key(const KeyArgs& args) {
     return usage_error(std::string(args.frame ? "--frame" : "--time") + " must be a finite number");
   if (args.value && !std::isfinite(*args.value)) return usage_error("--value must be a finite number");
   if (args.value && args.remove) return usage_error("--value sets a key; --delete removes one: give one of them");
+  if (args.move_to && (args.remove || args.value))
+    return usage_error("--move-to moves the keys at --frame; it takes no --value or --delete");
+  if (args.move_to && !std::isfinite(*args.move_to)) return usage_error("--move-to must be a finite number");
   tools::Tangents tangents;
   for (auto [text, option, both, in] :
        {std::tuple{&args.tangent, "--tangent", true, false}, {&args.in_tangent, "--in-tangent", false, true},
@@ -129,11 +132,18 @@ int run_key(const KeyArgs& args) {
   }
   auto channels = ws.key_channels(nodes, args.attrs);
   if (!channels) return fail(channels.status().with_context(args.scene + ": --" + (channels.status().field() == "attrs" ? "attr" : "control")));
-  auto keys = args.remove ? ws.delete_channel_keys(nodes, args.attrs)
-                          : ws.set_channel_keys(nodes, args.attrs, args.value, tangents);
+  if (tangents.any() && args.move_to) return usage_error("--move-to keeps the keys' tangents; it takes no --tangent");
+  auto keys = args.move_to  ? ws.move_channel_keys(nodes, args.attrs, *args.move_to)
+              : args.remove ? ws.delete_channel_keys(nodes, args.attrs)
+                            : ws.set_channel_keys(nodes, args.attrs, args.value, tangents);
   if (!keys) {
     const Status& s = keys.status();
-    return fail(s.with_context(args.scene + (s.field() == "value" ? ": --value" : s.field() == "tangent" ? ": --tangent" : "")));
+    const std::string option = s.field() == "value"     ? ": --value"
+                               : s.field() == "tangent" ? ": --tangent"
+                               : s.field() == "moveTo"  ? ": --move-to"
+                               : s.field() == "controls" ? ": --control"
+                                                         : "";
+    return fail(s.with_context(args.scene + option));
   }
   if (auto saved = ws.save(args.output); !saved) return fail(saved.status());
   const double fps = ws.graph().fps();
@@ -141,14 +151,15 @@ int run_key(const KeyArgs& args) {
   if (args.json) {
     Json names = Json::array();
     for (const tools::Channel& c : *channels) names.push_back(ws.graph().plug_name(graph::Plug{c.node, c.attr, -1}));
-    std::cout << Json{{"frame", frame}, {"deleted", args.remove}, {"channels", names}, {"keys", keys_json(*keys, fps)},
-                      {"output", args.output}}
-                     .dump()
-              << "\n";
+    Json out{{"frame", frame}, {"deleted", args.remove}, {"channels", names}, {"keys", keys_json(*keys, fps)},
+             {"output", args.output}};
+    if (args.move_to) out["movedTo"] = *args.move_to;
+    std::cout << out.dump() << "\n";
   }
-  std::cerr << "rigel: " << (args.remove ? "deleted the keys of " : "keyed ") << channels->size()
-            << (channels->size() == 1 ? " channel" : " channels") << " at frame " << number_text(frame) << "; wrote "
-            << args.output << "\n";
+  std::cerr << "rigel: " << (args.move_to ? "moved the keys of " : args.remove ? "deleted the keys of " : "keyed ")
+            << channels->size() << (channels->size() == 1 ? " channel" : " channels") << " at frame " << number_text(frame);
+  if (args.move_to) std::cerr << " to frame " << number_text(*args.move_to);
+  std::cerr << "; wrote " << args.output << "\n";
   return 0;
 }
 
@@ -227,6 +238,55 @@ int run_tween(const TweenArgs& args) {
   return 0;
 }
 
+// ---- set -----------------------------------------------------------------
+
+struct SetArgs {
+  std::string scene;
+  std::vector<std::string> controls, attrs;
+  std::vector<double> values;
+  std::optional<double> frame;
+  bool auto_key = false;
+  std::string output;
+  bool json = false;
+};
+
+int run_set(const SetArgs& args) {
+  if (args.frame && !std::isfinite(*args.frame)) return usage_error("--frame must be a finite number");
+  for (double v : args.values)
+    if (!std::isfinite(v)) return usage_error("--value must be finite numbers");
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  auto resolved = key_nodes(ws, args.scene, args.controls);
+  if (!resolved) return fail(resolved.status());
+  if (args.frame) {
+    if (Status s = ws.set_frame(*args.frame); !s) return usage_error("--" + s.message());
+  }
+  if (args.auto_key) {
+    ephemeral::SessionOptions options = ws.session().options();
+    options.auto_key = true;
+    if (Status s = ws.set_options(options); !s) return fail(s);
+  }
+  auto set = ws.set_channel_values(*resolved, args.attrs, args.values);
+  if (!set) {
+    const Status& s = set.status();
+    const std::string option = s.field() == "attrs" ? "--attr" : s.field() == "value" ? "--value" : "--control";
+    return fail(s.with_context(args.scene + ": " + option));
+  }
+  if (auto saved = ws.save(args.output); !saved) return fail(saved.status());
+  const double fps = ws.graph().fps();
+  const double frame = app::key_frame(ws.graph().time(), fps);
+  if (args.json) {
+    Json names = Json::array();
+    for (const tools::Channel& c : set->channels) names.push_back(ws.graph().plug_name(graph::Plug{c.node, c.attr, -1}));
+    std::cout << Json{{"frame", frame}, {"channels", names}, {"keys", keys_json(set->keys, fps)}, {"output", args.output}}.dump()
+              << "\n";
+  }
+  std::cerr << "rigel: set " << set->channels.size() << (set->channels.size() == 1 ? " channel" : " channels")
+            << " at frame " << number_text(frame) << "; wrote " << args.output << "\n";
+  return 0;
+}
+
 }  // namespace
 
 struct KeyCommands::State {
@@ -236,6 +296,8 @@ struct KeyCommands::State {
   KeysArgs keys;
   CLI::App* tween_cmd = nullptr;
   TweenArgs tween;
+  CLI::App* set_cmd = nullptr;
+  SetArgs set;
 };
 
 KeyCommands::KeyCommands() : state_(std::make_unique<State>()) {}
@@ -250,7 +312,8 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
       "Examples:\n  rigel key hero.rigel --control hero_arm_L_fk1 --frame 10 -o keyed.rigel\n"
       "  rigel key keyed.rigel --control hero_arm_L_fkIkSwitch --attr fkIk --value 1 --frame 24 -o keyed.rigel\n"
       "  rigel key keyed.rigel --control hero_arm_L_fk1 --attr rotate --frame 10 --delete -o keyed.rigel\n"
-      "  rigel key keyed.rigel --control hero:arm_L/fkIkSwitch --attr fkIk --value 0 --frame 30 --tangent step -o keyed.rigel");
+      "  rigel key keyed.rigel --control hero:arm_L/fkIkSwitch --attr fkIk --value 0 --frame 30 --tangent step -o keyed.rigel\n"
+      "  rigel key keyed.rigel --control hero_arm_L_fk1 --frame 10 --move-to 14 -o keyed.rigel");
   s.key_cmd->add_option("SCENE", s.key.scene, "Scene file (.rigel)")->required();
   s.key_cmd->add_option("--control", s.key.controls, "Controls or other nodes (a switch) to key")->delimiter(',')->required();
   s.key_cmd->add_option("--attr", s.key.attrs, "Only these channels (translate, rotate, fkIk, ...)")->delimiter(',');
@@ -264,6 +327,8 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
   s.key_cmd->add_option("--in-tangent", s.key.in_tangent, "In-tangent type of the keys made");
   s.key_cmd->add_option("--out-tangent", s.key.out_tangent, "Out-tangent type of the keys made");
   s.key_cmd->add_flag("--delete", s.key.remove, "Delete the keys at that time instead");
+  s.key_cmd->add_option("--move-to", s.key.move_to,
+                        "Move the keys at that time to this frame, keeping values and tangents (a key there is replaced)");
   s.key_cmd->add_option("-o,--output", s.key.output, "Scene file to write (.rigel)")->required();
   s.key_cmd->add_flag("--json", s.key.json, "Print a JSON report on stdout");
 
@@ -289,6 +354,21 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
   s.tween_cmd->add_flag("--no-key", s.tween.no_key, "Do not add keys: only keys at the frame take the blend");
   s.tween_cmd->add_option("-o,--output", s.tween.output, "Scene file to write (.rigel)")->required();
   s.tween_cmd->add_flag("--json", s.tween.json, "Print a JSON report on stdout");
+
+  s.set_cmd = app.add_subcommand("set", "Set scalar channels (a switch's fkIk, a foot's roll, a finger's curl) of any rig");
+  s.set_cmd->footer(
+      "A keyed channel gets a key at the frame with the value (its curve drives it); a free one is set, and keyed "
+      "too with --auto-key. A built rig's control stands for its component's node with that channel.\n"
+      "Examples:\n  rigel set shot.rigel --control hero_arm_L_ik --attr fkIk --value 1 --frame 12 -o shot.rigel\n"
+      "  rigel set shot.rigel --control hero:foot_L/foot --attr roll,bank --value 20,0 --auto-key -o shot.rigel");
+  s.set_cmd->add_option("SCENE", s.set.scene, "Scene file (.rigel)")->required();
+  s.set_cmd->add_option("--control", s.set.controls, "Controls or other nodes (a switch)")->delimiter(',')->required();
+  s.set_cmd->add_option("--attr", s.set.attrs, "The channels (fkIk, roll, curl, ...)")->delimiter(',');
+  s.set_cmd->add_option("--value", s.set.values, "One value, or one per channel")->delimiter(',')->required();
+  s.set_cmd->add_option("--frame", s.set.frame, "The frame (default: the scene's current frame)");
+  s.set_cmd->add_flag("--auto-key", s.set.auto_key, "Key free channels too");
+  s.set_cmd->add_option("-o,--output", s.set.output, "Scene file to write (.rigel)")->required();
+  s.set_cmd->add_flag("--json", s.set.json, "Print a JSON report on stdout");
 }
 
 std::optional<int> run_key_commands(const KeyCommands& commands) {
@@ -296,6 +376,7 @@ std::optional<int> run_key_commands(const KeyCommands& commands) {
   if (*s.key_cmd) return run_key(s.key);
   if (*s.keys_cmd) return run_keys(s.keys);
   if (*s.tween_cmd) return run_tween(s.tween);
+  if (*s.set_cmd) return run_set(s.set);
   return std::nullopt;
 }
 

@@ -20,6 +20,7 @@
 #include "rig_commands.h"
 #include "scene_commands.h"
 #include "serve_command.h"
+#include "transfer_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"rigel: a character-rigging engine that needs no host application"};
@@ -29,12 +30,15 @@ int main(int argc, char** argv) {
   // `inspect`, `eval`, `import`, `export`, `bake`: scene files.
   rigel::cli::SceneCommands scene;
   rigel::cli::add_scene_commands(app, scene);
-  // `key`, `keys`, `tween`: keys on any rig's channels.
+  // `key`, `keys`, `tween`, `set`: keys and values on any rig's channels.
   rigel::cli::KeyCommands keys;
   rigel::cli::add_key_commands(app, keys);
   // `match`, `mirror`, `bind-pose`: the animator tools.
   rigel::cli::AnimateCommands animate;
   rigel::cli::add_animate_commands(app, animate);
+  // `transfer`: keys from one component or character onto another.
+  rigel::cli::TransferArgs transfer;
+  rigel::cli::add_transfer_command(app, transfer);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -84,6 +88,7 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = rigel::cli::run_scene_commands(scene)) return *code;
     if (const std::optional<int> code = rigel::cli::run_key_commands(keys)) return *code;
     if (const std::optional<int> code = rigel::cli::run_animate_commands(animate)) return *code;
+    if (*transfer.command) return rigel::cli::run_transfer(transfer);
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;

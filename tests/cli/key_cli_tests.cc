@@ -143,5 +143,58 @@ TEST_F(CliKey, bad_input_names_the_thing_and_writes_nothing) {
   EXPECT_TRUE(exited_with(keys, 1)) << keys;
 }
 
+TEST_F(CliKey, move_to_moves_keys_with_their_values_and_tangents) {
+  const std::string a = out("move_a.rigel"), b = out("move_b.rigel"), c = out("move_c.rigel");
+  ASSERT_TRUE(exited_with(rigel({"key", hero(), "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "1",
+                                 "--frame", "10", "--tangent", "step", "-o", a}),
+                          0));
+  ASSERT_TRUE(exited_with(rigel({"key", a, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "0.5",
+                                 "--frame", "14", "-o", b}),
+                          0));
+  const CliRun m = rigel({"key", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--frame", "10", "--move-to",
+                          "14", "-o", c, "--json"});
+  ASSERT_TRUE(exited_with(m, 0)) << m;
+  const Json k = Json::parse(m.out)["keys"][0];
+  EXPECT_EQ(k["frames"], Json::array({14.0})) << "the key at 14 was replaced by the moved one: " << m.out;
+  EXPECT_EQ(k["values"], Json::array({1.0}));
+  EXPECT_EQ(k["outTangents"], Json::array({"step"}));
+  const CliRun none = rigel({"key", c, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--frame", "3",
+                             "--move-to", "5", "-o", out("never_m.rigel")});
+  EXPECT_TRUE(exited_with(none, 1)) << none;
+  EXPECT_TRUE(contains(none.err, "no channel given has a key at frame 3")) << none;
+  EXPECT_FALSE(fs::exists(out("never_m.rigel")));
+  EXPECT_EQ(rigel({"key", c, "--control", "hero_arm_L_fk1", "--frame", "3", "--move-to", "5", "--delete", "-o",
+                   out("never_m.rigel")})
+                .exit_code,
+            2);
+}
+
+TEST_F(CliKey, set_sets_a_limbs_switch_through_its_control_and_keys_a_keyed_one) {
+  const std::string a = out("set_a.rigel"), b = out("set_b.rigel"), c = out("set_c.rigel");
+  const CliRun set = rigel({"set", hero(), "--control", "hero_arm_L_ik", "--attr", "fkIk", "--value", "1", "--frame",
+                            "6", "-o", a, "--json"});
+  ASSERT_TRUE(exited_with(set, 0)) << set;
+  const Json j = Json::parse(set.out);
+  ASSERT_EQ(j["channels"].size(), 1u) << set.out;
+  EXPECT_NE(j["channels"][0].get<std::string>().find("fkIk"), std::string::npos) << "the limb's switch: " << set.out;
+  EXPECT_TRUE(j["keys"].empty()) << "free and no --auto-key: set only";
+  const CliRun keyed = rigel({"set", a, "--control", "hero_arm_L_ik", "--attr", "fkIk", "--value", "0", "--frame", "2",
+                              "--auto-key", "-o", b, "--json"});
+  ASSERT_TRUE(exited_with(keyed, 0)) << keyed;
+  EXPECT_EQ(Json::parse(keyed.out)["keys"][0]["frames"], Json::array({2.0}));
+  // Keyed now: a value at another frame is a key there, even without --auto-key.
+  const CliRun again = rigel({"set", b, "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "1",
+                              "--frame", "8", "-o", c, "--json"});
+  ASSERT_TRUE(exited_with(again, 0)) << again;
+  const Json k = Json::parse(again.out)["keys"][0];
+  EXPECT_EQ(k["frames"], Json::array({2.0, 8.0}));
+  EXPECT_EQ(k["values"], Json::array({0.0, 1.0}));
+  const CliRun bad = rigel({"set", c, "--control", "hero_arm_L_fk1", "--attr", "rotate", "--value", "1", "-o",
+                            out("never_s.rigel")});
+  EXPECT_TRUE(exited_with(bad, 1)) << bad;
+  EXPECT_TRUE(contains(bad.err, "--attr")) << bad;
+  EXPECT_FALSE(fs::exists(out("never_s.rigel")));
+}
+
 }  // namespace
 }  // namespace rigel::cli::testing

@@ -39,6 +39,7 @@
 #include "rigel/tools/bind_pose.h"
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
+#include "rigel/tools/transfer.h"
 #include "rigel/tools/mirror.h"
 #include "rigel/tools/tween.h"
 
@@ -334,6 +335,34 @@ class Workspace {
   // bind pose at the current time (tools::reset_bind_pose), keyed when
   // `key`. Errors name "controls". One undo step.
   Result<tools::BindPoseReport> reset_bind_pose(const std::vector<NodeId>& nodes, bool key);
+
+  // ---- transfer, move keys, channel values (src/app/transfer.cc) -------------
+  // Transfer keys (tools::transfer_keys): `from` and `to` are "RIG:COMPONENT"
+  // (component name or rigId) or "RIG:" (a whole character); `frames` the
+  // source range (none: every key), `offset` in frames. Errors name "from"
+  // or "to" (kNotFound for an unknown rig or component; kInvalidArgument for
+  // other types, no match), "frames" or "offset". One undo step.
+  Result<tools::TransferReport> transfer_keys(const std::string& from, const std::string& to,
+                                              const std::optional<std::array<double, 2>>& frames, double offset = 0.0);
+  // Moves the keys at the current time of the channels set_channel_keys
+  // would key to frame `to_frame` (tools::move_keys; |to_frame| <= kMaxFrame,
+  // else kInvalidArgument naming "moveTo"). The answer: the channels' keys.
+  Result<std::vector<tools::PlugKeys>> move_channel_keys(const std::vector<NodeId>& controls,
+                                                         const std::vector<std::string>& attrs, double to_frame);
+  // Sets scalar channels (`attrs` of the nodes; without, every scalar
+  // keyable channel of theirs) at the current time (tools::set_values): a
+  // keyed channel gets a key with the value, a free one is set (and keyed
+  // when the session's auto_key is on). A built rig's control stands for
+  // its component's node with that channel (`--control hero_arm_L_ik
+  // --attr fkIk` sets the limb's switch). `values`: one, or one per
+  // channel. Errors name "controls", "attrs" or "value". The answer: the
+  // channels set and their keys afterwards.
+  struct ChannelValues {
+    std::vector<tools::Channel> channels;
+    std::vector<tools::PlugKeys> keys;
+  };
+  Result<ChannelValues> set_channel_values(const std::vector<NodeId>& controls, const std::vector<std::string>& attrs,
+                                           const std::vector<double>& values);
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;

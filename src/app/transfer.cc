@@ -1,0 +1,136 @@
+// The workspace's transfer keys, move keys and channel values (workspace.h).
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "internal.h"
+#include "rigel/app/workspace.h"
+#include "rigel/ephemeral/rig.h"
+#include "rigel/rig/meta.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::app {
+namespace {
+
+using internal::conflict;
+
+// "RIG:COMPONENT" or "RIG:" as its meta node (errors name `field`).
+Result<NodeId> meta_of(const graph::Graph& g, const std::string& ref, const std::string& field) {
+  const std::size_t colon = ref.find(':');
+  if (colon == std::string::npos)
+    return Status(ErrorCode::kInvalidArgument, field + ": expected RIG:COMPONENT or RIG:, got '" + ref + "'")
+        .with_field(field);
+  const std::string rig_name = ref.substr(0, colon), component = ref.substr(colon + 1);
+  const NodeId rig = rig::find_rig(g, rig_name);
+  if (!rig.is_valid())
+    return Status(ErrorCode::kNotFound, field + ": no built rig '" + rig_name + "' in the scene").with_field(field);
+  if (component.empty()) return rig;
+  const NodeId meta = rig::find_component(g, rig, component);
+  if (!meta.is_valid())
+    return Status(ErrorCode::kNotFound, field + ": rig '" + rig_name + "' has no component '" + component + "'")
+        .with_field(field);
+  return meta;
+}
+
+bool is_built_control(const graph::Graph& g, NodeId id) {
+  return g.node(id)->type().name() == scene::kControlType && rig::component_of(g, id).is_valid() &&
+         !ephemeral::control_of(g, id).is_valid();
+}
+
+// The node that holds keyable channel `attr` for `node`: itself, or for a
+// built rig's control without it, the one node of its component that has it.
+NodeId holder_of(const graph::Graph& g, NodeId node, const std::string& attr) {
+  auto has = [&](NodeId id) {
+    const graph::Node& n = *g.node(id);
+    const graph::AttrIndex a = n.type().attr_find(attr);
+    const std::vector<graph::AttrIndex> keyable = tools::keyable_attrs(n);
+    return a != graph::kNoAttr && std::find(keyable.begin(), keyable.end(), a) != keyable.end();
+  };
+  if (has(node) || !is_built_control(g, node)) return node;
+  for (NodeId m : rig::meta_members(g, rig::component_of(g, node)))
+    if (!is_built_control(g, m) && has(m)) return m;
+  return node;
+}
+
+}  // namespace
+
+Result<tools::TransferReport> Workspace::transfer_keys(const std::string& from, const std::string& to,
+                                                       const std::optional<std::array<double, 2>>& frames,
+                                                       double offset) {
+  tools::TransferOptions options;
+  Result<NodeId> a = meta_of(graph(), from, "from");
+  if (!a) return a.status();
+  Result<NodeId> b = meta_of(graph(), to, "to");
+  if (!b) return b.status();
+  options.from = *a;
+  options.to = *b;
+  if (frames) {
+    options.first = (*frames)[0];
+    options.last = (*frames)[1];
+  }
+  options.offset = offset;
+  auto bad = [](const char* field, const std::string& message) {
+    return Status(ErrorCode::kInvalidArgument, std::string(field) + ": " + message).with_field(field);
+  };
+  if (frames && (std::abs((*frames)[0]) > kMaxFrame || std::abs((*frames)[1]) > kMaxFrame))
+    return bad("frames", "out of range (at most 1e6)");
+  if (std::isfinite(offset) && std::abs(offset) > 2 * kMaxFrame) return bad("offset", "out of range (at most 2e6 frames)");
+  Result<tools::TransferReport> report = tools::transfer_keys(graph(), options);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  if (report->channels > 0) bump_revision();
+  return report;
+}
+
+Result<std::vector<tools::PlugKeys>> Workspace::move_channel_keys(const std::vector<NodeId>& controls,
+                                                                  const std::vector<std::string>& attrs, double to_frame) {
+  if (!std::isfinite(to_frame) || std::abs(to_frame) > kMaxFrame)
+    return Status(ErrorCode::kInvalidArgument, "moveTo: not a frame within 1e6 of 0").with_field("moveTo");
+  auto channels = key_channels(controls, attrs);
+  if (!channels) return channels.status();
+  Result<std::size_t> moved = tools::move_keys(graph(), *channels, graph().time(), to_frame / graph().fps());
+  if (!moved) return moved.status().field().empty() ? conflict(moved.status()) : moved.status();
+  bump_revision();
+  return tools::keys_of(graph(), *channels);
+}
+
+Result<Workspace::ChannelValues> Workspace::set_channel_values(const std::vector<NodeId>& controls,
+                                                               const std::vector<std::string>& attrs,
+                                                               const std::vector<double>& values) {
+  const graph::Graph& g = graph();
+  ChannelValues out;
+  for (NodeId id : controls) {
+    if (!g.node(id)) return Status(ErrorCode::kNotFound, "controls: no such node (stale handle)").with_field("controls");
+    std::vector<NodeId> holders;
+    std::vector<std::string> names;
+    if (attrs.empty()) {
+      holders.push_back(id);
+    } else {
+      for (const std::string& attr : attrs) {
+        holders.push_back(holder_of(g, id, attr));
+        names.push_back(attr);
+      }
+    }
+    for (std::size_t i = 0; i < holders.size(); ++i) {
+      auto channels = tools::channels_of(g, {holders[i]}, names.empty() ? std::vector<std::string>{} : std::vector{names[i]});
+      if (!channels) return channels.status();
+      for (const tools::Channel& c : *channels)
+        if (g.node(c.node)->type().attr(c.attr).type == graph::AttrType{graph::ValueType::kDouble, false})
+          out.channels.push_back(c);
+        else if (!attrs.empty())
+          return Status(ErrorCode::kInvalidArgument, "attrs: " + g.plug_name(graph::Plug{c.node, c.attr, -1}) +
+                                                         " is not a scalar channel (values set switches such as fkIk, "
+                                                         "a foot's roll, a finger's curl)")
+              .with_field("attrs");
+    }
+  }
+  if (out.channels.empty())
+    return Status(ErrorCode::kInvalidArgument, "controls: no scalar channel given").with_field("controls");
+  if (Status s = tools::set_values(graph(), out.channels, values, session_->options().auto_key); !s)
+    return s.field().empty() ? conflict(s) : s;
+  bump_revision();
+  out.keys = tools::keys_of(graph(), out.channels);
+  return out;
+}
+
+}  // namespace rigel::app
