@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "common.h"
+#include "workspace_common.h"
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
@@ -19,14 +20,6 @@ namespace fs = std::filesystem;
 namespace eph = ephemeral;
 using DefinitionRef = std::shared_ptr<rig::Definition>;
 
-// The workspace and the scene it works on (shared with the Scene objects
-// Python holds; the workspace goes first).
-struct WorkspaceRef {
-  SceneRef scene;
-  std::unique_ptr<app::Workspace> ws;
-};
-
-using WorkspaceClass = py::class_<WorkspaceRef>;
 using SceneArg = std::variant<SceneRef, std::string>;
 
 WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::string>& root) {
@@ -44,18 +37,6 @@ WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::stri
   w.ws = std::make_unique<app::Workspace>(w.scene, scene_path, root ? fs::path(*root) : fs::path(), eph::components());
   if (!character.empty()) w.ws->set_character(character);
   return w;
-}
-
-// One mutating call, run as the server runs a request: the rigs at step 0
-// that the call leaves no way to redo are dropped after it.
-template <typename F>
-auto edit(const WorkspaceRef& w, F&& call) {
-  struct Prune {
-    app::Workspace& ws;
-    std::vector<std::uint64_t> undone;
-    ~Prune() { ws.drop_unbuilt(undone); }
-  } prune{*w.ws, w.ws->unbuilt_undone()};
-  return call(*w.ws);
 }
 
 // ---- arguments -----------------------------------------------------------------
@@ -130,6 +111,8 @@ py::object keys_record(const SceneRef& s, const app::KeyReport& k) {
   return record(d);
 }
 
+}  // namespace
+
 // Channel keys: one record per keyed plug (plug name, times, frames, values).
 py::list plug_keys_list(const WorkspaceRef& w, const std::vector<tools::PlugKeys>& keys) {
   py::list out;
@@ -161,6 +144,8 @@ std::vector<NodeId> key_nodes_arg(const WorkspaceRef& w, const std::optional<std
   }
   return out;
 }
+
+namespace {
 
 py::object summary_record(const SceneRef& s, const app::SceneSummary& x) {
   py::dict scopes;
@@ -749,6 +734,7 @@ cannot do it in its state.)");
   def_posing(cls);
   def_time_and_keys(cls);
   def_animator_tools(cls);
+  def_transfer_and_values(cls);
   def_rigs(cls);
   def_definitions(cls);
 }

@@ -1,10 +1,12 @@
 // The JSON API's animator-tool routes (docs/SERVER.md): FK/IK match,
-// mirror, bind pose, and glTF export. Each reads its request's fields and
+// mirror, bind pose, tween, transfer keys, channel values and glTF export. Each reads its request's fields and
 // calls the app layer; workspace.cc routes to them.
 
 #include "animate_routes.h"
 
+#include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -117,6 +119,55 @@ Json tween(app::Workspace& ws, const Json& body) {
     list.push_back(Json{{"plug", k.name}, {"frames", frames}});
   }
   return Json{{"revision", ws.revision()}, {"keys", list}};
+}
+
+Json transfer(app::Workspace& ws, const Json& body) {
+  const std::string from = as_string(need(body, "from"), "from");
+  const std::string to = as_string(need(body, "to"), "to");
+  std::optional<std::array<double, 2>> frames;
+  if (const auto f = frames_field(body)) frames = std::array<double, 2>{f->first, f->second};
+  double offset = 0;
+  if (const Json* o = opt(body, "offset")) offset = as_number(*o, "offset");
+  const tools::TransferReport r = take(ws.transfer_keys(from, to, frames, offset));
+  const graph::Graph& g = ws.graph();
+  Json set = Json::array(), components = Json::array();
+  for (NodeId n : r.set) set.push_back(g.node(n)->name());
+  for (const auto& [a, b] : r.components) components.push_back(Json{{"from", g.node(a)->name()}, {"to", g.node(b)->name()}});
+  Json out{{"revision", ws.revision()}, {"channels", r.channels}, {"keys", r.keys}, {"components", components}, {"set", set}};
+  out["frames"] = r.first ? Json::array({*r.first, *r.last}) : Json(nullptr);
+  return out;
+}
+
+Json channel_values(app::Workspace& ws, const Json& body) {
+  auto target = [&](const std::string& ref, const std::string& field) { return ws.key_target(ref, field); };
+  const std::vector<NodeId> nodes = nodes_field(body, "controls", target).value_or(ws.selection());
+  std::vector<std::string> attrs;
+  if (const Json* a = opt(body, "attrs")) {
+    if (!a->is_array()) refuse(400, "attrs: expected an array of attribute names", "attrs");
+    for (std::size_t i = 0; i < a->size(); ++i) attrs.push_back(as_string((*a)[i], "attrs[" + std::to_string(i) + "]"));
+  }
+  // "value": one number for every channel, or an array of one per channel.
+  std::vector<double> values;
+  const Json& v = need(body, "value");
+  if (v.is_array()) {
+    for (std::size_t i = 0; i < v.size(); ++i) values.push_back(as_number(v[i], "value[" + std::to_string(i) + "]"));
+  } else {
+    values.push_back(as_number(v, "value"));
+  }
+  const app::Workspace::ChannelValues r = take(ws.set_channel_values(nodes, attrs, values));
+  graph::Graph& g = ws.graph();
+  Json channels = Json::array(), keys = Json::array();
+  for (const tools::Channel& c : r.channels) {
+    const graph::Plug plug{c.node, c.attr, -1};
+    channels.push_back(Json{{"plug", g.plug_name(plug)}, {"value", std::get<double>(g.evaluate(c.node, c.attr))}});
+  }
+  const double fps = g.fps();
+  for (const tools::PlugKeys& k : r.keys) {
+    Json frames = Json::array();
+    for (double t : k.times) frames.push_back(app::key_frame(t, fps));
+    keys.push_back(Json{{"plug", k.name}, {"frames", frames}});
+  }
+  return Json{{"revision", ws.revision()}, {"channels", channels}, {"keys", keys}};
 }
 
 }  // namespace rigel::server::routes

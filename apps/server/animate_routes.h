@@ -11,11 +11,14 @@ namespace rigel::server::routes {
 
 using Json = nlohmann::ordered_json;
 
-// POST /api/export, /api/match, /api/mirror, /api/bind-pose, /api/tween.
+// POST /api/export, /api/match, /api/mirror, /api/bind-pose, /api/tween,
+// /api/transfer, /api/channel-values.
 Json export_scene(app::Workspace& ws, const Json& body);
 Json match(app::Workspace& ws, const Json& body);
 Json mirror(app::Workspace& ws, const Json& body);
 Json bind_pose(app::Workspace& ws, const Json& body);
 Json tween(app::Workspace& ws, const Json& body);
+Json transfer(app::Workspace& ws, const Json& body);
+Json channel_values(app::Workspace& ws, const Json& body);
 
 }  // namespace rigel::server::routes

@@ -347,6 +347,11 @@ struct Workspace::Impl {
     const std::vector<std::string> attrs = attrs_of(body);
     const Json* del = opt(body, "delete");
     const Json* value = opt(body, "value");
+    if (const Json* to = opt(body, "moveTo")) {  // the keys at the current time moved to a frame
+      if (value || (del && as_bool(*del, "delete"))) refuse(400, "moveTo: a move takes no value or delete", "moveTo");
+      const double frame = as_number(*to, "moveTo");
+      return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.move_channel_keys(nodes, attrs, frame)))}};
+    }
     if (del && as_bool(*del, "delete")) {
       if (value) refuse(400, "value: a delete takes no value", "value");
       return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.delete_channel_keys(nodes, attrs)))}};
@@ -381,6 +386,8 @@ struct Workspace::Impl {
   Json post_mirror(const Request&, const Json& body) { return routes::mirror(ws, body); }
   Json post_bind_pose(const Request&, const Json& body) { return routes::bind_pose(ws, body); }
   Json post_tween(const Request&, const Json& body) { return routes::tween(ws, body); }
+  Json post_transfer(const Request&, const Json& body) { return routes::transfer(ws, body); }
+  Json post_channel_values(const Request&, const Json& body) { return routes::channel_values(ws, body); }
 
 
 
@@ -601,6 +608,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/mirror", &Impl::post_mirror},
       {"POST", "/api/bind-pose", &Impl::post_bind_pose},
       {"POST", "/api/tween", &Impl::post_tween},
+      {"POST", "/api/transfer", &Impl::post_transfer},
+      {"POST", "/api/channel-values", &Impl::post_channel_values},
       {"POST", "/api/export", &Impl::post_export},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},

@@ -510,6 +510,57 @@ TEST(ServerApi, MatchBakesTheBipedsLegToFk) {
   }
 }
 
+// POST /api/transfer, /api/channel-values and /api/channel-keys's moveTo on
+// the biped: the left arm's switch keys onto the right arm with an offset,
+// a switch set through its limb's control, keys moved.
+TEST(ServerApi, TransferMoveKeysAndChannelValuesOnTheBiped) {
+  Served s = served_character();
+  fs::create_directories(s.root / "defs");
+  std::string def = read_text(fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml");
+  const std::string geo = "../tests/data/gltf/rigify_human_metarig.glb";
+  def.replace(def.find(geo), geo.size(), (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb").string());
+  write_text(s.root / "defs/hero.rig.xml", def);
+  s.post("/api/rigs/add", {{"definition", "defs/hero.rig.xml"}});
+  s.post("/api/time", {{"frame", 0}});
+  Json set = s.post("/api/channel-values", {{"controls", {"hero_arm_L_ik"}}, {"attrs", {"fkIk"}}, {"value", 0}});
+  ASSERT_EQ(set["channels"].size(), 1u) << set;
+  EXPECT_EQ(set["channels"][0]["value"], 0.0);
+  EXPECT_TRUE(set["keys"].empty()) << "free, auto-key off: set only";
+  s.post("/api/channel-keys", {{"controls", {"hero:arm_L/fkIkSwitch"}}, {"attrs", {"fkIk"}}});
+  s.post("/api/time", {{"frame", 12}});
+  set = s.post("/api/channel-values", {{"controls", {"hero:arm_L/fkIkSwitch"}}, {"attrs", {"fkIk"}}, {"value", {1}}});
+  EXPECT_EQ(set["keys"][0]["frames"], Json::array({0.0, 12.0})) << "keyed: the value is a key";
+
+  Json t = s.post("/api/transfer", {{"from", "hero:arm_L"}, {"to", "hero:arm_R"}, {"offset", 6}});
+  EXPECT_EQ(t["keys"], 2) << t;
+  EXPECT_EQ(t["frames"], Json::array({0.0, 12.0})) << t;
+  Json right = s.get("/api/channel-keys?controls=hero:arm_R/fkIkSwitch&attrs=fkIk");
+  EXPECT_EQ(right["keys"][0]["frames"], Json::array({6.0, 18.0})) << right;
+  EXPECT_EQ(right["keys"][0]["values"], Json::array({0.0, 1.0})) << right;
+
+  Json moved = s.post("/api/channel-keys", {{"controls", {"hero:arm_L/fkIkSwitch"}}, {"attrs", {"fkIk"}}, {"moveTo", 20}});
+  EXPECT_EQ(moved["keys"][0]["frames"], Json::array({0.0, 20.0})) << moved;
+
+  struct Bad {
+    const char* route;
+    Json body;
+    int status;
+    const char* field;
+  };
+  for (const Bad& b : {Bad{"/api/transfer", {{"from", "hero:arm_L"}, {"to", "hero:hand_L"}}, 400, "to"},
+                       Bad{"/api/transfer", {{"from", "nobody:arm_L"}, {"to", "hero:arm_R"}}, 404, "from"},
+                       Bad{"/api/transfer", {{"from", "hero:arm_L"}, {"to", "hero:arm_R"}, {"frames", {5, 1}}}, 400, "frames"},
+                       Bad{"/api/transfer", {{"from", "hero:arm_L"}}, 400, "to"},
+                       Bad{"/api/channel-values", {{"controls", {"hero_arm_L_ik"}}, {"attrs", {"fkIk"}}}, 400, "value"},
+                       Bad{"/api/channel-values", {{"controls", {"hero_arm_L_fk0"}}, {"attrs", {"rotate"}}, {"value", 1}}, 400, "attrs"},
+                       Bad{"/api/channel-keys", {{"controls", {"hero:arm_L/fkIkSwitch"}}, {"moveTo", 3}, {"value", 1}}, 400, "moveTo"},
+                       Bad{"/api/channel-keys", {{"controls", {"hero:arm_L/fkIkSwitch"}}, {"attrs", {"fkIk"}}, {"moveTo", 3}}, 404, "controls"}}) {
+    Response r = s.request("POST", b.route, b.body.dump());
+    EXPECT_EQ(r.status, b.status) << b.route << " " << b.body << ": " << r.body;
+    EXPECT_EQ(Json::parse(r.body)["field"], b.field) << r.body;
+  }
+}
+
 // POST /api/mirror: the selection (or the named controls) onto the other
 // side, and a flip of everything; refusals name the field.
 TEST(ServerApi, MirrorAndFlipTheBuiltRig) {

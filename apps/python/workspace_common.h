@@ -1,0 +1,45 @@
+#pragma once
+// What the rigel.Workspace wraps share (wrap_workspace.cc, and
+// wrap_workspace_tools.cc, which holds the transfer, move-keys and
+// channel-value methods so that neither file outgrows the size rule).
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "common.h"
+#include "rigel/app/workspace.h"
+
+namespace rigel::python {
+
+// The workspace and the scene it works on (shared with the Scene objects
+// Python holds; the workspace goes first).
+struct WorkspaceRef {
+  SceneRef scene;
+  std::unique_ptr<app::Workspace> ws;
+};
+
+using WorkspaceClass = py::class_<WorkspaceRef>;
+
+// One mutating call, run as the server runs a request: the rigs at step 0
+// that the call leaves no way to redo are dropped after it.
+template <typename F>
+auto edit(const WorkspaceRef& w, F&& call) {
+  struct Prune {
+    app::Workspace& ws;
+    std::vector<std::uint64_t> undone;
+    ~Prune() { ws.drop_unbuilt(undone); }
+  } prune{*w.ws, w.ws->unbuilt_undone()};
+  return call(*w.ws);
+}
+
+// Channel keys: one record per keyed plug (plug name, times, frames, values).
+py::list plug_keys_list(const WorkspaceRef& w, const std::vector<tools::PlugKeys>& keys);
+// Any nodes with keyable channels (default: the selection): controls (a
+// joint stands for its ephemeral control) or others, such as a fkIkSwitch.
+std::vector<NodeId> key_nodes_arg(const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& nodes);
+
+// Workspace.transfer_keys, move_channel_keys, set_channel_values.
+void def_transfer_and_values(WorkspaceClass& cls);
+
+}  // namespace rigel::python
