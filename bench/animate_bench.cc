@@ -1,7 +1,8 @@
 // The animator tools over long shots (issue "Animate a shot"): FK/IK bake
-// of one limb over 1,000 frames (tools::match) and the deform-only game
-// export of 1,000 frames (io::export_gltf, deform_only), each per frame and
-// against its anchor in the same run: playing the same 1,000 frames of the
+// of one limb over 1,000 frames (tools::match), the deform-only game
+// export of 1,000 frames (io::export_gltf, deform_only) and the mirror of a
+// whole character's 200-frame range (tools::mirror, all), each per frame
+// and against its anchor in the same run: playing the same frames of the
 // same scene (set the frame, Graph::evaluate_all). Target: at most 3x the
 // anchor per frame.
 //
@@ -27,6 +28,7 @@
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 #include "rigel/tools/match.h"
+#include "rigel/tools/mirror.h"
 
 namespace rigel::bench {
 namespace {
@@ -37,6 +39,7 @@ using graph::Value;
 using math::Vec3;
 
 constexpr int kFrames = 1000;
+constexpr int kMirrorFrames = 200;
 
 graph::NodeId at(const graph::Graph& g, const std::string& address) {
   auto id = rig::resolve_address(g, address);
@@ -71,9 +74,9 @@ std::unique_ptr<scene::Scene> fresh_shot() {
   return std::move(*s);
 }
 
-void per_frame(benchmark::State& state) {
+void per_frame(benchmark::State& state, int frames = kFrames) {
   state.counters["per_frame"] =
-      benchmark::Counter(static_cast<double>(kFrames), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+      benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 // The anchor: playing the frames.
@@ -131,6 +134,44 @@ void BM_animate_deform_only_export_1000_frames(benchmark::State& state) {
   per_frame(state);
 }
 BENCHMARK(BM_animate_deform_only_export_1000_frames)->Unit(benchmark::kMillisecond);
+
+// The mirror's anchor: playing its 200 frames.
+void BM_animate_play_200_frames(benchmark::State& state) {
+  std::unique_ptr<scene::Scene> s = fresh_shot();
+  for (auto _ : state) {
+    for (int f = 0; f < kMirrorFrames; ++f) {
+      s->set_frame(f);
+      s->graph().evaluate_all();
+    }
+  }
+  per_frame(state, kMirrorFrames);
+}
+BENCHMARK(BM_animate_play_200_frames)->Unit(benchmark::kMillisecond);
+
+// Mirror of the whole character (every control and switch, left onto
+// right) keyed at each of 200 frames.
+void BM_animate_mirror_all_200_frames(benchmark::State& state) {
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::unique_ptr<scene::Scene> s = fresh_shot();
+    tools::MirrorOptions o;
+    o.all = true;
+    o.first = 0;
+    o.last = kMirrorFrames - 1;
+    state.ResumeTiming();
+    auto report = tools::mirror(*s, o);
+    if (!report) {
+      state.SkipWithError(report.status().message().c_str());
+      break;
+    }
+    benchmark::DoNotOptimize(report->keys);
+    state.PauseTiming();
+    s.reset();
+    state.ResumeTiming();
+  }
+  per_frame(state, kMirrorFrames);
+}
+BENCHMARK(BM_animate_mirror_all_200_frames)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rigel::bench
