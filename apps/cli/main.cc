@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "animate_commands.h"
+#include "space_command.h"
 #include "cli_util.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
   // `match`, `mirror`, `bind-pose`: the animator tools.
   rigel::cli::AnimateCommands animate;
   rigel::cli::add_animate_commands(app, animate);
+  // `space`: a control's spaces.
+  rigel::cli::SpaceCommand space;
+  rigel::cli::add_space_command(app, space);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -84,6 +88,7 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = rigel::cli::run_scene_commands(scene)) return *code;
     if (const std::optional<int> code = rigel::cli::run_key_commands(keys)) return *code;
     if (const std::optional<int> code = rigel::cli::run_animate_commands(animate)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_space_command(space)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;

@@ -119,4 +119,49 @@ Json tween(app::Workspace& ws, const Json& body) {
   return Json{{"revision", ws.revision()}, {"keys", list}};
 }
 
+namespace {
+
+Json spaces_json(app::Workspace& ws, NodeId control) {
+  const rig::ControlSpaces s = ws.spaces(control);
+  Json list = Json::array();
+  for (const rig::Space& space : s.spaces)
+    list.push_back({{"name", space.name},
+                    {"target", space.target.is_valid() ? Json(ws.graph().node(space.target)->name()) : Json(nullptr)}});
+  return Json{{"revision", ws.revision()},
+              {"control", ws.graph().node(control)->name()},
+              {"spaces", list},
+              {"current", s.spaces.empty() ? Json(nullptr) : Json(s.spaces[static_cast<std::size_t>(s.current)].name)}};
+}
+
+}  // namespace
+
+Json spaces(app::Workspace& ws, const std::string& control) { return spaces_json(ws, take(ws.node(control, "control"))); }
+
+Json space(app::Workspace& ws, const Json& body) {
+  const NodeId control = take(ws.node(as_string(need(body, "control"), "control"), "control"));
+  const Json* add = opt(body, "add");
+  const Json* to = opt(body, "switch");
+  if ((add != nullptr) == (to != nullptr)) refuse(400, "give one of \"add\" (a new space's name) or \"switch\"", "add");
+  if (add) {
+    NodeId target;
+    if (const Json* t = opt(body, "target"); t && !t->is_null()) target = take(ws.node(as_string(*t, "target"), "target"));
+    const int index = take(ws.add_space(control, as_string(*add, "add"), target));
+    Json out = spaces_json(ws, control);
+    out["index"] = index;
+    return out;
+  }
+  tools::SpaceSwitchOptions options;
+  options.space = as_string(*to, "switch");
+  if (const Json* f = opt(body, "frame")) options.frame = as_number(*f, "frame");
+  if (const auto f = frames_field(body)) {
+    if (options.frame) refuse(400, "frames: give \"frame\" or \"frames\", not both", "frames");
+    options.first = f->first;
+    options.last = f->second;
+  }
+  const tools::SpaceSwitchReport r = take(ws.switch_space(control, options));
+  return Json{{"revision", ws.revision()}, {"from", r.from},           {"to", r.to},
+              {"frames", r.frames},        {"keys", r.keys},           {"maxError", r.max_error},
+              {"worstFrame", r.worst_frame}};
+}
+
 }  // namespace rigel::server::routes

@@ -17,5 +17,8 @@ Json match(app::Workspace& ws, const Json& body);
 Json mirror(app::Workspace& ws, const Json& body);
 Json bind_pose(app::Workspace& ws, const Json& body);
 Json tween(app::Workspace& ws, const Json& body);
+// GET /api/spaces?control=C and POST /api/space (add or switch).
+Json spaces(app::Workspace& ws, const std::string& control);
+Json space(app::Workspace& ws, const Json& body);
 
 }  // namespace rigel::server::routes

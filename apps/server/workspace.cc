@@ -381,6 +381,12 @@ struct Workspace::Impl {
   Json post_mirror(const Request&, const Json& body) { return routes::mirror(ws, body); }
   Json post_bind_pose(const Request&, const Json& body) { return routes::bind_pose(ws, body); }
   Json post_tween(const Request&, const Json& body) { return routes::tween(ws, body); }
+  Json post_space(const Request&, const Json& body) { return routes::space(ws, body); }
+  Json get_spaces(const Request& req, const Json&) {
+    auto it = req.query.find("control");
+    if (it == req.query.end()) refuse(400, "missing query 'control'", "control");
+    return routes::spaces(ws, it->second);
+  }
 
 
 
@@ -601,6 +607,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/mirror", &Impl::post_mirror},
       {"POST", "/api/bind-pose", &Impl::post_bind_pose},
       {"POST", "/api/tween", &Impl::post_tween},
+      {"GET", "/api/spaces", &Impl::get_spaces},
+      {"POST", "/api/space", &Impl::post_space},
       {"POST", "/api/export", &Impl::post_export},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},

@@ -256,6 +256,42 @@ def test_mirror_refuses_a_control_without_a_pair_and_flips_the_centre(built):
         w.mirror([main], side="Q")
 
 
+def test_spaces_add_switch_and_bake(built):
+    w, _ = built
+    scene = w.scene
+    ik = scene.resolve("arm_rig:arm_L/ik")
+    spaces = w.spaces(ik)
+    # The arm rig has a global but no chest or head: those spaces are left out.
+    assert [s.name for s in spaces.spaces] == ["parent", "world", "global"]
+    assert spaces.current == "parent" and spaces.spaces[1].target is None
+    added = w.add_space(ik, "forearm", scene.resolve("arm_rig:arm_L/fk[1]"))
+    assert added.spaces[-1].name == "forearm"
+    w.set_frame(0)
+    w.set_channel_keys([ik], attrs=["translate"])
+    w.set_frame(10)
+    scene.set(ik, "translate", (0.05, 0.1, 0.0))
+    w.set_channel_keys([ik], attrs=["translate"])
+    w.set_frame(5)
+    before = scene.world_matrix(ik)
+    report = w.switch_space(ik, "world", frame=5)
+    assert report.from_space == "parent" and report.to_space == "world"
+    assert report.frames == 1 and report.max_error < 1e-9
+    w.set_frame(5)
+    assert close(scene.world_matrix(ik), before, 1e-9)
+    assert w.spaces(ik).current == "world"
+    baked = w.switch_space(ik, "global", frames=(0, 10))
+    assert baked.frames == 11 and baked.max_error < 1e-6
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.switch_space(ik, "moon")
+    assert info.value.field == "space"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.add_space(ik, "self", ik)
+    assert info.value.field == "target"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.switch_space(scene.resolve("arm_rig:arm_L/fk[0]"), "world")
+    assert info.value.field == "control"
+
+
 def test_deform_only_export_writes_the_skin_joints_and_the_mesh(built, tmp_path):
     w, _ = built
     scene = w.scene

@@ -40,6 +40,7 @@
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
 #include "rigel/tools/mirror.h"
+#include "rigel/tools/spaces.h"
 #include "rigel/tools/tween.h"
 
 namespace rigel::app {
@@ -334,6 +335,18 @@ class Workspace {
   // bind pose at the current time (tools::reset_bind_pose), keyed when
   // `key`. Errors name "controls". One undo step.
   Result<tools::BindPoseReport> reset_bind_pose(const std::vector<NodeId>& nodes, bool key);
+
+  // ---- spaces (rig/spaces.h, tools/spaces.h; src/app/spaces.cc) -------------
+  // A control's spaces (none when it has no spaceSwitch).
+  rig::ControlSpaces spaces(NodeId control) const;
+  // Adds space `name` following `target` (invalid: the world) to a control
+  // (rig::add_space); its index. Errors name "control", "space" or
+  // "target". One undo step.
+  Result<int> add_space(NodeId control, const std::string& name, NodeId target);
+  // Switches the control to another space at a frame, or bakes a range into
+  // it (tools::switch_space). Errors name "control", "space" or "frames"
+  // (as match). One undo step.
+  Result<tools::SpaceSwitchReport> switch_space(NodeId control, const tools::SpaceSwitchOptions& options);
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;
