@@ -1,32 +1,31 @@
 // rigel.Workspace: the service layer (app::Workspace, ARCHITECTURE.md
 // "app") from Python: a scene, its posing session and its rigs, and
 // everything a user can do to them, as the CLI and the server do it. This
-// file converts Python values into app calls and app answers into Python
+// file (and wrap_workspace_poses.cc) converts Python values into app calls and app answers into Python
 // values; every rule and range check is app's (its errors name the
 // argument in Python's spelling: module.cc).
 
 #include <filesystem>
 
 #include "common.h"
+#include "wrap_workspace.h"
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 
 namespace rigel::python {
+
+NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field) {
+  if (std::holds_alternative<NodeRef>(arg)) return resolve(w.scene, arg);
+  return unwrap(w.ws->node(std::get<std::string>(arg), field));
+}
+
 namespace {
 
 namespace fs = std::filesystem;
 namespace eph = ephemeral;
 using DefinitionRef = std::shared_ptr<rig::Definition>;
 
-// The workspace and the scene it works on (shared with the Scene objects
-// Python holds; the workspace goes first).
-struct WorkspaceRef {
-  SceneRef scene;
-  std::unique_ptr<app::Workspace> ws;
-};
-
-using WorkspaceClass = py::class_<WorkspaceRef>;
 using SceneArg = std::variant<SceneRef, std::string>;
 
 WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::string>& root) {
@@ -46,24 +45,7 @@ WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::stri
   return w;
 }
 
-// One mutating call, run as the server runs a request: the rigs at step 0
-// that the call leaves no way to redo are dropped after it.
-template <typename F>
-auto edit(const WorkspaceRef& w, F&& call) {
-  struct Prune {
-    app::Workspace& ws;
-    std::vector<std::uint64_t> undone;
-    ~Prune() { ws.drop_unbuilt(undone); }
-  } prune{*w.ws, w.ws->unbuilt_undone()};
-  return call(*w.ws);
-}
-
 // ---- arguments -----------------------------------------------------------------
-
-NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field) {
-  if (std::holds_alternative<NodeRef>(arg)) return resolve(w.scene, arg);
-  return unwrap(w.ws->node(std::get<std::string>(arg), field));
-}
 
 NodeId control_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field) {
   if (std::holds_alternative<NodeRef>(arg)) return unwrap(w.ws->control_of(resolve(w.scene, arg), field));
@@ -749,6 +731,7 @@ cannot do it in its state.)");
   def_posing(cls);
   def_time_and_keys(cls);
   def_animator_tools(cls);
+  def_poses(cls);
   def_rigs(cls);
   def_definitions(cls);
 }

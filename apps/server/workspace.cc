@@ -381,6 +381,14 @@ struct Workspace::Impl {
   Json post_mirror(const Request&, const Json& body) { return routes::mirror(ws, body); }
   Json post_bind_pose(const Request&, const Json& body) { return routes::bind_pose(ws, body); }
   Json post_tween(const Request&, const Json& body) { return routes::tween(ws, body); }
+  Json post_poses_save(const Request&, const Json& body) { return routes::poses_save(ws, body); }
+  Json post_poses_apply(const Request&, const Json& body) { return routes::poses_apply(ws, body); }
+  Json post_poses_remove(const Request&, const Json& body) { return routes::poses_remove(ws, body); }
+  Json get_poses(const Request& req, const Json&) {
+    const auto it = req.query.find("library");
+    if (it == req.query.end()) refuse(400, "missing query 'library'", "library");
+    return routes::poses_list(ws, Json{{"library", it->second}});
+  }
 
 
 
@@ -602,6 +610,10 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/bind-pose", &Impl::post_bind_pose},
       {"POST", "/api/tween", &Impl::post_tween},
       {"POST", "/api/export", &Impl::post_export},
+      {"GET", "/api/poses", &Impl::get_poses},
+      {"POST", "/api/poses/save", &Impl::post_poses_save},
+      {"POST", "/api/poses/apply", &Impl::post_poses_apply},
+      {"POST", "/api/poses/remove", &Impl::post_poses_remove},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},
       {"POST", "/api/rigs/remove", &Impl::post_rigs_remove},

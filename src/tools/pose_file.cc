@@ -81,7 +81,9 @@ struct Reader {
     if (n == 3) return graph::Value(Vec3(v[0], v[1], v[2]));
     const Quat q(v[3], v[0], v[1], v[2]);
     if (q.norm() < 1e-9) return bad(where, "not a rotation (zero length)");
-    return graph::Value(q.normalized());
+    // A unit quaternion as written stays bit for bit (read and written back:
+    // the same text); one typed by hand is normalised.
+    return graph::Value(std::abs(q.norm() - 1) < 1e-12 ? q : q.normalized());
   }
   Result<PoseEntry> entry(const Json& j, const std::string& where) const {
     if (!j.is_object()) return bad(where, "expected an object");

@@ -155,7 +155,7 @@ struct Write {
 };
 
 std::string entry_text(const PoseEntry& e) {
-  return e.component + (e.side.empty() ? "" : "_" + e.side) + " " + e.role + " " + std::to_string(e.index);
+  return e.component + " " + e.role + " " + std::to_string(e.index);
 }
 
 Quat rotation_now(const graph::Graph& g, NodeId id) {

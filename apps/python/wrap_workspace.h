@@ -1,0 +1,41 @@
+#pragma once
+// What rigel.Workspace's wrap files share (wrap_workspace.cc: the class and
+// most methods; wrap_workspace_poses.cc: the pose library).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common.h"
+#include "rigel/app/workspace.h"
+
+namespace rigel::python {
+
+// The workspace and the scene it works on (shared with the Scene objects
+// Python holds; the workspace goes first).
+struct WorkspaceRef {
+  SceneRef scene;
+  std::unique_ptr<app::Workspace> ws;
+};
+
+using WorkspaceClass = py::class_<WorkspaceRef>;
+
+// One mutating call, run as the server runs a request: the rigs at step 0
+// that the call leaves no way to redo are dropped after it.
+template <typename F>
+auto edit(const WorkspaceRef& w, F&& call) {
+  struct Prune {
+    app::Workspace& ws;
+    std::vector<std::uint64_t> undone;
+    ~Prune() { ws.drop_unbuilt(undone); }
+  } prune{*w.ws, w.ws->unbuilt_undone()};
+  return call(*w.ws);
+}
+
+// A node given as a Node or a name, uuid or rig address.
+NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field);
+
+// Workspace.save_pose, apply_pose, list_poses, remove_pose.
+void def_poses(WorkspaceClass& cls);
+
+}  // namespace rigel::python
