@@ -1,7 +1,7 @@
 // rigel.Workspace: the service layer (app::Workspace, ARCHITECTURE.md
 // "app") from Python: a scene, its posing session and its rigs, and
 // everything a user can do to them, as the CLI and the server do it. This
-// file converts Python values into app calls and app answers into Python
+// file (and wrap_workspace_poses.cc) converts Python values into app calls and app answers into Python
 // values; every rule and range check is app's (its errors name the
 // argument in Python's spelling: module.cc).
 
@@ -733,6 +733,7 @@ cannot do it in its state.)");
   def_time_and_keys(cls);
   def_animator_tools(cls);
   def_space_tools(cls);
+  def_poses(cls);
   def_rigs(cls);
   def_definitions(cls);
 }

@@ -1,6 +1,7 @@
 #pragma once
 // What rigel.Workspace's wrap files share (wrap_workspace.cc: the class and
-// most methods; wrap_workspace_spaces.cc: spaces).
+// most methods; wrap_workspace_spaces.cc: spaces; wrap_workspace_poses.cc: the
+// pose library).
 
 #include <memory>
 #include <string>
@@ -37,5 +38,7 @@ NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& fi
 
 // Workspace.spaces, add_space, switch_space.
 void def_space_tools(WorkspaceClass& cls);
+// Workspace.save_pose, apply_pose, list_poses, remove_pose.
+void def_poses(WorkspaceClass& cls);
 
 }  // namespace rigel::python

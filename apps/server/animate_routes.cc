@@ -1,5 +1,5 @@
 // The JSON API's animator-tool routes (docs/SERVER.md): FK/IK match,
-// mirror, bind pose, and glTF export. Each reads its request's fields and
+// mirror, bind pose, tween, the pose library and glTF export. Each reads its request's fields and
 // calls the app layer; workspace.cc routes to them.
 
 #include "animate_routes.h"
@@ -162,6 +162,58 @@ Json space(app::Workspace& ws, const Json& body) {
   return Json{{"revision", ws.revision()}, {"from", r.from},           {"to", r.to},
               {"frames", r.frames},        {"keys", r.keys},           {"maxError", r.max_error},
               {"worstFrame", r.worst_frame}};
+}
+
+// ---- the pose library --------------------------------------------------------
+
+Json poses_save(app::Workspace& ws, const Json& body) {
+  const std::string library = as_string(need(body, "library"), "library");
+  const std::string name = as_string(need(body, "name"), "name");
+  std::string rig;
+  if (const Json* r = opt(body, "rig")) rig = as_string(*r, "rig");
+  auto node = [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); };
+  const std::vector<NodeId> controls = nodes_field(body, "controls", node).value_or(std::vector<NodeId>{});
+  const tools::SavedPose saved = take(ws.save_pose(library, name, rig, controls));
+  return Json{{"revision", ws.revision()}, {"name", name}, {"entries", saved.entries}};
+}
+
+Json poses_apply(app::Workspace& ws, const Json& body) {
+  const std::string library = as_string(need(body, "library"), "library");
+  const std::string name = as_string(need(body, "name"), "name");
+  std::string rig;
+  if (const Json* r = opt(body, "rig")) rig = as_string(*r, "rig");
+  tools::ApplyPoseOptions options;
+  auto node = [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); };
+  if (auto c = nodes_field(body, "controls", node)) options.controls = std::move(*c);
+  if (const Json* m = opt(body, "mirror")) options.mirrored = as_bool(*m, "mirror");
+  if (const Json* p = opt(body, "plane")) {
+    const std::string plane = as_string(*p, "plane");
+    if (plane != "yz" && plane != "xy" && plane != "xz") refuse(400, "plane: expected \"yz\", \"xy\" or \"xz\"", "plane");
+    options.plane = plane == "yz" ? tools::MirrorPlane::kYZ : plane == "xy" ? tools::MirrorPlane::kXY : tools::MirrorPlane::kXZ;
+  }
+  if (const Json* f = opt(body, "fraction")) options.fraction = as_number(*f, "fraction");
+  if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
+  const tools::ApplyPoseReport r = take(ws.apply_pose(library, name, rig, options));
+  Json set = Json::array();
+  for (NodeId n : r.set) set.push_back(ws.graph().node(n)->name());
+  return Json{{"revision", ws.revision()}, {"set", set},           {"channels", r.channels},
+              {"keyed", r.keyed},          {"unpaired", r.unpaired}, {"skipped", r.skipped}};
+}
+
+Json poses_list(app::Workspace& ws, const Json& query) {
+  const std::vector<tools::PoseInfo> list = take(ws.list_poses(as_string(need(query, "library"), "library")));
+  Json poses = Json::array();
+  for (const tools::PoseInfo& p : list) {
+    Json j{{"name", p.name}, {"rig", p.rig}, {"entries", p.entries}};
+    if (!p.error.empty()) j["error"] = p.error;
+    poses.push_back(std::move(j));
+  }
+  return Json{{"revision", ws.revision()}, {"poses", poses}};
+}
+
+Json poses_remove(app::Workspace& ws, const Json& body) {
+  check(ws.remove_pose(as_string(need(body, "library"), "library"), as_string(need(body, "name"), "name")));
+  return Json{{"revision", ws.revision()}, {"removed", body.at("name")}};
 }
 
 }  // namespace rigel::server::routes

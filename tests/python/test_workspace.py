@@ -466,3 +466,60 @@ def test_state_error_and_field(ws):
     with pytest.raises(rigel.NotFoundError) as info:
         ws.scene.get("ghost.translate")  # errors that name no input
     assert info.value.field is None
+
+
+def test_pose_library_saves_applies_lists_and_removes(built, tmp_path):
+    w, path = built
+    scene = w.scene
+    fk0 = scene.resolve("arm_rig:arm_L/fk[0]")
+    fk0["rotate"] = (10.0, 20.0, 30.0)
+    library = str(tmp_path / "poses")
+    saved = w.save_pose(library, "wave")
+    assert saved.name == "wave" and saved.entries > 3
+    assert (tmp_path / "poses" / "wave.pose.json").exists()
+    posed = translation(scene.resolve("arm_rig:arm_L/fk[2]").world_matrix)
+    # A second character built from the same definition takes the pose.
+    other = rigel.Workspace(str(METARIG))
+    other.add_rig(str(path))
+    report = other.apply_pose(library, "wave")
+    assert other.scene.resolve("arm_rig:arm_L/fk[0]") in report.set
+    assert close(translation(other.scene.resolve("arm_rig:arm_L/fk[2]").world_matrix), posed)
+    # Half way, keyed, on a selection.
+    other.undo()
+    other.set_frame(5)
+    half = other.apply_pose(library, "wave", controls=["arm_rig:arm_L/fk[0]"], fraction=0.5, key=True)
+    assert half.keyed == half.channels and len(half.set) == 1
+    assert [p.name for p in w.list_poses(library)] == ["wave"]
+    assert w.list_poses(library)[0].rig == "arm_rig" and w.list_poses(library)[0].error is None
+    w.remove_pose(library, "wave")
+    assert w.list_poses(library) == []
+
+
+def test_pose_library_refusals_name_the_argument(built, tmp_path):
+    w, _ = built
+    library = str(tmp_path / "poses")
+    for name in ["../escape", "a/b", ""]:
+        with pytest.raises(rigel.InvalidArgumentError) as info:
+            w.save_pose(library, name)
+        assert info.value.field == "name"
+    assert not (tmp_path / "escape.pose.json").exists()
+    with pytest.raises(rigel.NotFoundError) as info:
+        w.apply_pose(library, "nope")
+    assert info.value.field == "name"
+    w.save_pose(library, "wave")
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.apply_pose(library, "wave", fraction=2)
+    assert info.value.field == "fraction"
+    with pytest.raises(rigel.NotFoundError):
+        w.apply_pose(library, "wave", controls=["nobody"])
+    with pytest.raises(rigel.NotFoundError) as info:
+        w.apply_pose(library, "wave", rig="nobody")
+    assert info.value.field == "rig"
+    # A pose of another rig: its rigIds are not this rig's.
+    text = (tmp_path / "poses" / "wave.pose.json").read_text()
+    (tmp_path / "poses" / "other.pose.json").write_text(text.replace('"rigId": "', '"rigId": "f'))
+    with pytest.raises(rigel.InvalidArgumentError, match="no component has rigId f") as info:
+        w.apply_pose(library, "other")
+    assert info.value.field == "rig"
+    with pytest.raises(rigel.NotFoundError):
+        w.remove_pose(library, "nope")

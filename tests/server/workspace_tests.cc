@@ -732,6 +732,9 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/mirror", {"controls", "all", "flip", "from", "plane", "frames", "key"}},
       {"/api/bind-pose", {"controls", "key"}},
       {"/api/tween", {"controls", "attrs", "fraction", "key"}},
+      {"/api/poses/save", {"library", "name", "rig", "controls"}},
+      {"/api/poses/apply", {"library", "name", "rig", "controls", "mirror", "plane", "fraction", "key"}},
+      {"/api/poses/remove", {"library", "name"}},
       {"/api/undo", {}},
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},
@@ -778,7 +781,7 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       }
     }
   }
-  for (const char* get : {"/api/pose?space=", "/api/keys?controls=", "/api/definition?rig="}) {
+  for (const char* get : {"/api/pose?space=", "/api/keys?controls=", "/api/definition?rig=", "/api/poses?library="}) {
     for (const Json& v : values)
       if (v.is_string()) expect_below_500("GET", get + v.get<std::string>(), "");
   }
