@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <cmath>
 
 #include "cli_test_util.h"
 
@@ -32,8 +33,8 @@ class CliPoses : public ::testing::Test {
     runs_ = new std::vector<CliRun>{
         rigel({"build", example, "-o", out("a.rigel")}),
         rigel({"build", example, "-o", out("b.rigel")}),
-        rigel({"pose", out("a.rigel"), "--control", "hero_arm_L_fk0", "--rotate", "0,25,10", "-o", out("p1.rigel")}),
-        rigel({"pose", out("p1.rigel"), "--control", "hero_leg_L_ik", "--translate", "0.05,0.1,0", "-o", out("p2.rigel")}),
+        rigel({"pose", out("a.rigel"), "--control", "hero_arm_L_fk0", "--mode", "forward", "--rotate", "0,25,10", "-o", out("p1.rigel")}),
+        rigel({"pose", out("p1.rigel"), "--control", "hero_leg_L_ik", "--mode", "forward", "--translate", "0.05,0.1,0", "-o", out("p2.rigel")}),
         rigel({"key", out("p2.rigel"), "--control", "hero:arm_L/fkIkSwitch", "--attr", "fkIk", "--value", "0.5", "-o",
                posed()}),
     };
@@ -58,6 +59,24 @@ std::vector<CliRun>* CliPoses::runs_ = nullptr;
 // The pose file's entries (the part that depends on the scene's values).
 Json entries_of(const fs::path& file) { return Json::parse(text_of(file))["entries"]; }
 
+// Equal JSON, numbers within 1e-12 (an Euler channel's rotation goes
+// through a quaternion and back).
+bool near(const Json& a, const Json& b) {
+  if (a.is_number() && b.is_number()) return std::abs(a.get<double>() - b.get<double>()) <= 1e-12;
+  if (a.type() != b.type() || a.size() != b.size()) return false;
+  if (a.is_array()) {
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (!near(a[i], b[i])) return false;
+    return true;
+  }
+  if (a.is_object()) {
+    for (auto it = a.begin(); it != a.end(); ++it)
+      if (!b.contains(it.key()) || !near(it.value(), b[it.key()])) return false;
+    return true;
+  }
+  return a == b;
+}
+
 TEST_F(CliPoses, a_pose_saved_on_one_biped_applies_to_another) {
   const CliRun s = rigel({"poses", "save", library(), posed(), "--rig", "hero", "--name", "wave", "--json"});
   ASSERT_TRUE(exited_with(s, 0)) << s;
@@ -71,7 +90,9 @@ TEST_F(CliPoses, a_pose_saved_on_one_biped_applies_to_another) {
   const CliRun again = rigel({"poses", "save", library(), out("b_wave.rigel"), "--name", "copy"});
   ASSERT_TRUE(exited_with(again, 0)) << again;
   const Json first = entries_of(fs::path(library()) / "wave.pose.json"), second = entries_of(fs::path(library()) / "copy.pose.json");
-  EXPECT_EQ(first, second);
+  ASSERT_EQ(first.size(), second.size());
+  for (std::size_t i = 0; i < first.size(); ++i)
+    ASSERT_TRUE(near(first[i], second[i])) << "entry " << i << ": " << first[i] << " vs " << second[i];
   bool posed_arm = false;
   for (const Json& e : first)
     if (e["node"] == "hero_arm_L_fk0") posed_arm = e["channels"]["rotation"][3].get<double>() < 0.99;
@@ -104,7 +125,7 @@ TEST_F(CliPoses, mirrored_blended_and_keyed_on_a_selection) {
   EXPECT_EQ(j["keyed"], j["channels"]);
   const CliRun keys = rigel({"keys", out("b_arm.rigel"), "--control", "hero:arm_R/fkIkSwitch", "--json"});
   ASSERT_TRUE(exited_with(keys, 0)) << keys;
-  EXPECT_TRUE(contains(keys.out, "0.75")) << "half way from 1 (IK) to 0.5: " << keys.out;
+  EXPECT_TRUE(contains(keys.out, "\"values\":[0.25]")) << "half way from 0 (FK, as built) to 0.5: " << keys.out;
   // A selection the mirrored pose does not set.
   const CliRun miss = rigel({"poses", "apply", lib, out("b.rigel"), "--name", "arm", "--mirror", "--controls",
                              "hero:arm_L/fk[0]", "-o", out("miss.rigel")});
