@@ -269,8 +269,10 @@ def test_spaces_add_switch_and_bake(built):
     w.set_frame(0)
     w.set_channel_keys([ik], attrs=["translate"])
     w.set_frame(10)
-    scene.set(ik, "translate", (0.05, 0.1, 0.0))
     w.set_channel_keys([ik], attrs=["translate"])
+    w.select([ik])
+    w.drag(translate=(0.05, 0.1, 0.0))  # moves the key at frame 10
+    w.release()
     w.set_frame(5)
     before = scene.world_matrix(ik)
     report = w.switch_space(ik, "world", frame=5)
@@ -355,25 +357,25 @@ def test_rigs_add_step_feature_remove(metarig, tmp_path):
     rigel.Definition.load(str(BIPED)).save(str(path))
     w = rigel.Workspace(metarig)
     added = w.add_rig(str(path))
-    assert added.name == "hero" and added.steps == 86 and "arm_L" in added.components
+    assert added.name == "hero" and added.steps == 90 and "arm_L" in added.components
     [entry] = w.rigs()
-    assert (entry.name, entry.unbuilt, entry.steps, entry.definition) == ("hero", False, 86, str(path))
+    assert (entry.name, entry.unbuilt, entry.steps, entry.definition) == ("hero", False, 90, str(path))
     assert any(f.feature == "stretch" for f in entry.features)
     f = w.set_feature("hero", "stretch", False)
     assert [x.enabled for x in f.features if x.feature == "stretch" and x.switch == ""] == [False]
-    assert f.position == f.steps == 86
+    assert f.position == f.steps == 90
     with pytest.raises(rigel.NotFoundError) as info:
         w.set_feature("hero", "wings", True)
     assert info.value.field == "feature"
     step = w.step_rig("hero", to=3)
-    assert (step.rig, step.position, step.steps) == ("hero", 3, 86) and step.step
+    assert (step.rig, step.position, step.steps) == ("hero", 3, 90) and step.step
     assert w.step_rig("hero", by=-10).position == 0
     [entry] = w.rigs()
     assert entry.unbuilt and entry.version == "1.0"  # at step 0: kept by the workspace
     with pytest.raises(rigel.StateError) as info:
         w.update_rig("hero")
     assert info.value.field == "rig"
-    assert w.step_rig("hero", by=86).position == 86
+    assert w.step_rig("hero", by=90).position == 90
     with pytest.raises(rigel.InvalidArgumentError) as info:
         w.step_rig("hero", to=99)
     assert info.value.field == "to"

@@ -562,7 +562,9 @@ TEST(ServerApi, SpacesAddSwitchAndBake) {
   const auto refused = [&](const Json& body, int status, const char* field) {
     Response r = s.request("POST", "/api/space", body.dump());
     EXPECT_EQ(r.status, status) << body << ": " << r.body;
-    if (r.status < 500 && Json::accept(r.body)) EXPECT_EQ(Json::parse(r.body)["field"], field) << r.body;
+    if (r.status < 500 && Json::accept(r.body)) {
+      EXPECT_EQ(Json::parse(r.body)["field"], field) << r.body;
+    }
   };
   refused({{"control", "arm_arm_L_fk1"}, {"switch", "moon"}}, 400, "space");
   refused({{"control", "arm_arm_L_fk0"}, {"switch", "world"}}, 400, "control");
