@@ -12,11 +12,13 @@
 #include <CLI/CLI.hpp>
 
 #include "animate_commands.h"
+#include "space_command.h"
 #include "cli_util.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
 #include "key_commands.h"
 #include "pose_command.h"
+#include "poses_command.h"
 #include "rig_commands.h"
 #include "scene_commands.h"
 #include "serve_command.h"
@@ -39,6 +41,12 @@ int main(int argc, char** argv) {
   // `transfer`: keys from one component or character onto another.
   rigel::cli::TransferArgs transfer;
   rigel::cli::add_transfer_command(app, transfer);
+  // `space`: a control's spaces.
+  rigel::cli::SpaceCommand space;
+  rigel::cli::add_space_command(app, space);
+  // `poses save|apply|list|remove`: the pose library.
+  rigel::cli::PosesCommand poses;
+  rigel::cli::add_poses_command(app, poses);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -89,6 +97,8 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = rigel::cli::run_key_commands(keys)) return *code;
     if (const std::optional<int> code = rigel::cli::run_animate_commands(animate)) return *code;
     if (*transfer.command) return rigel::cli::run_transfer(transfer);
+    if (const std::optional<int> code = rigel::cli::run_space_command(space)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_poses_command(poses)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;

@@ -1,19 +1,25 @@
 // rigel.Workspace: the service layer (app::Workspace, ARCHITECTURE.md
 // "app") from Python: a scene, its posing session and its rigs, and
 // everything a user can do to them, as the CLI and the server do it. This
-// file converts Python values into app calls and app answers into Python
+// file (and wrap_workspace_poses.cc) converts Python values into app calls and app answers into Python
 // values; every rule and range check is app's (its errors name the
 // argument in Python's spelling: module.cc).
 
 #include <filesystem>
 
 #include "common.h"
-#include "workspace_common.h"
+#include "wrap_workspace.h"
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 
 namespace rigel::python {
+
+NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field) {
+  if (std::holds_alternative<NodeRef>(arg)) return resolve(w.scene, arg);
+  return unwrap(w.ws->node(std::get<std::string>(arg), field));
+}
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -40,11 +46,6 @@ WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::stri
 }
 
 // ---- arguments -----------------------------------------------------------------
-
-NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field) {
-  if (std::holds_alternative<NodeRef>(arg)) return resolve(w.scene, arg);
-  return unwrap(w.ws->node(std::get<std::string>(arg), field));
-}
 
 NodeId control_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field) {
   if (std::holds_alternative<NodeRef>(arg)) return unwrap(w.ws->control_of(resolve(w.scene, arg), field));
@@ -560,6 +561,7 @@ selection, to their bind pose now: controls to their rest as built, switches and
 when key=True. Returns a record (channels, set).)");
 }
 
+
 py::object step_record(const app::StepReport& r) {
   py::dict d;
   d["rig"] = r.rig;
@@ -735,6 +737,8 @@ cannot do it in its state.)");
   def_time_and_keys(cls);
   def_animator_tools(cls);
   def_transfer_and_values(cls);
+  def_space_tools(cls);
+  def_poses(cls);
   def_rigs(cls);
   def_definitions(cls);
 }

@@ -9,7 +9,7 @@
 #include <variant>
 #include <vector>
 
-#include "workspace_common.h"
+#include "wrap_workspace.h"
 
 namespace rigel::python {
 

@@ -1,5 +1,6 @@
 // The JSON API's animator-tool routes (docs/SERVER.md): FK/IK match,
-// mirror, bind pose, tween, transfer keys, channel values and glTF export. Each reads its request's fields and
+// mirror, bind pose, tween, transfer keys, channel values, spaces, the pose library and
+// glTF export. Each reads its request's fields and
 // calls the app layer; workspace.cc routes to them.
 
 #include "animate_routes.h"
@@ -168,6 +169,103 @@ Json channel_values(app::Workspace& ws, const Json& body) {
     keys.push_back(Json{{"plug", k.name}, {"frames", frames}});
   }
   return Json{{"revision", ws.revision()}, {"channels", channels}, {"keys", keys}};
+}
+
+namespace {
+
+Json spaces_json(app::Workspace& ws, NodeId control) {
+  const rig::ControlSpaces s = ws.spaces(control);
+  Json list = Json::array();
+  for (const rig::Space& space : s.spaces)
+    list.push_back({{"name", space.name},
+                    {"target", space.target.is_valid() ? Json(ws.graph().node(space.target)->name()) : Json(nullptr)}});
+  return Json{{"revision", ws.revision()},
+              {"control", ws.graph().node(control)->name()},
+              {"spaces", list},
+              {"current", s.spaces.empty() ? Json(nullptr) : Json(s.spaces[static_cast<std::size_t>(s.current)].name)}};
+}
+
+}  // namespace
+
+Json spaces(app::Workspace& ws, const std::string& control) { return spaces_json(ws, take(ws.node(control, "control"))); }
+
+Json space(app::Workspace& ws, const Json& body) {
+  const NodeId control = take(ws.node(as_string(need(body, "control"), "control"), "control"));
+  const Json* add = opt(body, "add");
+  const Json* to = opt(body, "switch");
+  if ((add != nullptr) == (to != nullptr)) refuse(400, "give one of \"add\" (a new space's name) or \"switch\"", "add");
+  if (add) {
+    NodeId target;
+    if (const Json* t = opt(body, "target"); t && !t->is_null()) target = take(ws.node(as_string(*t, "target"), "target"));
+    const int index = take(ws.add_space(control, as_string(*add, "add"), target));
+    Json out = spaces_json(ws, control);
+    out["index"] = index;
+    return out;
+  }
+  tools::SpaceSwitchOptions options;
+  options.space = as_string(*to, "switch");
+  if (const Json* f = opt(body, "frame")) options.frame = as_number(*f, "frame");
+  if (const auto f = frames_field(body)) {
+    if (options.frame) refuse(400, "frames: give \"frame\" or \"frames\", not both", "frames");
+    options.first = f->first;
+    options.last = f->second;
+  }
+  const tools::SpaceSwitchReport r = take(ws.switch_space(control, options));
+  return Json{{"revision", ws.revision()}, {"from", r.from},           {"to", r.to},
+              {"frames", r.frames},        {"keys", r.keys},           {"maxError", r.max_error},
+              {"worstFrame", r.worst_frame}};
+}
+
+// ---- the pose library --------------------------------------------------------
+
+Json poses_save(app::Workspace& ws, const Json& body) {
+  const std::string library = as_string(need(body, "library"), "library");
+  const std::string name = as_string(need(body, "name"), "name");
+  std::string rig;
+  if (const Json* r = opt(body, "rig")) rig = as_string(*r, "rig");
+  auto node = [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); };
+  const std::vector<NodeId> controls = nodes_field(body, "controls", node).value_or(std::vector<NodeId>{});
+  const tools::SavedPose saved = take(ws.save_pose(library, name, rig, controls));
+  return Json{{"revision", ws.revision()}, {"name", name}, {"entries", saved.entries}};
+}
+
+Json poses_apply(app::Workspace& ws, const Json& body) {
+  const std::string library = as_string(need(body, "library"), "library");
+  const std::string name = as_string(need(body, "name"), "name");
+  std::string rig;
+  if (const Json* r = opt(body, "rig")) rig = as_string(*r, "rig");
+  tools::ApplyPoseOptions options;
+  auto node = [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); };
+  if (auto c = nodes_field(body, "controls", node)) options.controls = std::move(*c);
+  if (const Json* m = opt(body, "mirror")) options.mirrored = as_bool(*m, "mirror");
+  if (const Json* p = opt(body, "plane")) {
+    const std::string plane = as_string(*p, "plane");
+    if (plane != "yz" && plane != "xy" && plane != "xz") refuse(400, "plane: expected \"yz\", \"xy\" or \"xz\"", "plane");
+    options.plane = plane == "yz" ? tools::MirrorPlane::kYZ : plane == "xy" ? tools::MirrorPlane::kXY : tools::MirrorPlane::kXZ;
+  }
+  if (const Json* f = opt(body, "fraction")) options.fraction = as_number(*f, "fraction");
+  if (const Json* k = opt(body, "key")) options.key = as_bool(*k, "key");
+  const tools::ApplyPoseReport r = take(ws.apply_pose(library, name, rig, options));
+  Json set = Json::array();
+  for (NodeId n : r.set) set.push_back(ws.graph().node(n)->name());
+  return Json{{"revision", ws.revision()}, {"set", set},           {"channels", r.channels},
+              {"keyed", r.keyed},          {"unpaired", r.unpaired}, {"skipped", r.skipped}};
+}
+
+Json poses_list(app::Workspace& ws, const Json& query) {
+  const std::vector<tools::PoseInfo> list = take(ws.list_poses(as_string(need(query, "library"), "library")));
+  Json poses = Json::array();
+  for (const tools::PoseInfo& p : list) {
+    Json j{{"name", p.name}, {"rig", p.rig}, {"entries", p.entries}};
+    if (!p.error.empty()) j["error"] = p.error;
+    poses.push_back(std::move(j));
+  }
+  return Json{{"revision", ws.revision()}, {"poses", poses}};
+}
+
+Json poses_remove(app::Workspace& ws, const Json& body) {
+  check(ws.remove_pose(as_string(need(body, "library"), "library"), as_string(need(body, "name"), "name")));
+  return Json{{"revision", ws.revision()}, {"removed", body.at("name")}};
 }
 
 }  // namespace rigel::server::routes

@@ -388,6 +388,20 @@ struct Workspace::Impl {
   Json post_tween(const Request&, const Json& body) { return routes::tween(ws, body); }
   Json post_transfer(const Request&, const Json& body) { return routes::transfer(ws, body); }
   Json post_channel_values(const Request&, const Json& body) { return routes::channel_values(ws, body); }
+  Json post_space(const Request&, const Json& body) { return routes::space(ws, body); }
+  Json get_spaces(const Request& req, const Json&) {
+    auto it = req.query.find("control");
+    if (it == req.query.end()) refuse(400, "missing query 'control'", "control");
+    return routes::spaces(ws, it->second);
+  }
+  Json post_poses_save(const Request&, const Json& body) { return routes::poses_save(ws, body); }
+  Json post_poses_apply(const Request&, const Json& body) { return routes::poses_apply(ws, body); }
+  Json post_poses_remove(const Request&, const Json& body) { return routes::poses_remove(ws, body); }
+  Json get_poses(const Request& req, const Json&) {
+    const auto it = req.query.find("library");
+    if (it == req.query.end()) refuse(400, "missing query 'library'", "library");
+    return routes::poses_list(ws, Json{{"library", it->second}});
+  }
 
 
 
@@ -610,7 +624,13 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/tween", &Impl::post_tween},
       {"POST", "/api/transfer", &Impl::post_transfer},
       {"POST", "/api/channel-values", &Impl::post_channel_values},
+      {"GET", "/api/spaces", &Impl::get_spaces},
+      {"POST", "/api/space", &Impl::post_space},
       {"POST", "/api/export", &Impl::post_export},
+      {"GET", "/api/poses", &Impl::get_poses},
+      {"POST", "/api/poses/save", &Impl::post_poses_save},
+      {"POST", "/api/poses/apply", &Impl::post_poses_apply},
+      {"POST", "/api/poses/remove", &Impl::post_poses_remove},
       {"POST", "/api/rigs/add", &Impl::post_rigs_add},
       {"POST", "/api/rigs/update", &Impl::post_rigs_update},
       {"POST", "/api/rigs/remove", &Impl::post_rigs_remove},

@@ -22,9 +22,9 @@ std::string frame_text(double f) {
   return buffer;
 }
 
-// The range a tool works over, checked (errors name "frames"): finite,
-// first <= last, within kMaxFrame and within the clip when there is one.
-Status check_frames(const Workspace& ws, double first, double last) {
+}  // namespace
+
+Status internal::check_frames(const Workspace& ws, double first, double last) {
   auto bad = [](const std::string& message) {
     return Status(ErrorCode::kInvalidArgument, "frames: " + message).with_field("frames");
   };
@@ -43,6 +43,8 @@ Status check_frames(const Workspace& ws, double first, double last) {
   return Status::ok();
 }
 
+namespace {
+using internal::check_frames;
 }  // namespace
 
 std::optional<std::array<double, 2>> Workspace::keyed_frames() const {

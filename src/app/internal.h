@@ -22,3 +22,13 @@ Status make_parent(const std::filesystem::path& file, const std::string& field);
 Status saved(const Status& s, const std::string& field);
 
 }  // namespace rigel::app::internal
+
+namespace rigel::app {
+class Workspace;
+namespace internal {
+// The range an animator tool works over, checked (errors name "frames"):
+// finite, first <= last, within kMaxFrame and within the clip when there
+// is one (animate.cc).
+Status check_frames(const Workspace& ws, double first, double last);
+}  // namespace internal
+}  // namespace rigel::app

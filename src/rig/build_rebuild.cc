@@ -13,6 +13,7 @@
 
 #include "build_internal.h"
 #include "rigel/ops/anim/channel_keys.h"
+#include "rigel/ops/util/space.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
@@ -317,12 +318,32 @@ struct OldComponent {
   std::string signature, version, parent;
 };
 
+// Which components each component's controls take spaces from (rig/spaces.h),
+// by rigId: the components of its spaceSwitches' targets.
+std::map<std::string, std::set<std::string>> space_sources(const graph::Graph& g, NodeId root) {
+  std::map<std::string, std::set<std::string>> out;
+  for (NodeId meta : rig_components(g, root)) {
+    const std::string id = meta_string(g, meta, "rigId");
+    for (NodeId m : meta_members(g, meta)) {
+      if (g.node(m)->type().name() != ops::util::kSpaceSwitchType) continue;
+      for (const graph::Connection& c : g.node(m)->inputs()) {
+        if (c.dst.attr != ops::util::space_attr::kTargetWorldMatrix) continue;
+        const NodeId from = component_of(g, c.src.node);
+        if (from.is_valid() && from != meta && rig_of(g, from) == root) out[id].insert(meta_string(g, from, "rigId"));
+      }
+    }
+  }
+  return out;
+}
+
 // The rigIds an update destructs and constructs again: components new or
-// changed (as `when` says), moved to another parent, and what hangs from
-// them (their hooks are made again).
+// changed (as `when` says), moved to another parent, what hangs from them
+// (their hooks are made again), and what takes a space from them or from a
+// component that is gone (the space's target is made again).
 std::set<std::string> dirty_components(const std::vector<const Component*>& components, const std::vector<int>& parent,
                                        const std::vector<AttachTarget>& attach,
-                                       const std::map<std::string, OldComponent>& old, Build::Rebuild when) {
+                                       const std::map<std::string, OldComponent>& old, Build::Rebuild when,
+                                       const std::map<std::string, std::set<std::string>>& follows) {
   std::set<std::string> dirty;
   for (std::size_t i = 0; i < components.size(); ++i) {
     const Component& c = *components[i];
@@ -341,7 +362,15 @@ std::set<std::string> dirty_components(const std::vector<const Component*>& comp
       if (dirty.count(components[i]->rig_id)) continue;
       const int p = parent[i];
       const int a = attach[i].component;
-      if ((p >= 0 && dirty.count(components[p]->rig_id)) || (a >= 0 && dirty.count(components[a]->rig_id))) {
+      bool space_dirty = false;
+      if (auto f = follows.find(components[i]->rig_id); f != follows.end())
+        for (const std::string& from : f->second) {
+          const bool present = std::any_of(components.begin(), components.end(),
+                                           [&](const Component* c) { return c->rig_id == from; });
+          space_dirty = space_dirty || dirty.count(from) || !present;
+        }
+      if ((p >= 0 && dirty.count(components[p]->rig_id)) || (a >= 0 && dirty.count(components[a]->rig_id)) ||
+          space_dirty) {
         dirty.insert(components[i]->rig_id);
         grew = true;
       }
@@ -447,6 +476,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     old[components_[i]->rig_id] = OldComponent{signature(*components_[i]), components_[i]->version,
                                                p >= 0 ? components_[p]->rig_id : ""};
   }
+  const std::map<std::string, std::set<std::string>> follows = space_sources(scene_.graph(), root());
   const Definition old_def = definition_;
   std::vector<std::string> old_ids;
   for (const Component* c : components_) old_ids.push_back(c->rig_id);
@@ -458,7 +488,7 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     (void)replan();
     return s;
   }
-  const std::set<std::string> dirty = dirty_components(components_, records_->parent, records_->attach, old, when);
+  const std::set<std::string> dirty = dirty_components(components_, records_->parent, records_->attach, old, when, follows);
   std::set<std::string> removed;
   for (const std::string& id : old_ids) {
     bool present = false;

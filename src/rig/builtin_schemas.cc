@@ -19,6 +19,9 @@ ParamSpec p_double(std::string name, double value, std::optional<double> min, st
                    std::string help) {
   return ParamSpec{std::move(name), ParamType::kDouble, value, min, max, {}, std::move(help)};
 }
+ParamSpec p_string(std::string name, std::string value, std::string help) {
+  return ParamSpec{std::move(name), ParamType::kString, std::move(value), {}, {}, {}, std::move(help)};
+}
 ParamSpec p_enum(std::string name, std::string value, std::vector<std::string> choices, std::string help) {
   return ParamSpec{std::move(name), ParamType::kEnum, std::move(value), {}, {}, std::move(choices), std::move(help)};
 }
@@ -106,7 +109,12 @@ std::vector<ComponentSchema> make_schemas() {
                 p_enum("defaultMode", "fk", {"fk", "ik"}, "The mode the switch starts in."),
                 p_bool("stretch", true, "IK stretches past full extension."),
                 p_double("maxStretch", 1.5, 1.0, {}, "Largest stretch factor."),
-                p_double("poleDistance", 0.5, 0.0, {}, "Distance of the pole control from the middle joint, m.")};
+                p_double("poleDistance", 0.5, 0.0, {}, "Distance of the pole control from the middle joint, m."),
+                p_string("ikSpaces", "",
+                         "The IK control's spaces besides its parent: `world` or NAME=COMPONENT/ROLE (a component's "
+                         "name, else its type, and a control role), comma-separated; spaces whose component the rig "
+                         "lacks are left out. Empty: world,global=global/main,chest=chest/main,head=neck/head for "
+                         "an arm, world,global=global/main,hip=hip/main for a leg.")};
     c.guides = {3, 3, {"upper", "lower", "end"}, "Shoulder/hip, elbow/knee, wrist/ankle."};
     c.controls = {{"fk", "circle", "yellow", 0.25, "FK controls, one per joint."},
                   {"ik", "cube", "red", 0.15, "IK control at the end joint."},

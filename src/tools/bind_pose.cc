@@ -8,6 +8,7 @@
 #include "rigel/ephemeral/rig.h"
 #include "rigel/math/types.h"
 #include "rigel/ops/anim/channel_keys.h"
+#include "rigel/ops/util/space.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 #include "rigel/tools/keys.h"
@@ -84,6 +85,15 @@ Result<BindPoseReport> reset_bind_pose(graph::Graph& g, const std::vector<NodeId
         if (a == graph::kNoAttr) continue;
         if (s) s = write(id, a, Value(value));
       }
+      // A space switch's compensation goes back to the identity with it.
+      if (n.type().name() == ops::util::kSpaceSwitchType)
+        for (const graph::Connection& c : n.inputs()) {
+          if (c.dst.attr != ops::util::space_attr::kCompensationMatrix) continue;
+          const Value zero(math::Vec3(math::Vec3::Zero()));
+          for (graph::AttrIndex a : {xform::kTranslate, xform::kRotate, xform::kShear})
+            if (s) s = write(c.src.node, a, zero);
+          if (s) s = write(c.src.node, xform::kScale, Value(math::Vec3(math::Vec3::Ones())));
+        }
     }
     if (!s) {
       tx.rollback();

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "frames.h"
+#include "mirror_map.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
@@ -23,21 +24,13 @@ using graph::Plug;
 using math::Mat4;
 namespace xform = scene::xform;
 
-// target's channel matrix = k_inverse * source's * k.
 struct PoseJob {
   NodeId source, target;
-  Mat4 k, k_inverse;
+  internal::MirrorMap map;
 };
 struct ValueJob {
   Plug source, target;
 };
-
-Mat4 reflection(MirrorPlane plane) {
-  const int axis = plane == MirrorPlane::kYZ ? 0 : plane == MirrorPlane::kXZ ? 1 : 2;  // the axis it negates
-  Mat4 m = Mat4::Identity();
-  m(axis, axis) = -1;
-  return m;
-}
 
 std::string side_of(const graph::Graph& g, NodeId node) {
   const NodeId meta = rig::component_of(g, node);
@@ -47,15 +40,9 @@ std::string side_of(const graph::Graph& g, NodeId node) {
 bool is_control(const graph::Graph& g, NodeId id) { return g.node(id)->type().name() == scene::kControlType; }
 
 Result<PoseJob> pose_job(const graph::Graph& g, NodeId source, NodeId target, const Mat4& m) {
-  const std::optional<Mat4> a = rig::rest_world(g, source), b = rig::rest_world(g, target);
-  if (!a || !b)
-    return Status(ErrorCode::kFailedPrecondition, "mirror: '" + g.node(a ? target : source)->name() +
-                                                      "' has no recorded rest (the rig was built before rigel "
-                                                      "recorded it): rebuild it (rigel update --force)")
-        .with_field("controls");
-  PoseJob job{source, target, math::affine_inverse(*a) * m * *b, Mat4::Identity()};
-  job.k_inverse = math::affine_inverse(job.k);
-  return job;
+  Result<internal::MirrorMap> map = internal::mirror_map(g, source, target, m, "mirror");
+  if (!map) return map.status();
+  return PoseJob{source, target, *map};
 }
 
 // The controls `all` covers: every control of the rigs of `given` (of every
@@ -123,7 +110,7 @@ Result<std::pair<std::vector<PoseJob>, std::vector<ValueJob>>> plan(const graph:
                     "mirror: '" + (g.node(c) ? g.node(c)->name() : std::string("?")) + "' is not a built rig's control")
           .with_field("controls");
   const std::vector<NodeId> controls = o.all ? rig_controls(g, o.controls) : o.controls;
-  const Mat4 m = reflection(o.plane);
+  const Mat4 m = internal::reflection(o.plane);
   std::vector<PoseJob> poses;
   std::set<std::uint32_t> targets;
   auto add = [&](NodeId source, NodeId target) -> Status {
@@ -188,7 +175,7 @@ Result<MirrorReport> mirror(scene::Scene& scene, const MirrorOptions& o) {
     scene.set_frame(f);
     for (std::size_t i = 0; i < poses.size(); ++i) {
       const Mat4 channels = std::get<Mat4>(g.evaluate(poses[i].source, xform::kMatrix));
-      tracks[i].push(poses[i].k_inverse * channels * poses[i].k);
+      tracks[i].push(poses[i].map(channels));
     }
     for (std::size_t i = 0; i < value_jobs_.size(); ++i)
       values[i].values.push_back(std::get<double>(g.evaluate(value_jobs_[i].source.node, value_jobs_[i].source.attr)));
@@ -214,5 +201,29 @@ Result<MirrorReport> mirror(scene::Scene& scene, const MirrorOptions& o) {
   if (o.progress) o.progress(1.0);
   return report;
 }
+
+namespace internal {
+
+Mat4 reflection(MirrorPlane plane) {
+  const int axis = plane == MirrorPlane::kYZ ? 0 : plane == MirrorPlane::kXZ ? 1 : 2;  // the axis it negates
+  Mat4 m = Mat4::Identity();
+  m(axis, axis) = -1;
+  return m;
+}
+
+Result<MirrorMap> mirror_map(const graph::Graph& g, NodeId source, NodeId target, const Mat4& reflection,
+                             const char* what) {
+  const std::optional<Mat4> a = rig::rest_world(g, source), b = rig::rest_world(g, target);
+  if (!a || !b)
+    return Status(ErrorCode::kFailedPrecondition, std::string(what) + ": '" + g.node(a ? target : source)->name() +
+                                                      "' has no recorded rest (the rig was built before rigel "
+                                                      "recorded it): rebuild it (rigel update --force)")
+        .with_field("controls");
+  MirrorMap map{math::affine_inverse(*a) * reflection * *b, Mat4::Identity()};
+  map.k_inverse = math::affine_inverse(map.k);
+  return map;
+}
+
+}  // namespace internal
 
 }  // namespace rigel::tools

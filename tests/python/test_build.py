@@ -10,7 +10,7 @@ from conftest import BIPED, METARIG, arm_definition, close, distance, translatio
 def test_step_forward_and_back_exactly(metarig):
     original = metarig.to_text()
     b = rigel.RigBuild.open(metarig, arm_definition())
-    assert b.position == 0 and b.root is None and len(b) == b.step_count == 9
+    assert b.position == 0 and b.root is None and len(b) == b.step_count == 10
     labels = [p.label for p in b.plan]
     assert labels[0] == "rig" and "arm_L/fk" in labels and "global/meta" in labels
     assert [c.full_name for c in b.components] == ["global", "arm_L"]
@@ -157,7 +157,7 @@ def test_invalid_definitions_are_refused_with_places(metarig):
 
 def test_features_switch_steps(metarig):
     b = rigel.RigBuild.open(metarig, str(BIPED))
-    assert len(b) == 86
+    assert len(b) == 90
     b.build_all()
     stretch = [p.label for p in b.plan if p.feature == "stretch"]
     assert "arm_L/stretch" in stretch

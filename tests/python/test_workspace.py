@@ -256,6 +256,44 @@ def test_mirror_refuses_a_control_without_a_pair_and_flips_the_centre(built):
         w.mirror([main], side="Q")
 
 
+def test_spaces_add_switch_and_bake(built):
+    w, _ = built
+    scene = w.scene
+    ik = scene.resolve("arm_rig:arm_L/ik")
+    spaces = w.spaces(ik)
+    # The arm rig has a global but no chest or head: those spaces are left out.
+    assert [s.name for s in spaces.spaces] == ["parent", "world", "global"]
+    assert spaces.current == "parent" and spaces.spaces[1].target is None
+    added = w.add_space(ik, "forearm", scene.resolve("arm_rig:arm_L/fk[1]"))
+    assert added.spaces[-1].name == "forearm"
+    w.set_frame(0)
+    w.set_channel_keys([ik], attrs=["translate"])
+    w.set_frame(10)
+    w.set_channel_keys([ik], attrs=["translate"])
+    w.select([ik])
+    w.drag(translate=(0.05, 0.1, 0.0))  # moves the key at frame 10
+    w.release()
+    w.set_frame(5)
+    before = scene.world_matrix(ik)
+    report = w.switch_space(ik, "world", frame=5)
+    assert report.from_space == "parent" and report.to_space == "world"
+    assert report.frames == 1 and report.max_error < 1e-9
+    w.set_frame(5)
+    assert close(scene.world_matrix(ik), before, 1e-9)
+    assert w.spaces(ik).current == "world"
+    baked = w.switch_space(ik, "global", frames=(0, 10))
+    assert baked.frames == 11 and baked.max_error < 1e-6
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.switch_space(ik, "moon")
+    assert info.value.field == "space"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.add_space(ik, "self", ik)
+    assert info.value.field == "target"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.switch_space(scene.resolve("arm_rig:arm_L/fk[0]"), "world")
+    assert info.value.field == "control"
+
+
 def test_deform_only_export_writes_the_skin_joints_and_the_mesh(built, tmp_path):
     w, _ = built
     scene = w.scene
@@ -319,25 +357,25 @@ def test_rigs_add_step_feature_remove(metarig, tmp_path):
     rigel.Definition.load(str(BIPED)).save(str(path))
     w = rigel.Workspace(metarig)
     added = w.add_rig(str(path))
-    assert added.name == "hero" and added.steps == 86 and "arm_L" in added.components
+    assert added.name == "hero" and added.steps == 90 and "arm_L" in added.components
     [entry] = w.rigs()
-    assert (entry.name, entry.unbuilt, entry.steps, entry.definition) == ("hero", False, 86, str(path))
+    assert (entry.name, entry.unbuilt, entry.steps, entry.definition) == ("hero", False, 90, str(path))
     assert any(f.feature == "stretch" for f in entry.features)
     f = w.set_feature("hero", "stretch", False)
     assert [x.enabled for x in f.features if x.feature == "stretch" and x.switch == ""] == [False]
-    assert f.position == f.steps == 86
+    assert f.position == f.steps == 90
     with pytest.raises(rigel.NotFoundError) as info:
         w.set_feature("hero", "wings", True)
     assert info.value.field == "feature"
     step = w.step_rig("hero", to=3)
-    assert (step.rig, step.position, step.steps) == ("hero", 3, 86) and step.step
+    assert (step.rig, step.position, step.steps) == ("hero", 3, 90) and step.step
     assert w.step_rig("hero", by=-10).position == 0
     [entry] = w.rigs()
     assert entry.unbuilt and entry.version == "1.0"  # at step 0: kept by the workspace
     with pytest.raises(rigel.StateError) as info:
         w.update_rig("hero")
     assert info.value.field == "rig"
-    assert w.step_rig("hero", by=86).position == 86
+    assert w.step_rig("hero", by=90).position == 90
     with pytest.raises(rigel.InvalidArgumentError) as info:
         w.step_rig("hero", to=99)
     assert info.value.field == "to"
@@ -430,3 +468,60 @@ def test_state_error_and_field(ws):
     with pytest.raises(rigel.NotFoundError) as info:
         ws.scene.get("ghost.translate")  # errors that name no input
     assert info.value.field is None
+
+
+def test_pose_library_saves_applies_lists_and_removes(built, tmp_path):
+    w, path = built
+    scene = w.scene
+    fk0 = scene.resolve("arm_rig:arm_L/fk[0]")
+    fk0["rotate"] = (10.0, 20.0, 30.0)
+    library = str(tmp_path / "poses")
+    saved = w.save_pose(library, "wave")
+    assert saved.name == "wave" and saved.entries > 3
+    assert (tmp_path / "poses" / "wave.pose.json").exists()
+    posed = translation(scene.resolve("arm_rig:arm_L/fk[2]").world_matrix)
+    # A second character built from the same definition takes the pose.
+    other = rigel.Workspace(str(METARIG))
+    other.add_rig(str(path))
+    report = other.apply_pose(library, "wave")
+    assert other.scene.resolve("arm_rig:arm_L/fk[0]") in report.set
+    assert close(translation(other.scene.resolve("arm_rig:arm_L/fk[2]").world_matrix), posed)
+    # Half way, keyed, on a selection.
+    other.undo()
+    other.set_frame(5)
+    half = other.apply_pose(library, "wave", controls=["arm_rig:arm_L/fk[0]"], fraction=0.5, key=True)
+    assert half.keyed == half.channels and len(half.set) == 1
+    assert [p.name for p in w.list_poses(library)] == ["wave"]
+    assert w.list_poses(library)[0].rig == "arm_rig" and w.list_poses(library)[0].error is None
+    w.remove_pose(library, "wave")
+    assert w.list_poses(library) == []
+
+
+def test_pose_library_refusals_name_the_argument(built, tmp_path):
+    w, _ = built
+    library = str(tmp_path / "poses")
+    for name in ["../escape", "a/b", ""]:
+        with pytest.raises(rigel.InvalidArgumentError) as info:
+            w.save_pose(library, name)
+        assert info.value.field == "name"
+    assert not (tmp_path / "escape.pose.json").exists()
+    with pytest.raises(rigel.NotFoundError) as info:
+        w.apply_pose(library, "nope")
+    assert info.value.field == "name"
+    w.save_pose(library, "wave")
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.apply_pose(library, "wave", fraction=2)
+    assert info.value.field == "fraction"
+    with pytest.raises(rigel.NotFoundError):
+        w.apply_pose(library, "wave", controls=["nobody"])
+    with pytest.raises(rigel.NotFoundError) as info:
+        w.apply_pose(library, "wave", rig="nobody")
+    assert info.value.field == "rig"
+    # A pose of another rig: its rigIds are not this rig's.
+    text = (tmp_path / "poses" / "wave.pose.json").read_text()
+    (tmp_path / "poses" / "other.pose.json").write_text(text.replace('"rigId": "', '"rigId": "f'))
+    with pytest.raises(rigel.InvalidArgumentError, match="no component has rigId f") as info:
+        w.apply_pose(library, "other")
+    assert info.value.field == "rig"
+    with pytest.raises(rigel.NotFoundError):
+        w.remove_pose(library, "nope")

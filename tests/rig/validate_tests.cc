@@ -59,7 +59,7 @@ TEST(Validate, an_invalid_file_lists_every_problem_at_its_element) {
       "12:9: component 'arm' (limb, L): parameter 'stretch' must be a bool (true or false), not string 'maybe'",
       "13:9: component 'arm' (limb, L): parameter 'maxStretch' = 0.5 is out of range (at least 1)",
       "14:9: component 'arm' (limb, L): unknown parameter 'wingspan' (limb takes kind, defaultMode, stretch, maxStretch, "
-      "poleDistance)",
+      "poleDistance, ikSpaces)",
       "15:9: component 'arm' (limb, L): unknown control role 'tail' (limb has fk, ik, pole, switch)",
       "15:9: component 'arm' (limb, L): unknown control shape 'blob' (shapes: circle, square, cube, sphere, diamond, "
       "cross, arrow, doubleArrow, fourArrow, fourArrowCircle, locator, pin, triangle)",

@@ -586,6 +586,47 @@ TEST(ServerApi, MirrorAndFlipTheBuiltRig) {
   EXPECT_EQ(Json::parse(bad.body)["field"], "controls");
 }
 
+// GET /api/spaces and POST /api/space: a space added to an FK control, a
+// switch at a frame that keeps it in place, a bake, and refusals naming the
+// field.
+TEST(ServerApi, SpacesAddSwitchAndBake) {
+  Served s = served_character();
+  s.post("/api/definition/build", {{"definition", two_component_definition()}});
+  Json none = s.get("/api/spaces?control=arm_arm_L_fk1");
+  EXPECT_TRUE(none["spaces"].empty()) << none;
+  EXPECT_EQ(none["current"], nullptr);
+  Json added = s.post("/api/space", {{"control", "arm_arm_L_fk1"}, {"add", "world"}, {"target", nullptr}});
+  EXPECT_EQ(added["index"], 1) << added;
+  EXPECT_EQ(added["spaces"][0]["name"], "parent");
+  Json global = s.post("/api/space", {{"control", "arm_arm_L_fk1"}, {"add", "global"}, {"target", "arm_global_main"}});
+  EXPECT_EQ(global["spaces"][2]["target"], "arm_global_main") << global;
+  Json listed = s.get("/api/spaces?control=arm:arm_L/fk[1]");
+  EXPECT_EQ(listed["spaces"].size(), 3u) << listed;
+  Json switched = s.post("/api/space", {{"control", "arm_arm_L_fk1"}, {"switch", "world"}, {"frame", 0}});
+  EXPECT_EQ(switched["from"], "parent") << switched;
+  EXPECT_LT(switched["maxError"].get<double>(), 1e-9) << switched;
+  EXPECT_EQ(s.get("/api/spaces?control=arm_arm_L_fk1")["current"], "world");
+  s.post("/api/time", {{"frame", 3}});
+  s.post("/api/channel-keys", {{"controls", {"arm_arm_L_fk1"}}, {"attrs", {"rotate"}}});
+  Json baked = s.post("/api/space", {{"control", "arm_arm_L_fk1"}, {"switch", "global"}, {"frames", {0, 3}}});
+  EXPECT_EQ(baked["frames"], 4) << baked;
+  const auto refused = [&](const Json& body, int status, const char* field) {
+    Response r = s.request("POST", "/api/space", body.dump());
+    EXPECT_EQ(r.status, status) << body << ": " << r.body;
+    if (r.status < 500 && Json::accept(r.body)) {
+      EXPECT_EQ(Json::parse(r.body)["field"], field) << r.body;
+    }
+  };
+  refused({{"control", "arm_arm_L_fk1"}, {"switch", "moon"}}, 400, "space");
+  refused({{"control", "arm_arm_L_fk0"}, {"switch", "world"}}, 400, "control");
+  refused({{"control", "arm_arm_L_fk1"}, {"add", "world"}}, 400, "space");
+  refused({{"control", "arm_arm_L_fk1"}, {"add", "x"}, {"switch", "world"}}, 400, "add");
+  refused({{"control", "arm_arm_L_fk1"}, {"add", "child"}, {"target", "arm_arm_L_fk2"}}, 400, "target");
+  refused({{"control", "arm_arm_L_fk1"}, {"switch", "world"}, {"frame", 1}, {"frames", {0, 2}}}, 400, "frames");
+  refused({{"control", "nobody"}, {"switch", "world"}}, 404, "control");
+  EXPECT_EQ(s.request("GET", "/api/spaces", "").status, 400);
+}
+
 // POST /api/export: a glTF inside the root, the deform skeleton only when
 // asked; paths outside the root and other extensions refused.
 TEST(ServerApi, ExportWritesGltfInsideTheRoot) {
@@ -739,10 +780,14 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       {"/api/key", {"controls", "delete"}},
       {"/api/channel-keys", {"controls", "attrs", "value", "delete", "tangent", "inTangent", "outTangent"}},
       {"/api/match", {"rig", "component", "to", "frames", "key"}},
+      {"/api/space", {"control", "add", "target", "switch", "frame", "frames"}},
       {"/api/export", {"path", "frames", "bake", "deformOnly"}},
       {"/api/mirror", {"controls", "all", "flip", "from", "plane", "frames", "key"}},
       {"/api/bind-pose", {"controls", "key"}},
       {"/api/tween", {"controls", "attrs", "fraction", "key"}},
+      {"/api/poses/save", {"library", "name", "rig", "controls"}},
+      {"/api/poses/apply", {"library", "name", "rig", "controls", "mirror", "plane", "fraction", "key"}},
+      {"/api/poses/remove", {"library", "name"}},
       {"/api/undo", {}},
       {"/api/redo", {}},
       {"/api/rigs/add", {"definition", "editMode"}},
@@ -789,7 +834,7 @@ TEST(ServerApi, NoRequestIsAnsweredWithA5xx) {
       }
     }
   }
-  for (const char* get : {"/api/pose?space=", "/api/keys?controls=", "/api/definition?rig="}) {
+  for (const char* get : {"/api/pose?space=", "/api/keys?controls=", "/api/definition?rig=", "/api/poses?library="}) {
     for (const Json& v : values)
       if (v.is_string()) expect_below_500("GET", get + v.get<std::string>(), "");
   }

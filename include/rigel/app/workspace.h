@@ -41,6 +41,8 @@
 #include "rigel/tools/match.h"
 #include "rigel/tools/transfer.h"
 #include "rigel/tools/mirror.h"
+#include "rigel/tools/spaces.h"
+#include "rigel/tools/poses.h"
 #include "rigel/tools/tween.h"
 
 namespace rigel::app {
@@ -363,6 +365,39 @@ class Workspace {
   };
   Result<ChannelValues> set_channel_values(const std::vector<NodeId>& controls, const std::vector<std::string>& attrs,
                                            const std::vector<double>& values);
+  // ---- spaces (rig/spaces.h, tools/spaces.h; src/app/spaces.cc) -------------
+  // A control's spaces (none when it has no spaceSwitch).
+  rig::ControlSpaces spaces(NodeId control) const;
+  // Adds space `name` following `target` (invalid: the world) to a control
+  // (rig::add_space); its index. Errors name "control", "space" or
+  // "target". One undo step.
+  Result<int> add_space(NodeId control, const std::string& name, NodeId target);
+  // Switches the control to another space at a frame, or bakes a range into
+  // it (tools::switch_space). Errors name "control", "space" or "frames"
+  // (as match). One undo step.
+  Result<tools::SpaceSwitchReport> switch_space(NodeId control, const tools::SpaceSwitchOptions& options);
+  // ---- pose library (tools/poses.h; src/app/poses.cc) ------------------------
+  // `library`: a folder, resolved as resolve_path does (inside root() when
+  // there is one; errors name "library"); `name`: a pose name
+  // (tools::check_pose_name; errors name "name").
+  // Saves the pose of `controls` (built rigs' controls, components or rigs)
+  // or, with none, of the whole of rig `rig` (empty: the scene's only rig)
+  // as LIBRARY/NAME.pose.json. Errors name "rig", "controls", "name" or
+  // "library". Changes nothing in the scene.
+  Result<tools::SavedPose> save_pose(const std::string& library, const std::string& name, const std::string& rig,
+                                     const std::vector<NodeId>& controls);
+  // Applies a saved pose (tools::apply_pose) to rig `rig` (empty: the rig
+  // of the pose's name, else the scene's only rig) at the current time.
+  // Errors name "name" (no such pose, unreadable), "rig" (no such rig, or
+  // the pose is of another rig: the missing rigId and role named),
+  // "controls" or "fraction". One undo step.
+  Result<tools::ApplyPoseReport> apply_pose(const std::string& library, const std::string& name, const std::string& rig,
+                                            const tools::ApplyPoseOptions& options);
+  // The library's poses by name (kNotFound naming "library" when there is
+  // no such folder).
+  Result<std::vector<tools::PoseInfo>> list_poses(const std::string& library) const;
+  // Deletes a pose (kNotFound naming "name" when there is none).
+  Status remove_pose(const std::string& library, const std::string& name);
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;

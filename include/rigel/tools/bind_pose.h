@@ -6,7 +6,8 @@
 // a component's other keyable nodes (a limb's fkIkSwitch, a foot's
 // reverseFoot) take the scalar values recorded when their build step ran
 // (rig::bind_values), so a rebuild or an update that keeps a component keeps
-// its bind pose too.
+// its bind pose too; a spaceSwitch's compensation transform goes back to
+// the identity with its `space` (rig/spaces.h).
 //
 // `nodes`: controls, components (their metaComponent, `hero:arm_L`) or rigs
 // (their metaRoot, `hero:`): everything a component or rig built. At the

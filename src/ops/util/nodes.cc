@@ -7,6 +7,7 @@
 #include "rigel/ops/util/blend.h"
 #include "rigel/ops/util/finger.h"
 #include "rigel/ops/util/foot.h"
+#include "rigel/ops/util/space.h"
 #include "rigel/ops/util/twist.h"
 
 namespace rigel::ops::util {
@@ -48,6 +49,7 @@ Status register_util_types(graph::Registry& registry) {
   if (Status s = register_blend_types(registry); !s) return s;
   if (Status s = register_finger_types(registry); !s) return s;
   if (Status s = register_foot_types(registry); !s) return s;
+  if (Status s = register_space_types(registry); !s) return s;
   return register_twist_types(registry);
 }
 

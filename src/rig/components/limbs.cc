@@ -13,6 +13,7 @@
 #include "rigel/ops/util/twist.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/meta.h"
+#include "rigel/rig/spaces.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::rig::components {
@@ -379,6 +380,16 @@ class Limb : public ComponentClass {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
                if (!joints) return joints.status();
                return drive_joints(ctx, *joints, ctx.node("fkIkSwitch"));
+             }},
+        Step{"spaces", "ik", "",
+             [](BuildContext& ctx) -> Status {
+               const NodeId ik = ctx.node("ik");
+               if (!ik.is_valid()) return Status::ok();
+               const std::string spec = ctx.param_string("ikSpaces");
+               const char* fallback = ctx.param_string("kind") == "leg"
+                                          ? "world,global=global/main,hip=hip/main"
+                                          : "world,global=global/main,chest=chest/main,head=neck/head";
+               return add_default_spaces(ctx, ik, "ik", spec.empty() ? fallback : spec, !spec.empty());
              }},
     };
   }

@@ -9,6 +9,7 @@
 //   twistShare    twist.h      TwistShareJob, twist_angle()   twist_share.h
 //   reverseFoot   foot.h       ReverseFootJob                 reverse_foot.h
 //   fingerCurl    finger.h     FingerCurlJob                  finger_curl.h
+//   spaceSwitch   space.h      (a matrix product: space.h)
 //
 //   inverseMatrix  inputMatrix, offsetMatrix (matrix inputs) ->
 //                  outputMatrix = (inputMatrix * offsetMatrix)^-1
@@ -25,7 +26,7 @@ namespace rigel::ops::util {
 
 inline constexpr const char* kInverseMatrixType = "inverseMatrix";
 
-// Adds inverseMatrix and the four rig operators' node types.
+// Adds inverseMatrix and the rig operators' node types.
 Status register_util_types(graph::Registry& registry);
 
 }  // namespace rigel::ops::util

@@ -1,10 +1,12 @@
 #pragma once
-// What the rigel.Workspace wraps share (wrap_workspace.cc, and
-// wrap_workspace_tools.cc, which holds the transfer, move-keys and
-// channel-value methods so that neither file outgrows the size rule).
+// What rigel.Workspace's wrap files share (wrap_workspace.cc: the class and
+// most methods; wrap_workspace_tools.cc: transfer, move keys and channel
+// values; wrap_workspace_spaces.cc: spaces; wrap_workspace_poses.cc: the pose
+// library).
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "common.h"
@@ -33,6 +35,9 @@ auto edit(const WorkspaceRef& w, F&& call) {
   return call(*w.ws);
 }
 
+// A node given as a Node or a name, uuid or rig address.
+NodeId node_arg(const WorkspaceRef& w, const NodeArg& arg, const std::string& field);
+
 // Channel keys: one record per keyed plug (plug name, times, frames, values).
 py::list plug_keys_list(const WorkspaceRef& w, const std::vector<tools::PlugKeys>& keys);
 // Any nodes with keyable channels (default: the selection): controls (a
@@ -41,5 +46,9 @@ std::vector<NodeId> key_nodes_arg(const WorkspaceRef& w, const std::optional<std
 
 // Workspace.transfer_keys, move_channel_keys, set_channel_values.
 void def_transfer_and_values(WorkspaceClass& cls);
+// Workspace.spaces, add_space, switch_space.
+void def_space_tools(WorkspaceClass& cls);
+// Workspace.save_pose, apply_pose, list_poses, remove_pose.
+void def_poses(WorkspaceClass& cls);
 
 }  // namespace rigel::python

@@ -1,0 +1,82 @@
+// The workspace's pose library (workspace.h; tools/poses.h): library
+// folders resolved as the workspace's other paths (confined to its root
+// when it has one), rigs by name.
+
+#include <string>
+
+#include "internal.h"
+#include "rigel/app/workspace.h"
+#include "rigel/rig/meta.h"
+
+namespace rigel::app {
+namespace {
+
+using internal::conflict;
+
+// The rig a pose call names: `name`, or the scene's only rig when empty.
+Result<NodeId> rig_named(const graph::Graph& g, const std::string& name, const std::string& fallback = {}) {
+  if (!name.empty()) {
+    const NodeId r = rig::find_rig(g, name);
+    if (!r.is_valid()) return Status(ErrorCode::kNotFound, "rig: no built rig '" + name + "' in the scene").with_field("rig");
+    return r;
+  }
+  if (!fallback.empty())
+    if (const NodeId r = rig::find_rig(g, fallback); r.is_valid()) return r;
+  const std::vector<NodeId> rigs = rig::list_rigs(g);
+  if (rigs.size() == 1) return rigs[0];
+  return Status(ErrorCode::kInvalidArgument, rigs.empty() ? std::string("rig: the scene holds no built rig")
+                                                          : "rig: the scene holds " + std::to_string(rigs.size()) +
+                                                                " rigs; name one")
+      .with_field("rig");
+}
+
+}  // namespace
+
+Result<tools::SavedPose> Workspace::save_pose(const std::string& library, const std::string& name,
+                                              const std::string& rig, const std::vector<NodeId>& controls) {
+  if (Status s = tools::check_pose_name(name); !s) return s;
+  Result<fs::path> folder = resolve_path(library, "library");
+  if (!folder) return folder.status();
+  std::vector<NodeId> nodes = controls;
+  if (nodes.empty() || !rig.empty()) {
+    Result<NodeId> r = rig_named(graph(), rig);
+    if (!r) return r.status();
+    for (NodeId c : nodes)
+      if (rig::rig_of(graph(), c) != *r)
+        return Status(ErrorCode::kInvalidArgument,
+                      "controls: '" + graph().node(c)->name() + "' is not a control of rig '" + rig + "'")
+            .with_field("controls");
+    if (nodes.empty()) nodes.push_back(*r);
+  }
+  Result<tools::SavedPose> saved = tools::save_pose(graph(), nodes, name, *folder);
+  if (!saved) return saved.status().field().empty() ? conflict(saved.status()) : saved.status();
+  return saved;
+}
+
+Result<tools::ApplyPoseReport> Workspace::apply_pose(const std::string& library, const std::string& name,
+                                                     const std::string& rig, const tools::ApplyPoseOptions& options) {
+  Result<fs::path> folder = resolve_path(library, "library");
+  if (!folder) return folder.status();
+  Result<tools::Pose> pose = tools::load_pose(*folder, name);
+  if (!pose) return pose.status();
+  Result<NodeId> target = rig_named(graph(), rig, pose->rig);
+  if (!target) return target.status();
+  Result<tools::ApplyPoseReport> report = tools::apply_pose(graph(), *pose, *target, options);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  if (!report->set.empty()) bump_revision();
+  return report;
+}
+
+Result<std::vector<tools::PoseInfo>> Workspace::list_poses(const std::string& library) const {
+  Result<fs::path> folder = resolve_path(library, "library");
+  if (!folder) return folder.status();
+  return tools::list_poses(*folder);
+}
+
+Status Workspace::remove_pose(const std::string& library, const std::string& name) {
+  Result<fs::path> folder = resolve_path(library, "library");
+  if (!folder) return folder.status();
+  return tools::remove_pose(*folder, name);
+}
+
+}  // namespace rigel::app
