@@ -109,7 +109,8 @@ TEST_F(CliSpace, bake_a_range_keys_its_frames_only) {
   EXPECT_LT(j["maxError"].get<double>(), 1e-6) << b.out;
   const CliRun keys = rigel({"keys", baked, "--control", "hero:arm_L/ik", "--attr", "translate", "--json"});
   ASSERT_TRUE(exited_with(keys, 0)) << keys;
-  for (const Json& c : Json::parse(keys.out)["channels"]) {
+  const Json listed = Json::parse(keys.out);
+  for (const Json& c : listed["channels"]) {
     ASSERT_EQ(c["frames"].size(), 15u) << c;  // 0, 4..16, 20
     EXPECT_EQ(c["frames"][0], 0.0);
     EXPECT_EQ(c["frames"][1], 4.0);
