@@ -203,19 +203,6 @@ Result<Value> decode_value(const Json& j, const AttrSpec& spec) {
   return array;
 }
 
-std::string line_column(std::string_view text, std::size_t byte) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return std::to_string(line) + ":" + std::to_string(column);
-}
-
 Status check_keys(const Json& object, std::initializer_list<const char*> allowed) {
   for (auto it = object.begin(); it != object.end(); ++it) {
     bool known = false;

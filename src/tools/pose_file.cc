@@ -28,19 +28,6 @@ constexpr int kVersion = 1;
 constexpr std::size_t kMaxDepth = 16;
 constexpr std::uintmax_t kMaxBytes = 64u << 20;
 
-std::string line_column(std::string_view text, std::size_t byte) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return std::to_string(line) + ":" + std::to_string(column);
-}
-
 Json value_json(const graph::Value& v) {
   if (const auto* q = std::get_if<Quat>(&v)) return Json::array({q->x(), q->y(), q->z(), q->w()});
   if (const auto* x = std::get_if<Vec3>(&v)) return Json::array({x->x(), x->y(), x->z()});
@@ -162,7 +149,7 @@ std::string pose_to_json(const Pose& pose) {
 
 Result<Pose> pose_from_json(std::string_view text, const std::string& source) {
   if (const std::size_t deep = io::json_too_deep(text, kMaxDepth); deep != std::string_view::npos)
-    return Status(ErrorCode::kParseError, source + ":" + line_column(text, deep) + ": nested too deeply for a pose")
+    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, deep) + ": nested too deeply for a pose")
         .with_field("name");
   Json doc;
   try {
@@ -170,7 +157,7 @@ Result<Pose> pose_from_json(std::string_view text, const std::string& source) {
   } catch (const Json::parse_error& e) {
     std::string what = e.what();
     if (const std::size_t colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
-    return Status(ErrorCode::kParseError, source + ":" + line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + what)
+    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + what)
         .with_field("name");
   } catch (const Json::exception& e) {
     return Status(ErrorCode::kParseError, source + ": " + e.what()).with_field("name");

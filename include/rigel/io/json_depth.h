@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <string_view>
 
 namespace rigel::io {
@@ -14,5 +15,9 @@ namespace rigel::io {
 // in `text`, or std::string_view::npos. Strings are skipped (their escapes
 // too); the text need not be valid JSON. Linear in the text, no allocation.
 std::size_t json_too_deep(std::string_view text, std::size_t limit);
+
+// "LINE:COLUMN" (both from 1) of byte offset `byte` in `text`: where a
+// parse error is, for messages.
+std::string line_column(std::string_view text, std::size_t byte);
 
 }  // namespace rigel::io
