@@ -18,7 +18,11 @@ const here = dirname(fileURLToPath(import.meta.url));
 export const webDir = resolve(here, '..');
 export const repoDir = resolve(webDir, '..');
 export const rigelBin = resolve(webDir, process.env.RIGEL_BIN ?? '../build/release/apps/cli/rigel');
-export const character = join(repoDir, 'tests/data/gltf/rigify_human_metarig.glb');
+// The default character: Rigify's metarig (159 joints) with its skinned
+// 10,037-vertex body, as scripts/demo serves it.
+export const character = join(repoDir, 'tests/data/gltf/rigify_human_body.glb');
+// The character the bundled biped definition names in its <geo>.
+const bipedGeo = 'tests/data/gltf/rigify_human_metarig.glb';
 
 export type Vec3 = [number, number, number];
 
@@ -177,7 +181,7 @@ export async function startServer(opts: ServerOptions): Promise<RigelServer> {
   mkdirSync(join(root, 'tests/data/gltf'), { recursive: true });
   mkdirSync(join(root, 'rigs'), { recursive: true });
   copyFileSync(join(repoDir, 'examples/biped.rig.xml'), join(root, 'examples/biped.rig.xml'));
-  copyFileSync(character, join(root, 'tests/data/gltf/rigify_human_metarig.glb'));
+  copyFileSync(join(repoDir, bipedGeo), join(root, bipedGeo));
 
   const args = ['serve', character, '--port', '0', '--json', '--root', root, '--web', join(webDir, 'dist')];
   if (opts.ephemeral) args.push('--setup-ephemeral');
