@@ -8,6 +8,7 @@
 #include "rigel/math/transform.h"
 #include "rigel/ops/registry.h"
 #include "rigel/rig/meta.h"
+#include "rigel/scene/shapes.h"
 #include "rigel/scene/transform_types.h"
 
 namespace rigel::ephemeral {
@@ -372,6 +373,10 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
         return fail(s.with_context("setup"));
       if (Status s = graph.set_value(Plug{c, scene::control_attr::kShapeClosed, -1}, true); !s)
         return fail(s.with_context("setup"));
+      const NameSide side = side_from_name(graph.node(j)->name());
+      const char* color = side == NameSide::kLeft ? "blue" : side == NameSide::kRight ? "red" : "yellow";
+      if (Status s = graph.set_value(Plug{c, scene::control_attr::kShapeColor, -1}, *scene::color_from_name(color)); !s)
+        return fail(s.with_context("setup"));
     }
     result.joints.push_back(j);
     result.controls.push_back(c);
@@ -396,6 +401,29 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
   if (Status s = rig_data_write(graph, *rig, std::move(d)); !s) return fail(s.with_context("setup"));
   result.rig = *rig;
   return result;
+}
+
+NameSide side_from_name(std::string_view name) {
+  if (const std::size_t colon = name.rfind(':'); colon != std::string_view::npos) name.remove_prefix(colon + 1);
+  auto side_of_token = [](std::string_view t) {
+    if (t == "L" || t == "l" || t == "Left" || t == "left" || t == "LEFT") return NameSide::kLeft;
+    if (t == "R" || t == "r" || t == "Right" || t == "right" || t == "RIGHT") return NameSide::kRight;
+    return NameSide::kCenter;
+  };
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= name.size(); ++i) {
+    if (i < name.size() && name[i] != '.' && name[i] != '_' && name[i] != '-' && name[i] != ' ') continue;
+    if (const NameSide s = side_of_token(name.substr(start, i - start)); s != NameSide::kCenter) return s;
+    start = i + 1;
+  }
+  // A word at either end in camel case: LeftArm, UpperArmLeft (not Leftover).
+  auto is_upper = [](char c) { return c >= 'A' && c <= 'Z'; };
+  for (auto [word, side] : {std::pair{std::string_view("Left"), NameSide::kLeft},
+                            std::pair{std::string_view("Right"), NameSide::kRight}}) {
+    if (name.size() > word.size() && name.starts_with(word) && is_upper(name[word.size()])) return side;
+    if (name.size() > word.size() && name.ends_with(word)) return side;
+  }
+  return NameSide::kCenter;
 }
 
 }  // namespace rigel::ephemeral

@@ -31,6 +31,30 @@ TEST(EphemeralSetup, one_control_per_joint__mirrors_hierarchy_and_world) {
   EXPECT_NE(std::find(rel->begin(), rel->end(), Relation{RelationKind::kInverse, r->controls[3], r->controls[1]}), rel->end());
 }
 
+TEST(EphemeralSetup, the_side_a_name_says_colours_the_circle_blue_left_red_right_yellow_centre) {
+  for (const char* n : {"thigh.L", "f_index.01.L", "ear.L.001", "lip.T.L", "arm_l", "mixamorig:LeftArm", "UpperArmLeft",
+                        "hand-L", "Left"})
+    EXPECT_EQ(side_from_name(n), NameSide::kLeft) << n;
+  for (const char* n : {"thigh.R", "shoulder_R", "mixamorig:RightUpLeg", "foot r", "RIGHT_hand"})
+    EXPECT_EQ(side_from_name(n), NameSide::kRight) << n;
+  for (const char* n : {"spine.003", "Leftover", "Lower", "head", "", "Root", "brow.T", "L:spine"})
+    EXPECT_EQ(side_from_name(n), NameSide::kCenter) << n;
+
+  auto s = make_scene();
+  NodeId hips = joint(*s, "hips", {}, Vec3(0, 1, 0));
+  joint(*s, "thigh.L", hips, Vec3(0.1, 0, 0));
+  joint(*s, "thigh.R", hips, Vec3(-0.1, 0, 0));
+  SetupOptions o;
+  o.shape_radius = 0.03;
+  Result<SetupResult> r = setup_ephemeral(*s, o);
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  const Graph& g = s->graph();
+  auto color = [&](std::size_t i) { return std::get<Vec3>(g.node(r->controls[i])->value(scene::control_attr::kShapeColor)); };
+  EXPECT_EQ(color(0), Vec3(1, 1, 0)) << "centre: yellow";
+  EXPECT_EQ(color(1), Vec3(0, 0, 1)) << "left: blue";
+  EXPECT_EQ(color(2), Vec3(1, 0, 0)) << "right: red";
+}
+
 TEST(EphemeralSetup, is_one_undo_step__and_undo_restores_the_file_exactly) {
   auto s = make_scene();
   NodeId a = joint(*s, "a", {}, Vec3(0, 1, 0));

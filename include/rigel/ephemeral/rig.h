@@ -91,7 +91,9 @@ struct SetupOptions {
   // kept (a pose to edit without keys).
   bool keep_animation = true;
   // Radius of the circle drawn for each control (its shapePoints), in the
-  // control's space; 0 draws nothing.
+  // control's space; 0 draws nothing. The circle is coloured by the side
+  // the joint's name says (side_from_name): left blue, right red, centre
+  // yellow, as the bundled biped's components colour theirs.
   double shape_radius = 0.0;
 
   // The option at fault (kInvalidArgument, Status::field() its API name:
@@ -139,5 +141,13 @@ Status relation_set_kind(Graph& graph, NodeId rig, const Relation& relation, Rel
 // Pair relations both ways between every two of `controls` (a group moves as
 // one unit; more than two allowed). One undo step.
 Status group_add(Graph& graph, NodeId rig, const std::vector<NodeId>& controls);
+
+// The side a joint's name says, for colouring its control: a token (split
+// at '.', '_', '-', ' ', after any "namespace:") that is L, l, Left, left or
+// LEFT (R... for right), or a name that starts or ends with Left/Right as a
+// word (Mixamo's LeftArm, UpperArmLeft); anything else is the centre.
+// Rigify's thigh.L, f_index.01.L and ear.L.001 are left.
+enum class NameSide { kCenter, kLeft, kRight };
+NameSide side_from_name(std::string_view name);
 
 }  // namespace rigel::ephemeral
