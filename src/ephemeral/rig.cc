@@ -8,6 +8,7 @@
 #include "rigel/math/transform.h"
 #include "rigel/ops/registry.h"
 #include "rigel/rig/meta.h"
+#include "rigel/rig/templates.h"
 #include "rigel/scene/shapes.h"
 #include "rigel/scene/transform_types.h"
 
@@ -405,25 +406,12 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
 
 NameSide side_from_name(std::string_view name) {
   if (const std::size_t colon = name.rfind(':'); colon != std::string_view::npos) name.remove_prefix(colon + 1);
-  auto side_of_token = [](std::string_view t) {
-    if (t == "L" || t == "l" || t == "Left" || t == "left" || t == "LEFT") return NameSide::kLeft;
-    if (t == "R" || t == "r" || t == "Right" || t == "right" || t == "RIGHT") return NameSide::kRight;
-    return NameSide::kCenter;
-  };
-  std::size_t start = 0;
-  for (std::size_t i = 0; i <= name.size(); ++i) {
-    if (i < name.size() && name[i] != '.' && name[i] != '_' && name[i] != '-' && name[i] != ' ') continue;
-    if (const NameSide s = side_of_token(name.substr(start, i - start)); s != NameSide::kCenter) return s;
-    start = i + 1;
-  }
-  // A word at either end in camel case: LeftArm, UpperArmLeft (not Leftover).
-  auto is_upper = [](char c) { return c >= 'A' && c <= 'Z'; };
-  for (auto [word, side] : {std::pair{std::string_view("Left"), NameSide::kLeft},
-                            std::pair{std::string_view("Right"), NameSide::kRight}}) {
-    if (name.size() > word.size() && name.starts_with(word) && is_upper(name[word.size()])) return side;
-    if (name.size() > word.size() && name.ends_with(word)) return side;
-  }
-  return NameSide::kCenter;
+  static const rig::MirrorOptions kJointTokens = [] {
+    rig::MirrorOptions o;
+    o.side_tokens = {{"L", "R"}, {"l", "r"}, {"Left", "Right"}, {"left", "right"}, {"LEFT", "RIGHT"}};
+    return o;
+  }();
+  return rig::side_of_name(name, kJointTokens).value_or(rig::Side::kCenter);
 }
 
 }  // namespace rigel::ephemeral

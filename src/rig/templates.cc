@@ -217,6 +217,15 @@ std::string mirror_name(std::string_view name, const MirrorOptions& options) {
   return out;
 }
 
+std::optional<Side> side_of_name(std::string_view name, const MirrorOptions& options) {
+  for (std::size_t i = 0; i < name.size(); ++i)
+    for (const auto& [left, right] : options.side_tokens) {
+      if (token_at(name, i, left)) return Side::kLeft;
+      if (token_at(name, i, right)) return Side::kRight;
+    }
+  return std::nullopt;
+}
+
 Component mirror_component(const Component& component, const MirrorOptions& options) {
   Component mirrored = component;
   mirror_in_place(mirrored, options);

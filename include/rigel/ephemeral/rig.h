@@ -32,6 +32,7 @@
 
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
+#include "rigel/rig/definition.h"
 #include "rigel/scene/scene.h"
 
 namespace rigel::ephemeral {
@@ -142,12 +143,13 @@ Status relation_set_kind(Graph& graph, NodeId rig, const Relation& relation, Rel
 // one unit; more than two allowed). One undo step.
 Status group_add(Graph& graph, NodeId rig, const std::vector<NodeId>& controls);
 
-// The side a joint's name says, for colouring its control: a token (split
-// at '.', '_', '-', ' ', after any "namespace:") that is L, l, Left, left or
-// LEFT (R... for right), or a name that starts or ends with Left/Right as a
-// word (Mixamo's LeftArm, UpperArmLeft); anything else is the centre.
-// Rigify's thigh.L, f_index.01.L and ear.L.001 are left.
-enum class NameSide { kCenter, kLeft, kRight };
+// The side a joint's name says, for colouring its control: after any
+// "namespace:", the first of the tokens L/R, l/r, Left/Right, left/right and
+// LEFT/RIGHT on a word boundary, as rig::mirror_name finds side tokens
+// (rig::side_of_name): Rigify's thigh.L, f_index.01.L and ear.L.001,
+// Mixamo's LeftArm and UpperArmLeft, hand-L and foot r; anything else
+// (Leftover, Lower) is the centre.
+using NameSide = rig::Side;
 NameSide side_from_name(std::string_view name);
 
 }  // namespace rigel::ephemeral

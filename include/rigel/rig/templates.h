@@ -17,6 +17,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -110,6 +111,10 @@ struct MirrorOptions {
 
 // A string with its side tokens swapped (the rule above).
 std::string mirror_name(std::string_view name, const MirrorOptions& options = {});
+// The side a name's first side token says (mirror_name's scan and word
+// boundaries): kLeft for the first token of a pair, kRight for the second;
+// nullopt when the name has none.
+std::optional<Side> side_of_name(std::string_view name, const MirrorOptions& options = {});
 // The component and its children mirrored.
 Component mirror_component(const Component& component, const MirrorOptions& options = {});
 // Every component mirrored; the template's name mirrored; version,
