@@ -178,6 +178,11 @@ Mat4 rigid_part(const Mat4& m) {
   return out;
 }
 
+bool is_rigid(const Mat4& m, double tolerance) {
+  const Mat3 r = m.topLeftCorner<3, 3>();
+  return (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() <= tolerance && r.determinant() > 0;
+}
+
 Mat4 concat_without_scale_shear(const Mat4& parent, const Mat4& child) {
   const Mat4 product = parent * child;
   const Vec3 child_scale = split_linear(child.topLeftCorner<3, 3>()).scale;

@@ -124,7 +124,8 @@ Result<Edits> Build::edits() {
         at_guide = false;
       } else {
         const Mat4 place = guide.joint.empty() ? guide_values(guide) : Mat4(jr->second * guide_values(guide));
-        at_guide = math::is_near(c.rest, place, kAtGuide);
+        // Limb controls stand at the place's rigid part (components/limbs.cc).
+        at_guide = math::is_near(c.rest, place, kAtGuide) || math::is_near(c.rest, math::rigid_part(place), kAtGuide);
       }
     }
     if (!at_guide) {

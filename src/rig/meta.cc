@@ -366,13 +366,20 @@ Result<NodeId> resolve_address(const Graph& g, std::string_view address) {
   if (next + 1 != parts.size())
     return error(ErrorCode::kInvalidArgument, "address '" + whole + "': expected RIG:COMPONENT[/joint[J]]/NAME[INDEX]");
   auto [name, ref] = split_index(parts[next]);
-  std::vector<std::pair<int, NodeId>> hits;
+  // NAME is a role; a step's name stands for the step's nodes only where
+  // no node has that role (a limb's fk[1] is its control, not the fkJoint
+  // group its step "fk" made under it).
+  std::vector<std::pair<int, NodeId>> hits, step_hits;
   for (NodeId m : members) {
     const graph::Node& n = *g.node(m);
     const std::string* r = n.tag_find(kTagRole);
     const std::string* s = n.tag_find(kTagStep);
-    if ((r && *r == name) || (s && *s == name)) hits.emplace_back(int_tag(n, kTagIndex).value_or(0), m);
+    if (r && *r == name)
+      hits.emplace_back(int_tag(n, kTagIndex).value_or(0), m);
+    else if (s && *s == name)
+      step_hits.emplace_back(int_tag(n, kTagIndex).value_or(0), m);
   }
+  if (hits.empty()) hits = std::move(step_hits);
   std::stable_sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::optional<int> i = ref.empty() ? std::optional<int>(0) : index_ref(ref, static_cast<int>(hits.size()));
   if (hits.empty() || !i || *i >= static_cast<int>(hits.size()))

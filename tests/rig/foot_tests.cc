@@ -327,7 +327,12 @@ TEST(RigFoot, the_legs_ik_control_still_moves_everything_and_fk_ignores_the_roll
   const NodeId toe_fk = r.at("foot_L/toeFk");
   EXPECT_EQ(r.g().parent(toe_fk), r.at("leg_L/fk[2]"));
   r.set(toe_fk, xform::kRotate, Value(Vec3(30, 0, 0)));
-  EXPECT_LT((r.world("toe.L") - r.world(toe_fk)).cwiseAbs().maxCoeff(), 1e-9) << "the toes follow toeFk";
+  // toeFk stands at the rigid part of the ball joint's frame; its
+  // toeFkJoint group, at the joint's own frame, is what the toes follow.
+  const NodeId toe_joint = r.at("foot_L/toeFkJoint");
+  EXPECT_EQ(r.g().parent(toe_joint), toe_fk);
+  EXPECT_LT((r.world("toe.L") - r.world(toe_joint)).cwiseAbs().maxCoeff(), 1e-9) << "the toes follow toeFk";
+  EXPECT_TRUE(math::is_rigid(r.world(toe_fk))) << "a rigid control";
   // Halfway: the toes' local rotation is halfway between the two sides'.
   r.set(toe_fk, xform::kRotate, Value(Vec3(0, 0, 0)));
   r.set(r.at("leg_L/ik"), xform::kTranslate, Value(Vec3(0, 0, 0)));

@@ -179,7 +179,10 @@ TEST(RigLimbs, fk_ik_blends_the_local_rotations) {
   r.turn(r.at("arm_L/fk[0]"), Quat(Eigen::AngleAxisd(0.6, Vec3(0, 0, 1))));
   r.move_to(r.at("arm_L/ik"), r.p("upper_arm.L") + (r.p("hand.L") - r.p("upper_arm.L")) * 0.8);
   const NodeId upper = r.joint("upper_arm.L");
-  EXPECT_LT((r.world(upper) - r.world(r.at("arm_L/fk[0]"))).norm(), 1e-9) << "fkIk 0: the FK pose";
+  // The FK controls stand at the rigid part of their joints' frames (the
+  // joint under each by an fkJoint group, at its own frame).
+  EXPECT_LT((r.world(upper) - r.world(r.at("arm_L/fkJoint[0]"))).norm(), 1e-9) << "fkIk 0: the FK pose";
+  EXPECT_TRUE(math::is_rigid(r.world(r.at("arm_L/fk[0]")))) << "a rigid control";
   const Quat q0 = rot(r.world(upper));
   r.fk_ik("arm_L", 1.0);
   const Quat q1 = rot(r.world(upper));

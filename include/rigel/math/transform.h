@@ -64,6 +64,9 @@ Mat4 affine_inverse(const Mat4& m);
 
 // Removes scale and shear: the rotation and translation of `m` as a rigid matrix.
 Mat4 rigid_part(const Mat4& m);
+// Whether `m`'s axes are orthonormal and right-handed, within `tolerance`
+// (no scale, no shear, no mirror).
+bool is_rigid(const Mat4& m, double tolerance = 1e-12);
 
 // Seed 001's concatMatrices: parent * child with shear removed and the scale
 // reset to the scale `child` had, so that scale and shear cannot creep into

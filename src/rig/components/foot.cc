@@ -179,7 +179,12 @@ class FootComponent : public ComponentClass {
                Result<NodeId> control = ctx.create_control("foot", -1, kAnkle, foot->control_world, parent);
                if (!control) return control.status();
                if (!chain->fk_end.is_valid()) return Status::ok();
-               return ctx.create_control("toeFk", -1, kBall, foot->ball_world, chain->fk_end).status();
+               // A rigid control, and a group under it at the ball joint's
+               // frame when that is not rigid (see limbs.cc, control_at_guide).
+               Result<NodeId> toe =
+                   ctx.create_control("toeFk", -1, kBall, math::rigid_part(foot->ball_world), chain->fk_end);
+               if (!toe || math::is_rigid(foot->ball_world)) return toe.status();
+               return ctx.create_group("toeFkJoint", -1, foot->ball_world, *toe).status();
              }},
         Step{"reverseFoot", "", "",
              [](BuildContext& ctx) -> Status {
@@ -271,8 +276,8 @@ class FootComponent : public ComponentClass {
                                  Value(std::vector<Vec3>{std::get<Vec3>(g.evaluate(ball, xform::kRotateAxis))}));
                if (s) s = g.connect(plug(foot->ankle, xform::kWorldMatrix), plug(blend, sw::kParentMatrix));
                if (s) s = g.connect(plug(ctx.node("reverseFoot"), rf::kOutBallMatrix), plug(blend, sw::kIkMatrix, 0));
-               if (s && ctx.node("toeFk").is_valid())
-                 s = g.connect(plug(ctx.node("toeFk"), xform::kWorldMatrix), plug(blend, sw::kFkMatrix, 0));
+               const NodeId toe_fk = ctx.node("toeFkJoint").is_valid() ? ctx.node("toeFkJoint") : ctx.node("toeFk");
+               if (s && toe_fk.is_valid()) s = g.connect(plug(toe_fk, xform::kWorldMatrix), plug(blend, sw::kFkMatrix, 0));
                if (s && chain->blend.is_valid()) s = g.connect(plug(chain->blend, sw::kFkIk), plug(blend, sw::kFkIk));
                if (s && !chain->blend.is_valid()) s = g.set_value(plug(blend, sw::kFkIk), Value(1.0));
                if (!s) return s.with_context(ctx.full_name() + " fkIkSwitch");

@@ -41,12 +41,14 @@ Vec3 position_of(const Mat4& m) { return m.topRightCorner<3, 1>(); }
 
 struct FootNodes {
   NodeId toe_fk, reverse_foot, blend;  // toe_fk invalid when the foot has no FK side
+  Mat4 toe_to_joint = Mat4::Identity();  // the offsetParentMatrix of its toeFkJoint group, if any
 };
 
 struct LimbNodes {
   NodeId fk[3], ik, pole, solver, blend;
   // From each control to the joint it drives: identity, or the
-  // offsetParentMatrix of its fkJoint / ikEnd group (an offset guide).
+  // offsetParentMatrix of its fkJoint / ikEnd group (an offset guide, or a
+  // joint whose frame is not rigid: limbs.cc, control_at_guide).
   Mat4 fk_to_joint[3] = {Mat4::Identity(), Mat4::Identity(), Mat4::Identity()};
   std::optional<FootNodes> foot;  // a child foot component with a reverse foot
 };
@@ -94,6 +96,8 @@ Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
     if (!reverse || !blend) continue;
     Result<NodeId> toe = get_meta_connection(g, child, "toeFk");
     out.foot = FootNodes{toe ? *toe : NodeId{}, *reverse, *blend};
+    if (Result<NodeId> group = get_meta_connection(g, child, "toeFkJoint"); group)
+      out.foot->toe_to_joint = std::get<Mat4>(g.node(*group)->value(xform::kOffsetParentMatrix));
     break;
   }
   return out;
@@ -228,7 +232,7 @@ Result<FkIkMatch> plan_fk_ik_match(scene::Scene& scene, NodeId limb_meta, MatchS
   if (set == MatchSide::kFk) {
     for (int i = 0; i < 3; ++i)
       plan.controls.push_back({nodes.fk[i], target[i] * math::affine_inverse(nodes.fk_to_joint[i])});
-    if (toe) plan.controls.push_back({nodes.foot->toe_fk, target[3]});
+    if (toe) plan.controls.push_back({nodes.foot->toe_fk, target[3] * math::affine_inverse(nodes.foot->toe_to_joint)});
     return plan;
   }
   // The IK end as the switch and the solver take it hangs rigidly from the

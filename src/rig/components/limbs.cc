@@ -75,17 +75,25 @@ NodeId node_at(BuildContext& ctx, std::string_view role, int index) {
   return {};
 }
 
-// The control of guide `i` at the guide's place, and, for an offset guide, a
-// group `joint_role` under it at `joint`'s place (the node that drives it).
-// Returns the driving node (the group, else the control).
+// The control of guide `i` at the guide's place, its rigid part (scale and
+// shear left out), and, for an offset guide or a joint whose frame is not
+// rigid, a group `joint_role` under it at `joint`'s place (the node that
+// drives it). Returns the driving node (the group, else the control).
+//
+// A rigid control turns the limb rigidly: a control standing in a joint's
+// frame with the joint's scales (1 +- 3e-6 on rigs read from
+// single-precision files) would bend the bones under it by that much as it
+// turns, a pose the IK side, whose bones are rigid, cannot take, so FK/IK
+// matches would miss by it.
 Result<NodeId> control_at_guide(BuildContext& ctx, std::string_view role, int index, int i, NodeId joint,
                                 NodeId parent, std::string_view joint_role) {
   Result<Mat4> place = ctx.guide_world(i);
   if (!place) return place.status();
-  Result<NodeId> c = ctx.create_control(role, index, i, *place, parent);
+  Result<NodeId> c = ctx.create_control(role, index, i, math::rigid_part(*place), parent);
   if (!c) return c;
-  if (!has_offset(ctx.component().guides[static_cast<std::size_t>(i)])) return c;
-  return ctx.create_group(joint_role, index, ctx.scene().world_matrix(joint), *c);
+  const Mat4 at_joint = ctx.scene().world_matrix(joint);
+  if (!has_offset(ctx.component().guides[static_cast<std::size_t>(i)]) && math::is_rigid(at_joint)) return c;
+  return ctx.create_group(joint_role, index, at_joint, *c);
 }
 
 // The direction from the start-end line toward `mid` (unit), or, for a
