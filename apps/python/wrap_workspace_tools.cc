@@ -62,7 +62,11 @@ replaced. NotFoundError when none has a key now. Returns the channels' keys as r
                 edit(w, [&](app::Workspace& ws) { return unwrap(ws.set_channel_values(ids, attrs, values)); });
             py::dict d;
             py::list channels;
-            for (const tools::Channel& c : r.channels) channels.append(w.ws->graph().plug_name(graph::Plug{c.node, c.attr, -1}));
+            for (const tools::Channel& c : r.channels) {
+              std::string name = w.ws->graph().plug_name(graph::Plug{c.node, c.attr, -1});
+              if (c.component >= 0) name += "XYZ"[c.component];
+              channels.append(name);
+            }
             d["channels"] = channels;
             d["keys"] = plug_keys_list(w, r.keys);
             return record(d);
@@ -71,7 +75,38 @@ replaced. NotFoundError when none has a key now. Returns the channels' keys as r
           R"(Sets scalar channels now (a switch's fkIk, a foot's roll, a finger's curl; default: the selection):
 a keyed channel gets a key with the value, a free one is set (and keyed when auto-key is on). A built
 rig's control stands for its component's node with that channel (controls=["hero_arm_L_ik"],
-attrs=["fkIk"]). `value`: one number, or one per channel. Returns a record (channels, keys).)");
+attrs=["fkIk"]), and attrs=["translateX"] one component of a vector. `value`: one number, or one per
+channel. Returns a record (channels, keys).)")
+      .def(
+          "channel_box",
+          [](const WorkspaceRef& w, const std::optional<std::vector<NodeArg>>& controls) {
+            const std::vector<NodeId> ids = key_nodes_arg(w, controls);
+            static const char* const kStates[] = {"none", "elsewhere", "here"};
+            py::list out;
+            for (const app::Workspace::ChannelBox& box : unwrap(w.ws->channel_box(ids))) {
+              py::list rows;
+              for (const app::Workspace::ChannelRow& r : box.rows) {
+                py::dict d;
+                d["node"] = node_ref(w.scene, r.node);
+                d["attr"] = r.attr;
+                d["key_attr"] = r.key_attr;
+                d["plug"] = r.plug;
+                d["value"] = r.value;
+                d["keyed"] = kStates[static_cast<int>(r.state)];
+                rows.append(record(d));
+              }
+              py::dict d;
+              d["control"] = node_ref(w.scene, box.control);
+              d["channels"] = rows;
+              out.append(record(d));
+            }
+            return out;
+          },
+          py::arg("controls") = py::none(),
+          R"(The channel box of `controls` (default: the selection) now: per control a record (control,
+channels), each channel a record (node, attr: what set_channel_values takes, key_attr: what
+set_channel_keys keys, plug, value, keyed: "here", "elsewhere" or "none"); vectors as components
+(translateX), and a built rig's control lists its component's switches (fkIk, roll, curl, space) too.)");
 }
 
 }  // namespace rigel::python

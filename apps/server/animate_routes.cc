@@ -160,7 +160,12 @@ Json channel_values(app::Workspace& ws, const Json& body) {
   Json channels = Json::array(), keys = Json::array();
   for (const tools::Channel& c : r.channels) {
     const graph::Plug plug{c.node, c.attr, -1};
-    channels.push_back(Json{{"plug", g.plug_name(plug)}, {"value", std::get<double>(g.evaluate(c.node, c.attr))}});
+    const graph::Value v = g.evaluate(c.node, c.attr);
+    if (c.component >= 0)  // one component of a vector: "translateY"
+      channels.push_back(Json{{"plug", g.plug_name(plug) + "XYZ"[c.component]},
+                              {"value", std::get<math::Vec3>(v)[c.component]}});
+    else
+      channels.push_back(Json{{"plug", g.plug_name(plug)}, {"value", std::get<double>(v)}});
   }
   const double fps = g.fps();
   for (const tools::PlugKeys& k : r.keys) {

@@ -342,6 +342,36 @@ struct Workspace::Impl {
     return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.channel_keys(nodes, attrs_of(query))))}};
   }
 
+  // GET /api/channels[?controls=A,B]: the channel box of the controls (the
+  // selection without): each one's keyable channels and its component's
+  // switches, values now, keyed here / elsewhere / none.
+  Json get_channels(const Request& req, const Json&) {
+    Json query = Json::object();
+    if (auto it = req.query.find("controls"); it != req.query.end()) {
+      Json list = Json::array();
+      for (std::size_t from = 0; from <= it->second.size();) {
+        const std::size_t comma = std::min(it->second.find(',', from), it->second.size());
+        list.push_back(it->second.substr(from, comma - from));
+        from = comma + 1;
+      }
+      query["controls"] = list;
+    }
+    static const char* const kStates[] = {"none", "elsewhere", "here"};
+    Json boxes = Json::array();
+    for (const app::Workspace::ChannelBox& box : take(ws.channel_box(key_nodes(query)))) {
+      Json rows = Json::array();
+      for (const app::Workspace::ChannelRow& r : box.rows)
+        rows.push_back(Json{{"node", g().node(r.node)->name()},
+                            {"attr", r.attr},
+                            {"keyAttr", r.key_attr},
+                            {"plug", r.plug},
+                            {"value", r.value},
+                            {"keyed", kStates[static_cast<int>(r.state)]}});
+      boxes.push_back(Json{{"control", g().node(box.control)->name()}, {"channels", rows}});
+    }
+    return Json{{"revision", ws.revision()}, {"frame", ws.scene().frame()}, {"controls", boxes}};
+  }
+
   Json post_channel_keys(const Request&, const Json& body) {
     const std::vector<NodeId> nodes = key_nodes(body);
     const std::vector<std::string> attrs = attrs_of(body);
@@ -617,6 +647,7 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/time", &Impl::post_time},
       {"POST", "/api/key", &Impl::post_key},
       {"GET", "/api/channel-keys", &Impl::get_channel_keys},
+      {"GET", "/api/channels", &Impl::get_channels},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/match", &Impl::post_match},
       {"POST", "/api/mirror", &Impl::post_mirror},

@@ -6,7 +6,9 @@
 
 #include "internal.h"
 #include "rigel/app/workspace.h"
+#include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
+#include "rigel/tools/keys.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 
@@ -38,16 +40,30 @@ bool is_built_control(const graph::Graph& g, NodeId id) {
          !ephemeral::control_of(g, id).is_valid();
 }
 
+// "translateX" of a node whose double3 channel is "translate": {"translate",
+// 0}; anything else {attr, -1}.
+std::pair<std::string, int> component_attr(const graph::Graph& g, NodeId node, const std::string& attr) {
+  if (attr.size() < 2) return {attr, -1};
+  const char last = attr.back();
+  const int k = last == 'X' ? 0 : last == 'Y' ? 1 : last == 'Z' ? 2 : -1;
+  if (k < 0 || g.node(node)->type().attr_find(attr) != graph::kNoAttr) return {attr, -1};
+  const std::string base = attr.substr(0, attr.size() - 1);
+  const graph::AttrIndex a = g.node(node)->type().attr_find(base);
+  if (a == graph::kNoAttr || g.node(node)->type().attr(a).type != graph::AttrType{graph::ValueType::kDouble3, false})
+    return {attr, -1};
+  return {base, k};
+}
+
 // The node that holds keyable channel `attr` for `node`: itself, or for a
 // built rig's control without it, the one node of its component that has it.
 NodeId holder_of(const graph::Graph& g, NodeId node, const std::string& attr) {
-  auto has = [&](NodeId id) {
+  auto has = [&](NodeId id, const std::string& name = {}) {
     const graph::Node& n = *g.node(id);
-    const graph::AttrIndex a = n.type().attr_find(attr);
+    const graph::AttrIndex a = n.type().attr_find(name.empty() ? attr : name);
     const std::vector<graph::AttrIndex> keyable = tools::keyable_attrs(n);
     return a != graph::kNoAttr && std::find(keyable.begin(), keyable.end(), a) != keyable.end();
   };
-  if (has(node) || !is_built_control(g, node)) return node;
+  if (has(node) || has(node, component_attr(g, node, attr).first) || !is_built_control(g, node)) return node;
   for (NodeId m : rig::meta_members(g, rig::component_of(g, node)))
     if (!is_built_control(g, m) && has(m)) return m;
   return node;
@@ -112,10 +128,20 @@ Result<Workspace::ChannelValues> Workspace::set_channel_values(const std::vector
       }
     }
     for (std::size_t i = 0; i < holders.size(); ++i) {
-      auto channels = tools::channels_of(g, {holders[i]}, names.empty() ? std::vector<std::string>{} : std::vector{names[i]});
+      // "translateX": one component of a vector channel.
+      int component = -1;
+      std::string name = names.empty() ? std::string() : names[i];
+      if (const auto [base, k] = component_attr(g, holders[i], name); k >= 0) {
+        name = base;
+        component = k;
+      }
+      auto channels = tools::channels_of(g, {holders[i]}, name.empty() ? std::vector<std::string>{} : std::vector{name});
       if (!channels) return channels.status();
-      for (const tools::Channel& c : *channels)
-        if (g.node(c.node)->type().attr(c.attr).type == graph::AttrType{graph::ValueType::kDouble, false})
+      for (tools::Channel c : *channels)
+        if (component >= 0) {
+          c.component = component;
+          out.channels.push_back(c);
+        } else if (g.node(c.node)->type().attr(c.attr).type == graph::AttrType{graph::ValueType::kDouble, false})
           out.channels.push_back(c);
         else if (!attrs.empty())
           return Status(ErrorCode::kInvalidArgument, "attrs: " + g.plug_name(graph::Plug{c.node, c.attr, -1}) +
@@ -130,6 +156,58 @@ Result<Workspace::ChannelValues> Workspace::set_channel_values(const std::vector
     return s.field().empty() ? conflict(s) : s;
   bump_revision();
   out.keys = tools::keys_of(graph(), out.channels);
+  return out;
+}
+
+namespace {
+
+// Where `channel`'s component `k` (-1: a scalar) has keys: at the graph's
+// time, elsewhere, or nowhere.
+Workspace::KeyState key_state(const graph::Graph& g, const tools::Channel& channel, int k) {
+  Workspace::KeyState state = Workspace::KeyState::kNone;
+  for (const tools::PlugKeys& keys : tools::keys_of(g, {channel})) {
+    if (k >= 0 && keys.plug.component >= 0 && keys.plug.component != k) continue;
+    for (double t : keys.times) {
+      if (std::abs(t - g.time()) <= ephemeral::key_time_tolerance(g)) return Workspace::KeyState::kHere;
+      state = Workspace::KeyState::kElsewhere;
+    }
+  }
+  return state;
+}
+
+}  // namespace
+
+Result<std::vector<Workspace::ChannelBox>> Workspace::channel_box(const std::vector<NodeId>& controls) {
+  graph::Graph& g = graph();
+  std::vector<ChannelBox> out;
+  for (NodeId id : controls) {
+    if (!g.node(id)) return Status(ErrorCode::kNotFound, "controls: no such node (stale handle)").with_field("controls");
+    std::vector<NodeId> holders{id};
+    if (is_built_control(g, id))
+      for (NodeId m : rig::meta_members(g, rig::component_of(g, id)))
+        if (g.node(m)->type().world_output() == graph::kNoAttr && !tools::keyable_attrs(*g.node(m)).empty())
+          holders.push_back(m);
+    ChannelBox box{id, {}};
+    for (NodeId holder : holders) {
+      Result<std::vector<tools::Channel>> channels = tools::channels_of(g, {holder});
+      if (!channels) continue;  // nothing keyable on it
+      for (const tools::Channel& c : *channels) {
+        const graph::AttrSpec& spec = g.node(holder)->type().attr(c.attr);
+        const graph::Value value = g.evaluate(holder, c.attr);
+        auto row = [&](const std::string& attr, int k, double v) {
+          box.rows.push_back(ChannelRow{holder, attr, spec.name, g.node(holder)->name() + "." + attr, v,
+                                        key_state(g, c, k)});
+        };
+        if (const auto* d = std::get_if<double>(&value)) {
+          row(spec.name, -1, *d);
+        } else if (const auto* v = std::get_if<math::Vec3>(&value)) {
+          for (int k = 0; k < 3; ++k) row(spec.name + "XYZ"[k], k, (*v)[k]);
+        }
+        // A quaternion rotation has no channels an animator types; it is posed.
+      }
+    }
+    out.push_back(std::move(box));
+  }
   return out;
 }
 

@@ -227,16 +227,25 @@ Status set_values(graph::Graph& graph, const std::vector<Channel>& channels, con
       tx.rollback();
       return Status(ErrorCode::kNotFound, "set value: no such node (stale handle)").with_field("controls");
     }
-    if (!is_scalar(n->type().attr(c.attr))) {
+    const graph::AttrSpec& spec = n->type().attr(c.attr);
+    const bool component = spec.type == graph::AttrType{ValueType::kDouble3, false} && c.component >= 0 && c.component < 3;
+    if (!is_scalar(spec) && !component) {
       tx.rollback();
       return bad(graph.plug_name(Plug{c.node, c.attr, -1}) +
-                 " is not a scalar channel (a value sets switches such as fkIk, a foot's roll, a finger's curl)");
+                 " is not a scalar channel (a value sets switches such as fkIk, a foot's roll, a finger's curl, "
+                 "or one component of a vector: translateX)");
     }
     bool keyed = false;
     for (const graph::Connection& conn : n->inputs())
       if (conn.dst.attr == c.attr) keyed = keyed || ops::anim::curve_kind(graph, conn.src.node) == CurveKind::kScalar;
     const double v = values.size() == 1 ? values[0] : values[i];
-    if (Status s = ephemeral::write_channel(graph, c.node, c.attr, Value(v), keyed || auto_key); !s) {
+    Value value(v);
+    if (component) {
+      math::Vec3 now = std::get<math::Vec3>(graph.evaluate(c.node, c.attr));
+      now[c.component] = v;
+      value = Value(now);
+    }
+    if (Status s = ephemeral::write_channel(graph, c.node, c.attr, value, keyed || auto_key); !s) {
       tx.rollback();
       return s.with_context("set value");
     }

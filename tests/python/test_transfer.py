@@ -62,3 +62,27 @@ def test_move_channel_keys_and_set_channel_values(hero):
     with pytest.raises(rigel.InvalidArgumentError) as info:
         w.set_channel_values([1.0, 2.0], [switch], attrs=["fkIk"])
     assert info.value.field == "value"
+
+
+def test_channel_box_lists_components_switches_and_keyed_state(hero):
+    w = hero
+    ik = w.scene.resolve("hero:arm_L/ik[0]")
+    switch = w.scene.resolve("hero:arm_L/fkIkSwitch")
+    w.set_frame(0)
+    r = w.set_channel_values(0.2, [ik], attrs=["translateZ"])
+    assert r.channels == [ik.name + ".translateZ"]
+    w.set_channel_keys([ik], attrs=["translate"])
+    [box] = w.channel_box([ik])
+    assert box.control == ik
+    rows = {c.plug: c for c in box.channels}
+    z = rows[ik.name + ".translateZ"]
+    assert (z.attr, z.key_attr, z.value, z.keyed) == ("translateZ", "translate", 0.2, "here")
+    assert rows[ik.name + ".rotateX"].keyed == "none"
+    fk_ik = rows[switch.name + ".fkIk"]
+    assert fk_ik.node == switch and fk_ik.attr == "fkIk"
+    w.set_frame(5)
+    [box] = w.channel_box([ik])
+    assert {c.plug: c for c in box.channels}[ik.name + ".translateZ"].keyed == "elsewhere"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.set_channel_values(1.0, [ik], attrs=["translateW"])
+    assert info.value.field == "attrs"

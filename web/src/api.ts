@@ -147,6 +147,48 @@ export interface KeyAnswer extends Revised {
   frames: number[];
 }
 
+/** Where a channel has keys: at the current frame, at other frames only, or none. */
+export type KeyedState = 'here' | 'elsewhere' | 'none';
+
+/** One row of the channel box (GET /api/channels). */
+export interface ChannelRow {
+  /** The node that has the channel: the control, or its component's switch. */
+  node: string;
+  /** What /api/channel-values takes ("translateX", "fkIk"). */
+  attr: string;
+  /** What /api/channel-keys keys ("translate", "fkIk"). */
+  keyAttr: string;
+  plug: string;
+  value: number;
+  keyed: KeyedState;
+}
+
+export interface ChannelsAnswer extends Revised {
+  frame: number;
+  controls: { control: string; channels: ChannelRow[] }[];
+}
+
+export interface ChannelValuesRequest {
+  controls: string[];
+  attrs: string[];
+  value: number;
+}
+
+export interface ChannelValuesAnswer extends Revised {
+  channels: { plug: string; value: number }[];
+  keys: { plug: string; frames: number[] }[];
+}
+
+export interface ChannelKeysRequest {
+  controls: string[];
+  attrs: string[];
+  delete?: boolean;
+}
+
+export interface ChannelKeysAnswer extends Revised {
+  keys: { plug: string; frames: number[] }[];
+}
+
 // ---------------------------------------------------------------------- rigs
 
 export interface RigComponentInfo {
@@ -455,6 +497,19 @@ export class Api {
 
   key(req: KeyRequest): Promise<KeyAnswer> {
     return this.http.post('/api/key', req);
+  }
+
+  /** The channel box of `controls` (names or uuids). */
+  channels(controls: string[]): Promise<ChannelsAnswer> {
+    return this.http.get(`/api/channels?controls=${controls.map(q).join(',')}`);
+  }
+
+  channelValues(req: ChannelValuesRequest): Promise<ChannelValuesAnswer> {
+    return this.http.post('/api/channel-values', req);
+  }
+
+  channelKeys(req: ChannelKeysRequest): Promise<ChannelKeysAnswer> {
+    return this.http.post('/api/channel-keys', req);
   }
 
   // rigs

@@ -8,6 +8,8 @@
 import type {
   Api,
   BuildAnswer,
+  ChannelKeysAnswer,
+  ChannelValuesAnswer,
   HistoryAnswer,
   KeyAnswer,
   ModeAnswer,
@@ -106,6 +108,31 @@ export function key(remove: boolean): Command<KeyAnswer> {
       `${remove ? 'Deleted key' : 'Keyed'} at frame ${store.scene?.frame ?? ''}; keys: ${(a.frames ?? []).join(', ') || 'none'}`,
     affects: ['keys', 'scene'],
   };
+}
+
+// -------------------------------------------------------------- channel box
+
+/** Sets one channel of several nodes (a keyed one is keyed with the value). */
+export function setChannel(controls: string[], attr: string, value: number, label: string): Command<ChannelValuesAnswer> {
+  return {
+    send: (api) => api.channelValues({ controls, attrs: [attr], value }),
+    message: (a) => `Set ${label} = ${formatValue(value)}${a.keys?.length ? ' (keyed)' : ''}`,
+    affects: ['pose', 'keys', 'scene'],
+  };
+}
+
+/** Keys (or deletes the key of) one channel of several nodes at the current frame. */
+export function keyChannel(controls: string[], attr: string, remove: boolean, label: string): Command<ChannelKeysAnswer> {
+  return {
+    send: (api) => api.channelKeys(remove ? { controls, attrs: [attr], delete: true } : { controls, attrs: [attr] }),
+    message: (_a, store) => `${remove ? 'Deleted the key of' : 'Keyed'} ${label} at frame ${store.scene?.frame ?? ''}`,
+    affects: ['pose', 'keys', 'scene'],
+  };
+}
+
+/** A channel value as the channel box shows it. */
+export function formatValue(v: number): string {
+  return Number.isInteger(v) ? String(v) : v.toFixed(3);
 }
 
 // --------------------------------------------------------------------- rigs

@@ -7,6 +7,7 @@ import { Api } from './api';
 import { userText } from './names';
 import type { Vec3 } from './api';
 import { App, kModeKeys } from './app';
+import { ChannelBox } from './channelbox';
 import { DefinitionEditor } from './defeditor';
 import { h, fill, typingTarget } from './dom';
 import { RigManager } from './rigs';
@@ -108,19 +109,24 @@ store.signals.keysChanged.add(renderToolbar);
 const timeline = new Timeline(byId('timeline'), theApp);
 const rigPanel = byId('rigs-panel');
 const defPanel = byId('def-panel');
+const channelPanel = byId('channel-panel');
 const rigManager = new RigManager(rigPanel, theApp);
 const editor = new DefinitionEditor(defPanel, theApp);
+const channelBox = new ChannelBox(channelPanel, theApp);
 
 const tabs = byId('tabs');
-function showTab(which: 'rigs' | 'def'): void {
+function showTab(which: 'channels' | 'rigs' | 'def'): void {
+  channelPanel.hidden = which !== 'channels';
   rigPanel.hidden = which !== 'rigs';
   defPanel.hidden = which !== 'def';
   rigManager.visible = which === 'rigs';
+  channelBox.visible = which === 'channels';
   byId('side').classList.toggle('wide', which === 'def');
   for (const b of tabs.querySelectorAll<HTMLButtonElement>('button')) b.classList.toggle('active', b.dataset.tab === which);
 }
 fill(
   tabs,
+  h('button', { dataset: { tab: 'channels' }, testid: 'tab-channels', onclick: () => showTab('channels') }, 'Channels'),
   h('button', { dataset: { tab: 'rigs' }, testid: 'tab-rigs', onclick: () => showTab('rigs') }, 'Rig Manager'),
   h('button', { dataset: { tab: 'def' }, testid: 'tab-def', onclick: () => showTab('def') }, 'Definition Editor'),
 );
@@ -207,6 +213,7 @@ interface RigelHook {
   viewport: Viewport;
   timeline: Timeline;
   editor: DefinitionEditor;
+  channelBox: ChannelBox;
   /** Client pixels where clicking picks the control (by uuid or name), or null. */
   project: (control: string) => { x: number; y: number } | null;
   /** Client pixels of a world point. */
@@ -227,12 +234,13 @@ const uuidOf = (name: string): string | null => store.byName.get(name) ?? (store
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
-  settled: () => theApp.settled() && editor.idle() && !timeline.busy(),
+  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy,
   app: theApp,
   store,
   viewport,
   timeline,
   editor,
+  channelBox,
   project: (control) => {
     const u = uuidOf(control);
     return u ? viewport.project(u) : null;

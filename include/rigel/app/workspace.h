@@ -365,6 +365,26 @@ class Workspace {
   };
   Result<ChannelValues> set_channel_values(const std::vector<NodeId>& controls, const std::vector<std::string>& attrs,
                                            const std::vector<double>& values);
+  // The channel box of `controls` at the current time: each one's keyable
+  // channels (a vector as its components: translateX, rotateY; channels
+  // driven by something other than a curve left out) and, for a built rig's
+  // control, its component's own (the limb's fkIk, a foot's roll, a hand's
+  // curl), each with its value now and whether it is keyed at this frame,
+  // at other frames only, or not at all. Errors name "controls".
+  enum class KeyState { kNone, kElsewhere, kHere };
+  struct ChannelRow {
+    NodeId node;           // the control, or its component's node that has the channel
+    std::string attr;      // what set_channel_values takes ("translateX", "fkIk")
+    std::string key_attr;  // what set_channel_keys takes ("translate", "fkIk")
+    std::string plug;      // "hero_arm_L_ik.translateX"
+    double value = 0;
+    KeyState state = KeyState::kNone;
+  };
+  struct ChannelBox {
+    NodeId control;
+    std::vector<ChannelRow> rows;
+  };
+  Result<std::vector<ChannelBox>> channel_box(const std::vector<NodeId>& controls);
   // ---- spaces (rig/spaces.h, tools/spaces.h; src/app/spaces.cc) -------------
   // A control's spaces (none when it has no spaceSwitch).
   rig::ControlSpaces spaces(NodeId control) const;

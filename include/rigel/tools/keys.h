@@ -25,6 +25,9 @@ namespace rigel::tools {
 struct Channel {
   graph::NodeId node;
   graph::AttrIndex attr = graph::kNoAttr;
+  // One component (0 x, 1 y, 2 z) of a double3 channel, for set_values (a
+  // channel box's translateX); -1 the whole channel. Keys are per channel.
+  int component = -1;
 };
 
 // Whether something other than a time curve drives `attr` of `node` (or a
@@ -87,6 +90,8 @@ Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& c
 // for a value that is not finite, a count that fits neither, or a channel
 // that is not scalar; fails as set_keys on a channel driven otherwise. One
 // undo step.
+// A double3 channel takes a value through one component (Channel::component;
+// the others keep theirs).
 Status set_values(graph::Graph& graph, const std::vector<Channel>& channels, const std::vector<double>& values,
                   bool auto_key);
 
