@@ -262,6 +262,7 @@ void def_reports(WorkspaceClass& cls) {
               d["node"] = node_ref(w.scene, c.node);
               d["rig"] = c.rig;
               d["ephemeral"] = c.ephemeral;
+              d["group"] = c.group;
               d["points"] = points;
               d["closed"] = c.closed;
               d["color"] = vec3_to_python(c.color);

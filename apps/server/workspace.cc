@@ -127,6 +127,7 @@ struct Workspace::Impl {
                               {"name", g().node(c.node)->name()},
                               {"rig", c.rig},
                               {"ephemeral", c.ephemeral},
+                              {"group", c.group},
                               {"shape", Json{{"points", std::move(points)}, {"closed", c.closed}, {"color", vec_json(c.color)}}}});
     }
     return Json{{"revision", ws.revision()}, {"nodes", std::move(nodes)}, {"controls", std::move(controls)}};

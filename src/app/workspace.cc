@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <unordered_set>
 
 #include "rigel/ephemeral/keying.h"
@@ -146,6 +147,16 @@ std::vector<NodeEntry> Workspace::nodes() const {
 std::vector<ControlEntry> Workspace::controls() const {
   std::vector<ControlEntry> out;
   graph::Graph& g = scene_->graph();
+  // Child controls per control: an ephemeral control's group is the nearest
+  // control above it with three or more (a region: the face, a hand).
+  std::map<std::uint32_t, int> child_controls;  // by node index
+  for (NodeId id : scene_->hierarchy())
+    if (is_control(id) && is_control(g.parent(id))) ++child_controls[g.parent(id).index];
+  auto region = [&](NodeId id) -> std::string {
+    for (NodeId p = g.parent(id); p.is_valid() && is_control(p); p = g.parent(p))
+      if (child_controls[p.index] >= 3) return g.node(p)->name();
+    return {};
+  };
   for (NodeId id : scene_->hierarchy()) {
     if (!is_control(id)) continue;
     ControlEntry c;
@@ -158,6 +169,13 @@ std::vector<ControlEntry> Workspace::controls() const {
     c.ephemeral = erig.is_valid();
     if (erig.is_valid()) c.rig = g.node(erig)->name();
     if (c.rig.empty() && built.is_valid()) c.rig = rig::meta_string(g, built, "rigName");
+    if (!c.ephemeral && built.is_valid()) {
+      const NodeId component = rig::component_of(g, id);
+      if (component.is_valid() && component != built) c.group = rig::meta_string(g, component, "componentName");
+    } else {
+      c.group = region(id);
+    }
+    if (c.group.empty()) c.group = c.rig;
     out.push_back(std::move(c));
   }
   return out;

@@ -64,6 +64,8 @@ export interface ControlInfo {
   joint: string | null;
   rig: string;
   ephemeral: boolean;
+  /** What it is shown and hidden with: a built rig's component, an ephemeral rig's region ("face_ctrl"). */
+  group: string;
   shape: ControlShape;
 }
 

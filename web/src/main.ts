@@ -16,6 +16,7 @@ import { Store } from './store';
 import { Timeline } from './timeline';
 import { Viewport } from './viewport';
 import type { FrameStats } from './viewport';
+import { kMeshDisplays } from './viewport';
 
 function byId(id: string): HTMLElement {
   const el = document.getElementById(id);
@@ -75,6 +76,45 @@ setGizmo('translate');
 const undoBtn = h('button', { testid: 'undo', onclick: () => run(theApp.undo(false)) }, '↶ Undo');
 const redoBtn = h('button', { testid: 'redo', onclick: () => run(theApp.undo(true)) }, '↷ Redo');
 fill(byId('history'), undoBtn, redoBtn);
+
+// Display: the mesh shaded, see-through or hidden (M); control groups shown or hidden.
+const kMeshLabels = { shaded: 'Shaded', xray: 'X-ray', hidden: 'Hidden' } as const;
+const meshBtn = h('button', { title: 'Mesh: shaded, x-ray, hidden (M)', testid: 'mesh-display', onclick: () => cycleMesh() });
+function renderMeshButton(): void {
+  fill(meshBtn, `Mesh: ${kMeshLabels[viewport.meshDisplay]}`, h('kbd', {}, 'M'));
+}
+function cycleMesh(): void {
+  const i = kMeshDisplays.indexOf(viewport.meshDisplay);
+  viewport.setMeshDisplay(kMeshDisplays[(i + 1) % kMeshDisplays.length]!);
+  renderMeshButton();
+}
+renderMeshButton();
+const groupsMenu = h('div.groups-menu', { testid: 'groups-menu', hidden: true });
+const groupsBtn = h('button', { title: 'Show or hide groups of controls', testid: 'groups', onclick: () => toggleGroups() }, 'Groups ▾');
+function renderGroups(): void {
+  fill(
+    groupsMenu,
+    ...viewport.groups().map((g) => {
+      const box = h('input', { type: 'checkbox', checked: g.visible, testid: `group-${g.group}` });
+      box.addEventListener('change', () => {
+        viewport.setGroupVisible(g.group, box.checked);
+        renderGroups();
+      });
+      return h('label.toggle', {}, box, `${g.group} (${g.controls})`);
+    }),
+    h('div.form-row', {},
+      h('button.small', { testid: 'groups-all', onclick: () => { for (const g of viewport.groups()) viewport.setGroupVisible(g.group, true); renderGroups(); } }, 'Show all'),
+      h('button.small', { testid: 'groups-none', onclick: () => { for (const g of viewport.groups()) viewport.setGroupVisible(g.group, false); renderGroups(); } }, 'Hide all')),
+  );
+}
+function toggleGroups(): void {
+  groupsMenu.hidden = !groupsMenu.hidden;
+  if (!groupsMenu.hidden) renderGroups();
+}
+store.signals.characterChanged.add(() => {
+  if (!groupsMenu.hidden) renderGroups();
+});
+fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu));
 
 const info = byId('info');
 function renderToolbar(): void {
@@ -169,6 +209,9 @@ window.addEventListener('keydown', (e) => {
   switch (k) {
     case 'w':
       setGizmo('translate');
+      break;
+    case 'm':
+      cycleMesh();
       break;
     case 'e':
       setGizmo('rotate');

@@ -61,6 +61,10 @@ export interface FrameStats {
   antialias: boolean;
 }
 
+/** How the character's meshes are drawn: as loaded, see-through, or not at all. */
+export type MeshDisplay = 'shaded' | 'xray' | 'hidden';
+export const kMeshDisplays: MeshDisplay[] = ['shaded', 'xray', 'hidden'];
+
 const kSelected = new THREE.Color(0.35, 1.0, 0.75);
 const kPrimary = new THREE.Color(1.0, 1.0, 1.0);
 const kHover = new THREE.Color(0.6, 0.85, 1.0);
@@ -75,6 +79,11 @@ export class Viewport {
   readonly proxy = new THREE.Object3D();
 
   private root: THREE.Object3D | null = null;
+  /** The character's meshes, and each material's own look (what 'shaded' puts back). */
+  private meshes: THREE.Mesh[] = [];
+  private readonly meshLooks = new Map<THREE.Material, { transparent: boolean; opacity: number; depthWrite: boolean }>();
+  private meshMode: MeshDisplay = 'shaded';
+  private readonly hiddenGroups = new Set<string>();
   private readonly byUuid = new Map<string, THREE.Object3D>();
   private readonly controls = new Map<string, ControlView>();
   private jointPairs: [THREE.Object3D, THREE.Object3D][] = [];
@@ -231,6 +240,8 @@ export class Viewport {
     }
     this.byUuid.clear();
     this.controls.clear();
+    this.meshes = [];
+    this.meshLooks.clear();
     this.root = character.root;
     this.scene.add(this.root);
 
@@ -253,8 +264,11 @@ export class Viewport {
             std.depthWrite = true;
           }
         }
+        this.meshes.push(mesh);
+        for (const m of mats) this.meshLooks.set(m, { transparent: m.transparent, opacity: m.opacity, depthWrite: m.depthWrite });
       }
     });
+    this.applyMeshDisplay();
 
     // Nodes the glTF did not carry (none, normally) hang under their parent,
     // so local poses still place them.
@@ -325,10 +339,63 @@ export class Viewport {
       line.renderOrder = 10;
       line.frustumCulled = false;
       line.userData.controlShape = c.uuid;
+      line.visible = !this.hiddenGroups.has(c.group);
       object.add(line);
       this.controls.set(c.uuid, { info: c, object, line, material, base, points, closed: c.shape.closed });
     }
     this.refreshColors();
+  }
+
+  // ---------------------------------------------------------------- display
+
+  get meshDisplay(): MeshDisplay {
+    return this.meshMode;
+  }
+
+  /** Draws the meshes shaded (as loaded), see-through (x-ray), or hides them. */
+  setMeshDisplay(mode: MeshDisplay): void {
+    this.meshMode = mode;
+    this.applyMeshDisplay();
+  }
+
+  private applyMeshDisplay(): void {
+    for (const mesh of this.meshes) {
+      mesh.visible = this.meshMode !== 'hidden';
+      const mats = Array.isArray(mesh.material) ? mesh.material : [mesh.material];
+      for (const m of mats) {
+        const look = this.meshLooks.get(m);
+        if (!look) continue;
+        const xray = this.meshMode === 'xray';
+        m.transparent = xray || look.transparent;
+        m.opacity = xray ? Math.min(look.opacity, 0.3) : look.opacity;
+        m.depthWrite = xray ? false : look.depthWrite;
+        m.needsUpdate = true;
+      }
+    }
+    this.dirty = true;
+  }
+
+  /** What the meshes show now (for the tests): how many, how many drawn, their opacities. */
+  meshState(): { meshes: number; visible: number; opacity: number[] } {
+    const opacity: number[] = [];
+    for (const mesh of this.meshes) for (const m of Array.isArray(mesh.material) ? mesh.material : [mesh.material]) opacity.push(m.opacity);
+    return { meshes: this.meshes.length, visible: this.meshes.filter((m) => m.visible).length, opacity };
+  }
+
+  /** The control groups (a built rig's components, an ephemeral rig's regions) with their counts, in first-seen order. */
+  groups(): { group: string; controls: number; visible: boolean }[] {
+    const out = new Map<string, number>();
+    for (const c of this.controls.values()) out.set(c.info.group, (out.get(c.info.group) ?? 0) + 1);
+    return [...out].map(([group, controls]) => ({ group, controls, visible: !this.hiddenGroups.has(group) }));
+  }
+
+  /** Shows or hides a group's controls: hidden ones are neither drawn nor picked. */
+  setGroupVisible(group: string, visible: boolean): void {
+    if (visible) this.hiddenGroups.delete(group);
+    else this.hiddenGroups.add(group);
+    for (const c of this.controls.values()) if (c.info.group === group) c.line.visible = visible;
+    this.viewVersion++;
+    this.dirty = true;
   }
 
   /** Frames the camera on the character's joints (or its meshes). */
@@ -568,7 +635,7 @@ export class Viewport {
       }
     };
     for (const [uuid, c] of this.controls) {
-      if (!c.object.visible) continue;
+      if (!c.object.visible || !c.line.visible) continue;
       const m = c.object.matrixWorld;
       const xy = new Float32Array(c.points.length * 2);
       c.points.forEach((p, i) => {

@@ -96,6 +96,11 @@ struct ControlEntry {
   NodeId node;
   std::string rig;         // the ephemeral or built rig's name ("" for none)
   bool ephemeral = false;  // of an ephemeral rig (posed through the session)
+  // What it is shown and hidden with: a built rig's component ("arm_L"); an
+  // ephemeral control's region, the nearest control above it with three or
+  // more child controls ("face_ctrl": every face control, "hand.L_ctrl": the
+  // fingers), else its rig.
+  std::string group;
   std::vector<Vec3> points;
   bool closed = true;
   Vec3 color{1, 1, 0};
