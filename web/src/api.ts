@@ -181,6 +181,35 @@ export interface ChannelValuesAnswer extends Revised {
   keys: { plug: string; frames: number[] }[];
 }
 
+export interface MatchRequest {
+  rig: string;
+  component: string;
+  to: 'fk' | 'ik';
+}
+
+export interface MatchAnswer extends Revised {
+  frames: number;
+  keys: number;
+  controls: string[];
+  maxError: number;
+}
+
+export interface MirrorRequest {
+  controls: string[];
+  all?: boolean;
+  flip?: boolean;
+}
+
+export interface ToolAnswer extends Revised {
+  set?: string[];
+  keys?: unknown;
+}
+
+export interface TweenRequest {
+  controls: string[];
+  fraction: number;
+}
+
 export interface ChannelKeysRequest {
   controls: string[];
   attrs: string[];
@@ -512,6 +541,24 @@ export class Api {
 
   channelKeys(req: ChannelKeysRequest): Promise<ChannelKeysAnswer> {
     return this.http.post('/api/channel-keys', req);
+  }
+
+  // animator tools
+
+  match(req: MatchRequest): Promise<MatchAnswer> {
+    return this.http.post('/api/match', req);
+  }
+
+  mirror(req: MirrorRequest): Promise<ToolAnswer> {
+    return this.http.post('/api/mirror', req);
+  }
+
+  bindPose(controls: string[]): Promise<ToolAnswer> {
+    return this.http.post('/api/bind-pose', { controls });
+  }
+
+  tween(req: TweenRequest): Promise<ToolAnswer> {
+    return this.http.post('/api/tween', req);
   }
 
   // rigs

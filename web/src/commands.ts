@@ -130,6 +130,13 @@ export function keyChannel(controls: string[], attr: string, remove: boolean, la
   };
 }
 
+// ----------------------------------------------------------- animator tools
+
+/** An animator tool's request (match, mirror, bind pose, tween): one undo step, the pose and keys re-read. */
+export function tool<A>(send: (api: Api) => Promise<A>, message: (a: A) => string): Command<A> {
+  return { send, message, affects: ['pose', 'keys', 'scene'] };
+}
+
 /** A channel value as the channel box shows it. */
 export function formatValue(v: number): string {
   return Number.isInteger(v) ? String(v) : v.toFixed(3);

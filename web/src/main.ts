@@ -14,6 +14,7 @@ import { RigManager } from './rigs';
 import { StatusBar, run, setStatusBar } from './status';
 import { Store } from './store';
 import { Timeline } from './timeline';
+import { AnimatorTools } from './tools';
 import { Viewport } from './viewport';
 import type { FrameStats } from './viewport';
 import { kMeshDisplays } from './viewport';
@@ -153,10 +154,13 @@ const channelPanel = byId('channel-panel');
 const rigManager = new RigManager(rigPanel, theApp);
 const editor = new DefinitionEditor(defPanel, theApp);
 const channelBox = new ChannelBox(channelPanel, theApp);
+const toolsPanel = byId('tools-panel');
+new AnimatorTools(toolsPanel, theApp);
 
 const tabs = byId('tabs');
 function showTab(which: 'channels' | 'rigs' | 'def'): void {
   channelPanel.hidden = which !== 'channels';
+  toolsPanel.hidden = which !== 'channels';
   rigPanel.hidden = which !== 'rigs';
   defPanel.hidden = which !== 'def';
   rigManager.visible = which === 'rigs';
