@@ -63,3 +63,13 @@ test('mesh shaded, x-ray and hidden; groups of controls hidden, shown and picked
   expect(await page.evaluate(() => (window as any).rigel.project('f_index.02.L_ctrl'))).not.toBeNull();
   await settle(page, server);
 });
+
+test('? shows every shortcut and Esc closes it', async ({ app: page }) => {
+  await expect(page.getByTestId('help')).toBeHidden();
+  await page.keyboard.press('?');
+  const help = page.getByTestId('help');
+  await expect(help).toBeVisible();
+  for (const text of ['Forward mode', 'Set key / delete key', 'Mesh: shaded, x-ray, hidden', 'Undo / redo']) await expect(help).toContainText(text);
+  await page.keyboard.press('Escape');
+  await expect(help).toBeHidden();
+});

@@ -189,8 +189,41 @@ document.addEventListener('pointerup', (e) => {
   if (b) window.setTimeout(() => b.blur(), 0);
 });
 
+// The help overlay (?): every shortcut, from the one list the keyboard handler follows.
+const kShortcuts: [string, string][] = [
+  ...kModeKeys.map(([, key, label]): [string, string] => [key, `${label} mode`]),
+  ['W / E', 'Move / rotate gizmo'],
+  ['S / Shift+S', 'Set key / delete key'],
+  ['K', 'Auto-key on / off'],
+  ['Space', 'Play / stop'],
+  ['← / →', 'Previous / next frame'],
+  ['F', 'Frame the character'],
+  ['M', 'Mesh: shaded, x-ray, hidden'],
+  ['Esc', 'Clear the selection (or close this)'],
+  ['Ctrl+Z / Ctrl+Shift+Z', 'Undo / redo'],
+  ['Click / Shift+click', 'Select a control / add or remove it'],
+  ['?', 'This help'],
+];
+const help = h(
+  'div.help-overlay',
+  { testid: 'help', hidden: true, onclick: () => (help.hidden = true) },
+  h('div.help-box', {}, h('h2', {}, 'Shortcuts'),
+    h('table', {}, ...kShortcuts.map(([k, what]) => h('tr', {}, h('td', {}, h('kbd', {}, k)), h('td', {}, what))))),
+);
+document.body.append(help);
+
 window.addEventListener('keydown', (e) => {
   if (typingTarget(e.target)) return;
+  if (e.key === '?') {
+    e.preventDefault();
+    help.hidden = !help.hidden;
+    return;
+  }
+  if (!help.hidden && e.key === 'Escape') {
+    e.preventDefault();
+    help.hidden = true;
+    return;
+  }
   const ctrl = e.ctrlKey || e.metaKey;
   const k = e.key.toLowerCase();
   if (ctrl && k === 'z') {
