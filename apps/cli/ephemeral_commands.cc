@@ -45,6 +45,7 @@ struct EphemeralSetupArgs {
   std::string rig_name = "ephemeralRig";
   bool drop_animation = false;
   double shape_radius = 0.0;
+  bool size_from_bones = false;
   bool json = false;
 };
 
@@ -54,6 +55,7 @@ int run_ephemeral_setup(const EphemeralSetupArgs& args) {
   options.rig_name = args.rig_name;
   options.keep_animation = !args.drop_animation;
   options.shape_radius = args.shape_radius;
+  options.size_from_bones = args.size_from_bones;
   // A bad option value is a usage error (exit 2), checked before the scene is read.
   if (Status st = options.validate(); !st) {
     const std::string& f = st.field();
@@ -420,6 +422,8 @@ void add_ephemeral_commands(CLI::App& app, EphemeralCommands& commands) {
                       "onto the controls)");
   s.setup_cmd->add_option("--shape-radius", s.setup.shape_radius,
                         "Radius of each control's circle, in its own space (default 0: no shape)");
+  s.setup_cmd->add_flag("--size-from-bones", s.setup.size_from_bones,
+                      "Size each circle from its joint's bones (a third of the shortest), --shape-radius the largest");
   s.setup_cmd->add_flag("--json", s.setup.json,
                       "Print {\"rig\", \"controls\": [NAME...], \"joints\": [NAME...]} (controls[i] drives joints[i])");
 

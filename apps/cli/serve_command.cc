@@ -56,8 +56,10 @@ CLI::App* add_serve_command(CLI::App& app, ServeArgs& a) {
   cmd->add_option("--token", a.token, "Token every write must carry (generated when --host is not loopback)");
   cmd->add_option("--rig", a.rigs, "Build this rig definition on the scene first (repeatable)");
   cmd->add_flag("--setup-ephemeral", a.setup_ephemeral, "Give every joint an ephemeral control first");
-  cmd->add_option("--shape-radius", a.shape_radius, "Radius of the controls --setup-ephemeral draws (default 0.03)")
+  cmd->add_option("--shape-radius", a.shape_radius,
+                  "Largest radius of the controls --setup-ephemeral draws, each sized from its joint's bones (default 0.03)")
       ->check(CLI::PositiveNumber);
+  cmd->add_flag("--fixed-shape-size", a.fixed_shape_size, "Draw every --setup-ephemeral control at --shape-radius");
   cmd->add_option("--port-file", a.port_file, "Write the port here once listening (for scripts using --port 0)");
   cmd->add_flag("--log", a.log, "Print one line per request on stderr");
   cmd->add_flag("--json", a.json, "Print {\"url\", \"port\", \"token\"} on stdout once listening");
@@ -78,6 +80,7 @@ int run_serve(const ServeArgs& a) {
   if (a.setup_ephemeral) {
     ephemeral::SetupOptions options;
     options.shape_radius = a.shape_radius;
+    options.size_from_bones = !a.fixed_shape_size;
     auto r = ephemeral::setup_ephemeral(*scene, options);
     if (!r) return fail(r.status().with_context(a.scene));
   }

@@ -19,6 +19,7 @@ struct ServeArgs {
   std::vector<std::string> rigs;  // definitions to build on load
   bool setup_ephemeral = false;
   double shape_radius = 0.03;
+  bool fixed_shape_size = false;
   std::string port_file;
   bool log = false;
   bool json = false;

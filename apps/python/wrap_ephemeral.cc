@@ -35,13 +35,14 @@ void wrap_ephemeral(py::module_& m) {
   m.def(
       "setup_ephemeral",
       [](const SceneRef& s, std::optional<std::vector<NodeArg>> joints, const std::string& control_suffix,
-         const std::string& rig_name, bool keep_animation, double shape_radius) {
+         const std::string& rig_name, bool keep_animation, double shape_radius, bool size_from_bones) {
         eph::SetupOptions options;
         if (joints) options.joints = resolve_all(s, *joints);
         options.control_suffix = control_suffix;
         options.rig_name = rig_name;
         options.keep_animation = keep_animation;
         options.shape_radius = shape_radius;
+        options.size_from_bones = size_from_bones;
         eph::SetupResult r = unwrap(eph::setup_ephemeral(*s, options));
         py::dict d;
         d["rig"] = node_ref(s, r.rig);
@@ -50,7 +51,7 @@ void wrap_ephemeral(py::module_& m) {
         return record(d);
       },
       py::arg("scene"), py::arg("joints") = py::none(), py::arg("control_suffix") = "_ctrl",
-      py::arg("rig_name") = "ephemeralRig", py::arg("keep_animation") = true, py::arg("shape_radius") = 0.0,
+      py::arg("rig_name") = "ephemeralRig", py::arg("keep_animation") = true, py::arg("shape_radius") = 0.0, py::arg("size_from_bones") = false,
       R"(Builds an ephemeral rig: one control per joint (all joints, or `joints`), mirroring the
 hierarchy and driving the joint's channels. One undo step. Returns (rig, joints, controls).)");
   m.def(

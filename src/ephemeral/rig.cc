@@ -280,6 +280,40 @@ Status SetupOptions::validate() const {
   return Status::ok();
 }
 
+namespace {
+
+// Each control's circle radius: shape_radius, or, sized from the bones, a
+// third of the joint's shortest bone to a child joint (a leaf's: of the
+// bone from its parent), within [shape_radius / 10, shape_radius], so that
+// a face's or a finger's many short bones get small controls that do not
+// cover each other.
+std::vector<double> control_radii(scene::Scene& scene, const std::vector<NodeId>& joints, const SetupOptions& options) {
+  std::vector<double> out(joints.size(), options.shape_radius);
+  if (!options.size_from_bones || !(options.shape_radius > 0)) return out;
+  Graph& graph = scene.graph();
+  auto is_joint = [&](NodeId id) { return id.is_valid() && graph.node(id)->type().name() == scene::kJointType; };
+  auto position = [&](NodeId id) { return Vec3(scene.world_matrix(id).topRightCorner<3, 1>()); };
+  std::unordered_map<std::uint32_t, double> shortest;  // joint index -> its shortest bone to a child
+  for (NodeId id : scene.hierarchy()) {
+    const NodeId parent = graph.parent(id);
+    if (!is_joint(id) || !is_joint(parent)) continue;
+    const double bone = (position(id) - position(parent)).norm();
+    if (!(bone > 1e-9) || !std::isfinite(bone)) continue;
+    auto [it, fresh] = shortest.emplace(parent.index, bone);
+    if (!fresh) it->second = std::min(it->second, bone);
+  }
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    double bone = 0;
+    if (auto it = shortest.find(joints[i].index); it != shortest.end()) bone = it->second;
+    else if (is_joint(graph.parent(joints[i]))) bone = (position(joints[i]) - position(graph.parent(joints[i]))).norm();
+    if (bone > 0 && std::isfinite(bone))
+      out[i] = std::clamp(bone / 3.0, options.shape_radius / 10.0, options.shape_radius);
+  }
+  return out;
+}
+
+}  // namespace
+
 Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& options) {
   Graph& graph = scene.graph();
   if (!rig_type(graph))
@@ -332,9 +366,11 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
     tx.rollback();
     return s;
   };
+  const std::vector<double> radii = control_radii(scene, joints, options);
   SetupResult result;
   std::unordered_map<std::uint32_t, NodeId> control_by_joint;  // joint index -> control
   for (NodeId j : joints) {
+    const double radius = radii[result.joints.size()];
     const std::string name = graph.node(j)->name() + options.control_suffix;
     NodeId jparent = graph.parent(j);
     NodeId cparent = jparent;
@@ -364,11 +400,11 @@ Result<SetupResult> setup_ephemeral(scene::Scene& scene, const SetupOptions& opt
     for (AttrIndex a : kChannels) {
       if (Status s = graph.connect(Plug{c, a, -1}, Plug{j, a, -1}); !s) return fail(s.with_context("setup"));
     }
-    if (options.shape_radius > 0) {
+    if (radius > 0) {
       std::vector<Vec3> points;
       for (int k = 0; k < 16; ++k) {
         const double t = 2.0 * math::kPi * k / 16.0;
-        points.emplace_back(0.0, options.shape_radius * std::cos(t), options.shape_radius * std::sin(t));
+        points.emplace_back(0.0, radius * std::cos(t), radius * std::sin(t));
       }
       if (Status s = graph.set_value(Plug{c, scene::control_attr::kShapePoints, -1}, std::move(points)); !s)
         return fail(s.with_context("setup"));

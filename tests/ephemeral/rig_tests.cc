@@ -55,6 +55,41 @@ TEST(EphemeralSetup, the_side_a_name_says_colours_the_circle_blue_left_red_right
   EXPECT_EQ(color(2), Vec3(1, 0, 0)) << "right: red";
 }
 
+TEST(EphemeralSetup, sized_from_bones_a_third_of_the_shortest_bone_within_a_tenth_and_the_radius) {
+  auto s = make_scene();
+  NodeId hips = joint(*s, "hips", {}, Vec3(0, 1, 0));
+  NodeId spine = joint(*s, "spine", hips, Vec3(0, 0.3, 0));   // hips' shortest bone: 0.06 to the thigh
+  NodeId thigh = joint(*s, "thigh.L", hips, Vec3(0.06, 0, 0));
+  joint(*s, "shin.L", thigh, Vec3(0, -0.45, 0));               // a leaf: its bone from the thigh
+  NodeId lip = joint(*s, "lip", spine, Vec3(0, 0.003, 0));    // a tiny bone: the floor
+  joint(*s, "lip.001", lip, Vec3(0, 0.003, 0));
+  SetupOptions o;
+  o.shape_radius = 0.05;
+  o.size_from_bones = true;
+  Result<SetupResult> r = setup_ephemeral(*s, o);
+  ASSERT_TRUE(r.is_ok()) << r.status().message();
+  const Graph& g = s->graph();
+  ASSERT_EQ(r->controls.size(), 6u);
+  auto radius = [&](const char* joint_name) {
+    for (std::size_t i = 0; i < r->joints.size(); ++i)
+      if (g.node(r->joints[i])->name() == joint_name)
+        return std::get<std::vector<Vec3>>(g.node(r->controls[i])->value(scene::control_attr::kShapePoints))[0].norm();
+    return -1.0;
+  };
+  EXPECT_NEAR(radius("hips"), 0.02, 1e-12) << "a third of its shortest bone, 0.06 to the thigh";
+  EXPECT_NEAR(radius("spine"), 0.005, 1e-12) << "a third of 0.003 is below the floor, a tenth of 0.05";
+  EXPECT_NEAR(radius("thigh.L"), 0.05, 1e-12) << "a third of 0.45 is above the radius";
+  EXPECT_NEAR(radius("shin.L"), 0.05, 1e-12) << "a leaf: its bone from the thigh";
+  EXPECT_NEAR(radius("lip.001"), 0.005, 1e-12) << "a leaf's tiny bone: the floor";
+  o.size_from_bones = false;
+  auto t = make_scene();
+  joint(*t, "a", {}, Vec3::Zero());
+  r = setup_ephemeral(*t, o);
+  ASSERT_TRUE(r.is_ok());
+  EXPECT_NEAR(std::get<std::vector<Vec3>>(t->graph().node(r->controls[0])->value(scene::control_attr::kShapePoints))[0].norm(),
+              0.05, 1e-12) << "fixed: every circle at the radius";
+}
+
 TEST(EphemeralSetup, is_one_undo_step__and_undo_restores_the_file_exactly) {
   auto s = make_scene();
   NodeId a = joint(*s, "a", {}, Vec3(0, 1, 0));

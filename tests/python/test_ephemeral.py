@@ -49,6 +49,14 @@ def test_setup_errors(metarig):
         assert info.value.field == field, kwargs
 
 
+def test_setup_sizes_circles_from_the_bones(metarig):
+    r = rigel.setup_ephemeral(metarig, joints=["hand.L", "f_index.01.L", "f_index.02.L", "f_index.03.L"],
+                              shape_radius=0.05, size_from_bones=True)
+    radius = {j.name: math.hypot(*c["shapePoints"][0]) for j, c in zip(r.joints, r.controls)}
+    assert all(0.005 - 1e-12 <= v <= 0.05 + 1e-12 for v in radius.values()), radius
+    assert radius["f_index.03.L"] < 0.02, "a fingertip's short bone: a small circle"
+
+
 def test_relations(posed):
     scene, result = posed
     rels = rigel.relations(scene, result.rig)

@@ -96,6 +96,11 @@ struct SetupOptions {
   // the joint's name says (side_from_name): left blue, right red, centre
   // yellow, as the bundled biped's components colour theirs.
   double shape_radius = 0.0;
+  // true: each circle sized from its joint's bones (a third of its shortest
+  // bone to a child, a leaf's from its parent), shape_radius the largest
+  // and a tenth of it the smallest: a face's or a hand's short bones get
+  // small controls.
+  bool size_from_bones = false;
 
   // The option at fault (kInvalidArgument, Status::field() its API name:
   // "shapeRadius" not a number >= 0, "controlSuffix" that makes control
