@@ -322,23 +322,25 @@ struct Workspace::Impl {
     return attrs;
   }
 
+  // A query's comma-separated list ("controls=A,B") as a JSON array of its
+  // items, empty ones kept (they are refused by name); empty when absent.
+  static Json query_list(const Request& req, const char* key) {
+    Json out = Json::array();
+    auto it = req.query.find(key);
+    if (it == req.query.end()) return out;
+    for (std::size_t from = 0; from <= it->second.size();) {
+      const std::size_t comma = std::min(it->second.find(',', from), it->second.size());
+      out.push_back(it->second.substr(from, comma - from));
+      from = comma + 1;
+    }
+    return out;
+  }
+
   // GET /api/channel-keys?controls=A,B&attrs=x,y: the nodes' own channels'
   // keys (Workspace::channel_keys), changing nothing.
   Json get_channel_keys(const Request& req, const Json&) {
-    auto list = [&](const char* key) {
-      Json out = Json::array();
-      auto it = req.query.find(key);
-      if (it == req.query.end()) return out;
-      std::size_t from = 0;
-      while (from <= it->second.size()) {
-        const std::size_t comma = std::min(it->second.find(',', from), it->second.size());
-        out.push_back(it->second.substr(from, comma - from));
-        from = comma + 1;
-      }
-      return out;
-    };
     if (req.query.find("controls") == req.query.end()) refuse(400, "missing query 'controls'", "controls");
-    const Json query{{"controls", list("controls")}, {"attrs", list("attrs")}};
+    const Json query{{"controls", query_list(req, "controls")}, {"attrs", query_list(req, "attrs")}};
     const std::vector<NodeId> nodes = key_nodes(query);
     return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.channel_keys(nodes, attrs_of(query))))}};
   }
@@ -348,15 +350,7 @@ struct Workspace::Impl {
   // switches, values now, keyed here / elsewhere / none.
   Json get_channels(const Request& req, const Json&) {
     Json query = Json::object();
-    if (auto it = req.query.find("controls"); it != req.query.end()) {
-      Json list = Json::array();
-      for (std::size_t from = 0; from <= it->second.size();) {
-        const std::size_t comma = std::min(it->second.find(',', from), it->second.size());
-        list.push_back(it->second.substr(from, comma - from));
-        from = comma + 1;
-      }
-      query["controls"] = list;
-    }
+    if (req.query.find("controls") != req.query.end()) query["controls"] = query_list(req, "controls");
     static const char* const kStates[] = {"none", "elsewhere", "here"};
     Json boxes = Json::array();
     for (const app::Workspace::ChannelBox& box : take(ws.channel_box(key_nodes(query)))) {

@@ -26,13 +26,8 @@ const Json* row(const Json& box, const std::string& plug) {
 }
 
 TEST(ServerApi, ChannelBoxListsValuesKeyedStateAndTheComponentsSwitches) {
-  Served s;
-  s.root = s.dir->path() / "root";
-  fs::create_directories(s.root);
-  auto scene = bundled_character();
-  ASSERT_TRUE(rig::add_rig(*scene, source_path("examples/biped.rig.xml"), ephemeral::components()).is_ok());
-  scene->graph().clear_history();
-  s.workspace = std::make_unique<Workspace>(std::move(scene), fs::path(), s.root, ephemeral::components());
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
   s.post("/api/time", {{"frame", 0}});
 
   Json box = s.get("/api/channels?controls=hero_arm_L_ik,hero_arm_L_fk1");

@@ -23,13 +23,8 @@ namespace fs = std::filesystem;
 // /api/poses/apply and /api/poses/remove, libraries inside the root;
 // refusals name the field.
 TEST(ServerApi, PoseLibrarySavesAppliesListsAndRemovesInsideTheRoot) {
-  Served s;
-  s.root = s.dir->path() / "root";
-  fs::create_directories(s.root);
-  auto scene = bundled_character();
-  ASSERT_TRUE(rig::add_rig(*scene, source_path("examples/biped.rig.xml"), ephemeral::components()).is_ok());
-  scene->graph().clear_history();
-  s.workspace = std::make_unique<Workspace>(std::move(scene), fs::path(), s.root, ephemeral::components());
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
   graph::Graph& g = s.workspace->scene().graph();
   const graph::NodeId fk0 = g.find("hero_arm_L_fk0");
   const graph::Plug rotate{fk0, scene::xform::kRotate, -1};

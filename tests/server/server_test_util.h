@@ -103,6 +103,19 @@ inline Served served_character() {
 }
 
 // The character with examples/puppet.rig.xml built (160 controls), history cleared.
+// The bundled character with the biped (examples/biped.rig.xml) built on
+// it, served from a root folder of its own, history cleared.
+inline Served served_biped() {
+  Served s;
+  s.root = s.dir->path() / "root";
+  fs::create_directories(s.root);
+  auto scene = bundled_character();
+  EXPECT_TRUE(rig::add_rig(*scene, source_path("examples/biped.rig.xml"), ephemeral::components()).is_ok());
+  scene->graph().clear_history();
+  s.workspace = std::make_unique<Workspace>(std::move(scene), fs::path(), s.root, ephemeral::components());
+  return s;
+}
+
 inline Served served_puppet() {
   Served s;
   s.root = s.dir->path() / "root";

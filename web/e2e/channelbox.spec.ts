@@ -3,18 +3,11 @@
 // set and keyed from the same box, the keyed state per channel (here /
 // elsewhere), a value dragged, several controls edited together, and undo.
 
-import { clickControl, expect, expectSelection, settle, test, type RigelServer } from './fixtures';
+import { clickControl, expect, expectSelection, goToFrame, settle, test, type RigelServer } from './fixtures';
 import type { Page } from '@playwright/test';
 
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
 
-async function goToFrame(page: Page, server: RigelServer, frame: number): Promise<void> {
-  const field = page.getByTestId('frame');
-  await field.fill(String(frame));
-  await field.press('Enter');
-  await expect.poll(async () => (await server.get('/api/scene')).frame).toBe(frame);
-  await field.blur();
-}
 
 /** A channel as the server has it now. */
 async function channel(server: RigelServer, control: string, plug: string): Promise<{ value: number; keyed: string }> {

@@ -345,3 +345,13 @@ export async function setMode(page: Page, server: RigelServer, mode: string): Pr
   await expect.poll(async () => (await server.get<{ mode: string }>('/api/scene')).mode).toBe(mode);
   await expect(page.getByTestId(`mode-${mode}`)).toHaveClass(/active/);
 }
+
+/** Types a frame into the timeline's field, waits for the server to be there, and gives the focus back. */
+export async function goToFrame(page: Page, server: RigelServer, frame: number): Promise<void> {
+  const field = page.getByTestId('frame');
+  await field.fill(String(frame));
+  await field.press('Enter');
+  await expect.poll(async () => (await server.get('/api/scene')).frame).toBe(frame);
+  // Back to the viewport so that shortcuts reach the app, not the field.
+  await field.blur();
+}

@@ -1,17 +1,8 @@
 // Keys on two frames, playback between them, the refusal of a drag off a
 // key without auto-key (shown in the status bar) and auto-key.
 
-import { clickControl, dist, dragGizmo, expect, expectSelection, setMode, settle, test, type RigelServer } from './fixtures';
-import type { Page } from '@playwright/test';
+import { clickControl, dist, dragGizmo, expect, expectSelection, goToFrame, setMode, settle, test, type RigelServer } from './fixtures';
 
-async function goToFrame(page: Page, server: RigelServer, frame: number): Promise<void> {
-  const field = page.getByTestId('frame');
-  await field.fill(String(frame));
-  await field.press('Enter');
-  await expect.poll(async () => (await server.get('/api/scene')).frame).toBe(frame);
-  // Back to the viewport so that shortcuts reach the app, not the field.
-  await field.blur();
-}
 
 async function handAt(server: RigelServer): Promise<number[]> {
   return (await server.worldPose()).get('hand.L')!;

@@ -146,16 +146,17 @@ export class ChannelBox {
   private line(row: ChannelRow, label: string): HTMLElement {
     const input = h('input.channel-value', { type: 'text', value: commands.formatValue(row.value), testid: `channel-value-${label}` });
     const name = h('span.channel-name', { title: `${row.plug}: drag to change, type a value and press Enter` }, label);
+    const shown: Shown = { row, input, line: h('div') };
     const line = h(
       'div.channel-row',
       { testid: `channel-${label}`, dataset: { keyed: row.keyed, plug: row.plug } },
       h('span.keyed-mark', { title: 'keyed here / keyed elsewhere / not keyed' }),
       name,
       input,
-      h('button.small', { title: `Key ${label} at this frame`, testid: `channel-key-${label}`, onclick: () => run(this.key(label, false)) }, 'K'),
-      h('button.small', { title: `Delete the key of ${label} at this frame`, testid: `channel-unkey-${label}`, onclick: () => run(this.key(label, true)) }, '✕'),
+      h('button.small', { title: `Key ${label} at this frame`, testid: `channel-key-${label}`, onclick: () => run(this.key(shown, label, false)) }, 'K'),
+      h('button.small', { title: `Delete the key of ${label} at this frame`, testid: `channel-unkey-${label}`, onclick: () => run(this.key(shown, label, true)) }, '✕'),
     );
-    const shown: Shown = { row, input, line };
+    shown.line = line;
     this.shown.set(row.plug, shown);
     input.addEventListener('keydown', (e) => {
       if (e.key === 'Enter') {
@@ -206,9 +207,7 @@ export class ChannelBox {
     await this.refresh();
   }
 
-  private async key(label: string, remove: boolean): Promise<void> {
-    const shown = [...this.shown.values()].find((s) => s.line.dataset.testid === `channel-${label}`);
-    if (!shown) return;
+  private async key(shown: Shown, label: string, remove: boolean): Promise<void> {
     await this.app.execute(commands.keyChannel(this.targets(shown.row), shown.row.keyAttr, remove, label));
     await this.refresh();
   }
