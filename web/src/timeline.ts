@@ -18,6 +18,7 @@ export class Timeline {
   private readonly ticks: HTMLElement;
   private readonly playBtn: HTMLButtonElement;
   private readonly autoKey: HTMLInputElement;
+  private pendingAutoKey: boolean | null = null;
   private readonly scopeEl: HTMLElement;
   private readonly keysEl: HTMLElement;
   private readonly rangeEl: HTMLElement;
@@ -50,7 +51,18 @@ export class Timeline {
       h('kbd', {}, '⇧S'),
     );
     this.autoKey = h('input', { type: 'checkbox', testid: 'auto-key' });
-    this.autoKey.addEventListener('change', () => run(this.app.setAutoKey(this.autoKey.checked)));
+    // The box shows what was clicked until the server has it: a render from
+    // an answer already on its way would otherwise undo the click.
+    this.autoKey.addEventListener('change', () => {
+      const on = this.autoKey.checked;
+      this.pendingAutoKey = on;
+      run(
+        this.app.setAutoKey(on).finally(() => {
+          if (this.pendingAutoKey === on) this.pendingAutoKey = null;
+          this.render();
+        }),
+      );
+    });
     const autoLabel = h('label.toggle', { title: 'Auto-key: drags between keys key the character first (K)' }, this.autoKey, 'Auto-key');
     this.scopeEl = h('span.scope', { testid: 'key-scope', title: 'Keying scope of the selection’s character' });
     this.keysEl = h('span.keys', { testid: 'key-frames' });
@@ -87,7 +99,7 @@ export class Timeline {
       this.slider.value = String(Math.round(s.frame));
       if (document.activeElement !== this.field) this.field.value = String(Math.round(s.frame * 100) / 100);
     }
-    this.autoKey.checked = !!s?.autoKey;
+    this.autoKey.checked = this.pendingAutoKey ?? !!s?.autoKey;
     const scope = this.store.shownScope();
     this.scopeEl.textContent = `Keying: ${scope || '—'}`;
     const frames = this.store.keys?.frames ?? [];
