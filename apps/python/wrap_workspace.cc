@@ -738,6 +738,7 @@ cannot do it in its state.)");
   def_time_and_keys(cls);
   def_animator_tools(cls);
   def_transfer_and_values(cls);
+  def_curves(cls);
   def_space_tools(cls);
   def_poses(cls);
   def_rigs(cls);

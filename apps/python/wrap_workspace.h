@@ -2,7 +2,7 @@
 // What rigel.Workspace's wrap files share (wrap_workspace.cc: the class and
 // most methods; wrap_workspace_tools.cc: transfer, move keys and channel
 // values; wrap_workspace_spaces.cc: spaces; wrap_workspace_poses.cc: the pose
-// library).
+// library; wrap_workspace_curves.cc: the graph editor).
 
 #include <memory>
 #include <optional>
@@ -50,5 +50,7 @@ void def_transfer_and_values(WorkspaceClass& cls);
 void def_space_tools(WorkspaceClass& cls);
 // Workspace.save_pose, apply_pose, list_poses, remove_pose.
 void def_poses(WorkspaceClass& cls);
+// Workspace.curves, edit_curve_keys, insert_curve_keys, delete_curve_keys.
+void def_curves(WorkspaceClass& cls);
 
 }  // namespace rigel::python

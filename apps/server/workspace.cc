@@ -4,6 +4,7 @@
 #include "workspace.h"
 
 #include "animate_routes.h"
+#include "curve_routes.h"
 #include "api_fields.h"
 
 #include <unistd.h>
@@ -404,6 +405,17 @@ struct Workspace::Impl {
     return Json{{"revision", ws.revision()}, {"keys", keys}};
   }
 
+  // ---- routes: the graph editor (curve_routes.cc) -------------------------------
+
+  // GET /api/curves[?controls=A,B&first=F&last=L&step=S&euler=0|1]: the
+  // curves of the channel box's channels (the selection's without controls).
+  Json get_curves(const Request& req, const Json&) {
+    Json query = Json::object();
+    if (req.query.find("controls") != req.query.end()) query["controls"] = query_list(req, "controls");
+    return routes::curves(ws, key_nodes(query), req.query);
+  }
+  Json post_curve_keys(const Request&, const Json& body) { return routes::curve_keys(ws, body); }
+
   // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
   Json post_export(const Request&, const Json& body) { return routes::export_scene(ws, body); }
@@ -643,6 +655,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/key", &Impl::post_key},
       {"GET", "/api/channel-keys", &Impl::get_channel_keys},
       {"GET", "/api/channels", &Impl::get_channels},
+      {"GET", "/api/curves", &Impl::get_curves},
+      {"POST", "/api/curve-keys", &Impl::post_curve_keys},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/match", &Impl::post_match},
       {"POST", "/api/mirror", &Impl::post_mirror},

@@ -4,7 +4,10 @@
 #include <filesystem>
 #include <string>
 
+#include <vector>
+
 #include "rigel/base/status.h"
+#include "rigel/graph/graph.h"
 
 namespace rigel::app::internal {
 
@@ -30,5 +33,10 @@ namespace internal {
 // finite, first <= last, within kMaxFrame and within the clip when there
 // is one (animate.cc).
 Status check_frames(const Workspace& ws, double first, double last);
+// The nodes whose keyable channels a channel box shows for `control`: the
+// control, and for a built rig's control its component's nodes that hold
+// keyable channels and are not transforms (the limb's fkIk switch, a
+// foot's roll) (transfer.cc).
+std::vector<graph::NodeId> channel_holders(const graph::Graph& g, graph::NodeId control);
 }  // namespace internal
 }  // namespace rigel::app

@@ -177,18 +177,22 @@ Workspace::KeyState key_state(const graph::Graph& g, const tools::Channel& chann
 
 }  // namespace
 
+std::vector<NodeId> internal::channel_holders(const graph::Graph& g, NodeId id) {
+  std::vector<NodeId> holders{id};
+  if (is_built_control(g, id))
+    for (NodeId m : rig::meta_members(g, rig::component_of(g, id)))
+      if (g.node(m)->type().world_output() == graph::kNoAttr && !tools::keyable_attrs(*g.node(m)).empty())
+        holders.push_back(m);
+  return holders;
+}
+
 Result<std::vector<Workspace::ChannelBox>> Workspace::channel_box(const std::vector<NodeId>& controls) {
   graph::Graph& g = graph();
   std::vector<ChannelBox> out;
   for (NodeId id : controls) {
     if (!g.node(id)) return Status(ErrorCode::kNotFound, "controls: no such node (stale handle)").with_field("controls");
-    std::vector<NodeId> holders{id};
-    if (is_built_control(g, id))
-      for (NodeId m : rig::meta_members(g, rig::component_of(g, id)))
-        if (g.node(m)->type().world_output() == graph::kNoAttr && !tools::keyable_attrs(*g.node(m)).empty())
-          holders.push_back(m);
     ChannelBox box{id, {}};
-    for (NodeId holder : holders) {
+    for (NodeId holder : internal::channel_holders(g, id)) {
       Result<std::vector<tools::Channel>> channels = tools::channels_of(g, {holder});
       if (!channels) continue;  // nothing keyable on it
       for (const tools::Channel& c : *channels) {

@@ -37,6 +37,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/scene/scene.h"
 #include "rigel/tools/bind_pose.h"
+#include "rigel/tools/curves.h"
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
 #include "rigel/tools/transfer.h"
@@ -390,6 +391,22 @@ class Workspace {
     std::vector<ChannelRow> rows;
   };
   Result<std::vector<ChannelBox>> channel_box(const std::vector<NodeId>& controls);
+  // ---- graph editor (tools/curves.h; src/app/curves.cc) ---------------------
+  // The curves of the channels the channel box shows for `controls` (each
+  // control's keyable channels and, for a built rig's control, its
+  // component's switches), sampled as `options` says, in FRAMES here, in
+  // and out: first, last, step, key and sample times (samples to a
+  // billionth of a frame) and slopes (per frame). Errors name "controls",
+  // "first", "last" or "step".
+  Result<std::vector<tools::CurveView>> curves(const std::vector<NodeId>& controls,
+                                               const tools::CurveViewOptions& options = {});
+  // Single-key edits on curves named by the plug they drive; times in
+  // FRAMES here (key, to_time), as every frame the workspace takes. Errors
+  // name "keys" (a frame beyond kMaxFrame too). One undo step each; the
+  // number of keys changed. Slopes (in_slope, out_slope) are per frame.
+  Result<std::size_t> edit_curve_keys(std::vector<tools::CurveKeyEdit> edits);
+  Result<std::size_t> insert_curve_keys(std::vector<tools::CurveKeyRef> keys);
+  Result<std::size_t> delete_curve_keys(std::vector<tools::CurveKeyRef> keys);
   // ---- spaces (rig/spaces.h, tools/spaces.h; src/app/spaces.cc) -------------
   // A control's spaces (none when it has no spaceSwitch).
   rig::ControlSpaces spaces(NodeId control) const;
