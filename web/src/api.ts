@@ -220,6 +220,62 @@ export interface ChannelKeysAnswer extends Revised {
   keys: { plug: string; frames: number[] }[];
 }
 
+// -------------------------------------------------------------- graph editor
+
+/** One curve of GET /api/curves: keys, tangents (curves only; slopes per frame) and samples. */
+export interface CurveInfo {
+  /** The channel plug it drives: what /api/curve-keys names it by. */
+  plug: string;
+  curve: string;
+  kind: 'curve' | 'vectorTrack' | 'rotationTrack';
+  component: number;
+  label: string;
+  /** Whether key values can be edited (not a glTF rotation track's). */
+  editable: boolean;
+  frames: number[];
+  values: number[];
+  inTangents?: string[];
+  outTangents?: string[];
+  inSlopes?: number[];
+  outSlopes?: number[];
+  samples: { frames: number[]; values: number[] };
+}
+
+export interface CurvesAnswer extends Revised {
+  fps: number;
+  curves: CurveInfo[];
+}
+
+export interface CurvesRequest {
+  controls: string[];
+  first?: number;
+  last?: number;
+  step?: number;
+  euler?: boolean;
+}
+
+export interface CurveKeyEdit {
+  curve: string;
+  frame: number;
+  toFrame?: number;
+  value?: number;
+  component?: number;
+  tangent?: string;
+  inTangent?: string;
+  outTangent?: string;
+  inSlope?: number;
+  outSlope?: number;
+}
+
+export interface CurveKeysRequest {
+  op: 'edit' | 'insert' | 'delete';
+  keys: CurveKeyEdit[];
+}
+
+export interface CurveKeysAnswer extends Revised {
+  changed: number;
+}
+
 // ---------------------------------------------------------------------- rigs
 
 export interface RigComponentInfo {
@@ -541,6 +597,21 @@ export class Api {
 
   channelKeys(req: ChannelKeysRequest): Promise<ChannelKeysAnswer> {
     return this.http.post('/api/channel-keys', req);
+  }
+
+  // graph editor
+
+  curves(req: CurvesRequest): Promise<CurvesAnswer> {
+    let target = `/api/curves?controls=${req.controls.map(q).join(',')}`;
+    if (req.first !== undefined) target += `&first=${req.first}`;
+    if (req.last !== undefined) target += `&last=${req.last}`;
+    if (req.step !== undefined) target += `&step=${req.step}`;
+    if (req.euler !== undefined) target += `&euler=${req.euler ? 1 : 0}`;
+    return this.http.get(target);
+  }
+
+  curveKeys(req: CurveKeysRequest): Promise<CurveKeysAnswer> {
+    return this.http.post('/api/curve-keys', req);
   }
 
   // animator tools

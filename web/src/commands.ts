@@ -10,6 +10,8 @@ import type {
   BuildAnswer,
   ChannelKeysAnswer,
   ChannelValuesAnswer,
+  CurveKeysAnswer,
+  CurveKeysRequest,
   HistoryAnswer,
   KeyAnswer,
   ModeAnswer,
@@ -126,6 +128,17 @@ export function keyChannel(controls: string[], attr: string, remove: boolean, la
   return {
     send: (api) => api.channelKeys(remove ? { controls, attrs: [attr], delete: true } : { controls, attrs: [attr] }),
     message: (_a, store) => `${remove ? 'Deleted the key of' : 'Keyed'} ${label} at frame ${store.scene?.frame ?? ''}`,
+    affects: ['pose', 'keys', 'scene'],
+  };
+}
+
+// -------------------------------------------------------------- graph editor
+
+/** Edits, inserts or deletes keys on curves (the graph editor): one request, one undo step. */
+export function curveKeys(req: CurveKeysRequest, label: string): Command<CurveKeysAnswer> {
+  return {
+    send: (api) => api.curveKeys(req),
+    message: (a) => `${label}: ${a.changed} key${a.changed === 1 ? '' : 's'}`,
     affects: ['pose', 'keys', 'scene'],
   };
 }

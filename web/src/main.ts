@@ -9,6 +9,7 @@ import type { Vec3 } from './api';
 import { App, kModeKeys } from './app';
 import { ChannelBox } from './channelbox';
 import { DefinitionEditor } from './defeditor';
+import { GraphEditor } from './grapheditor';
 import { h, fill, typingTarget } from './dom';
 import { RigManager } from './rigs';
 import { StatusBar, run, setStatusBar } from './status';
@@ -115,7 +116,13 @@ function toggleGroups(): void {
 store.signals.characterChanged.add(() => {
   if (!groupsMenu.hidden) renderGroups();
 });
-fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu));
+const graphEditor = new GraphEditor(byId('graph-editor'), theApp);
+const graphBtn = h('button', { title: 'Graph editor: the curves of the selection (G)', testid: 'toggle-graph', onclick: () => toggleGraph() }, 'Graph', h('kbd', {}, 'G'));
+function toggleGraph(): void {
+  graphEditor.visible = !graphEditor.visible;
+  graphBtn.classList.toggle('active', graphEditor.visible);
+}
+fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), graphBtn);
 
 const info = byId('info');
 function renderToolbar(): void {
@@ -199,6 +206,7 @@ const kShortcuts: [string, string][] = [
   ['← / →', 'Previous / next frame'],
   ['F', 'Frame the character'],
   ['M', 'Mesh: shaded, x-ray, hidden'],
+  ['G', 'Graph editor (in it: A frame all, F frame selected, I insert key, Delete delete keys)'],
   ['Esc', 'Clear the selection (or close this)'],
   ['Ctrl+Z / Ctrl+Shift+Z', 'Undo / redo'],
   ['Click / Shift+click', 'Select a control / add or remove it'],
@@ -250,6 +258,9 @@ window.addEventListener('keydown', (e) => {
     case 'm':
       cycleMesh();
       break;
+    case 'g':
+      toggleGraph();
+      break;
     case 'e':
       setGizmo('rotate');
       break;
@@ -294,6 +305,7 @@ interface RigelHook {
   timeline: Timeline;
   editor: DefinitionEditor;
   channelBox: ChannelBox;
+  graphEditor: GraphEditor;
   /** Client pixels where clicking picks the control (by uuid or name), or null. */
   project: (control: string) => { x: number; y: number } | null;
   /** Client pixels of a world point. */
@@ -314,13 +326,14 @@ const uuidOf = (name: string): string | null => store.byName.get(name) ?? (store
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
-  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy,
+  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy,
   app: theApp,
   store,
   viewport,
   timeline,
   editor,
   channelBox,
+  graphEditor,
   project: (control) => {
     const u = uuidOf(control);
     return u ? viewport.project(u) : null;
