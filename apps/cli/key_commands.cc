@@ -89,6 +89,7 @@ struct KeyArgs {
   std::optional<double> frame, time, value, move_to;
   std::string tangent, in_tangent, out_tangent;
   bool remove = false;
+  bool copy = false;
   std::string output;
   bool json = false;
 };
@@ -101,6 +102,7 @@ int run_key(const KeyArgs& args) {
   if (args.move_to && (args.remove || args.value))
     return usage_error("--move-to moves the keys at --frame; it takes no --value or --delete");
   if (args.move_to && !std::isfinite(*args.move_to)) return usage_error("--move-to must be a finite number");
+  if (args.copy && !args.move_to) return usage_error("--copy copies the keys at --frame to --move-to; give --move-to");
   tools::Tangents tangents;
   for (auto [text, option, both, in] :
        {std::tuple{&args.tangent, "--tangent", true, false}, {&args.in_tangent, "--in-tangent", false, true},
@@ -133,7 +135,7 @@ int run_key(const KeyArgs& args) {
   auto channels = ws.key_channels(nodes, args.attrs);
   if (!channels) return fail(channels.status().with_context(args.scene + ": --" + (channels.status().field() == "attrs" ? "attr" : "control")));
   if (tangents.any() && args.move_to) return usage_error("--move-to keeps the keys' tangents; it takes no --tangent");
-  auto keys = args.move_to  ? ws.move_channel_keys(nodes, args.attrs, *args.move_to)
+  auto keys = args.move_to  ? ws.move_channel_keys(nodes, args.attrs, *args.move_to, args.copy)
               : args.remove ? ws.delete_channel_keys(nodes, args.attrs)
                             : ws.set_channel_keys(nodes, args.attrs, args.value, tangents);
   if (!keys) {
@@ -153,10 +155,10 @@ int run_key(const KeyArgs& args) {
     for (const tools::Channel& c : *channels) names.push_back(ws.graph().plug_name(graph::Plug{c.node, c.attr, -1}));
     Json out{{"frame", frame}, {"deleted", args.remove}, {"channels", names}, {"keys", keys_json(*keys, fps)},
              {"output", args.output}};
-    if (args.move_to) out["movedTo"] = *args.move_to;
+    if (args.move_to) out[args.copy ? "copiedTo" : "movedTo"] = *args.move_to;
     std::cout << out.dump() << "\n";
   }
-  std::cerr << "rigel: " << (args.move_to ? "moved the keys of " : args.remove ? "deleted the keys of " : "keyed ")
+  std::cerr << "rigel: " << (args.move_to ? (args.copy ? "copied the keys of " : "moved the keys of ") : args.remove ? "deleted the keys of " : "keyed ")
             << channels->size() << (channels->size() == 1 ? " channel" : " channels") << " at frame " << number_text(frame);
   if (args.move_to) std::cerr << " to frame " << number_text(*args.move_to);
   std::cerr << "; wrote " << args.output << "\n";
@@ -329,6 +331,7 @@ void add_key_commands(CLI::App& app, KeyCommands& commands) {
   s.key_cmd->add_flag("--delete", s.key.remove, "Delete the keys at that time instead");
   s.key_cmd->add_option("--move-to", s.key.move_to,
                         "Move the keys at that time to this frame, keeping values and tangents (a key there is replaced)");
+  s.key_cmd->add_flag("--copy", s.key.copy, "With --move-to: copy the keys there, keeping those at --frame");
   s.key_cmd->add_option("-o,--output", s.key.output, "Scene file to write (.rigel)")->required();
   s.key_cmd->add_flag("--json", s.key.json, "Print a JSON report on stdout");
 

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "animate_commands.h"
+#include "settings_command.h"
 #include "space_command.h"
 #include "cli_util.h"
 #include "definition_commands.h"
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
   // `space`: a control's spaces.
   rigel::cli::SpaceCommand space;
   rigel::cli::add_space_command(app, space);
+  // `playback`, `sets`: the scene's playback range and selection sets.
+  rigel::cli::SettingsCommands settings;
+  rigel::cli::add_settings_commands(app, settings);
   // `poses save|apply|list|remove`: the pose library.
   rigel::cli::PosesCommand poses;
   rigel::cli::add_poses_command(app, poses);
@@ -98,6 +102,7 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = rigel::cli::run_animate_commands(animate)) return *code;
     if (*transfer.command) return rigel::cli::run_transfer(transfer);
     if (const std::optional<int> code = rigel::cli::run_space_command(space)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_settings_commands(settings)) return *code;
     if (const std::optional<int> code = rigel::cli::run_poses_command(poses)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);

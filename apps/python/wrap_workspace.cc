@@ -156,6 +156,7 @@ py::object summary_record(const SceneRef& s, const app::SceneSummary& x) {
   d["frame"] = x.frame;
   d["time"] = x.time;
   d["range"] = py::make_tuple(x.range[0], x.range[1]);
+  d["playback_range"] = x.playback ? py::object(py::make_tuple((*x.playback)[0], (*x.playback)[1])) : py::object(py::none());
   d["mode"] = eph::mode_name(x.mode);
   d["auto_key"] = x.auto_key;
   d["key_scopes"] = scopes;
@@ -739,6 +740,7 @@ cannot do it in its state.)");
   def_animator_tools(cls);
   def_transfer_and_values(cls);
   def_curves(cls);
+  def_scene_settings(cls);
   def_space_tools(cls);
   def_poses(cls);
   def_rigs(cls);

@@ -2,7 +2,8 @@
 // What rigel.Workspace's wrap files share (wrap_workspace.cc: the class and
 // most methods; wrap_workspace_tools.cc: transfer, move keys and channel
 // values; wrap_workspace_spaces.cc: spaces; wrap_workspace_poses.cc: the pose
-// library; wrap_workspace_curves.cc: the graph editor).
+// library; wrap_workspace_curves.cc: the graph editor;
+// wrap_workspace_settings.cc: playback range and selection sets).
 
 #include <memory>
 #include <optional>
@@ -52,5 +53,8 @@ void def_space_tools(WorkspaceClass& cls);
 void def_poses(WorkspaceClass& cls);
 // Workspace.curves, edit_curve_keys, insert_curve_keys, delete_curve_keys.
 void def_curves(WorkspaceClass& cls);
+// Workspace.playback_range, set_playback_range, selection_sets, save_selection_set,
+// remove_selection_set, select_set.
+void def_scene_settings(WorkspaceClass& cls);
 
 }  // namespace rigel::python

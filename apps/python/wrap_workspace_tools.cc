@@ -42,13 +42,16 @@ components: (source, target) meta nodes, set: the nodes that took keys, frames: 
       .def(
           "move_channel_keys",
           [](const WorkspaceRef& w, double to, const std::optional<std::vector<NodeArg>>& controls,
-             const std::vector<std::string>& attrs) {
+             const std::vector<std::string>& attrs, std::optional<double> from_frame, bool copy) {
             const std::vector<NodeId> ids = key_nodes_arg(w, controls);
-            return plug_keys_list(w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.move_channel_keys(ids, attrs, to)); }));
+            return plug_keys_list(
+                w, edit(w, [&](app::Workspace& ws) { return unwrap(ws.move_channel_keys(ids, attrs, to, copy, from_frame)); }));
           },
           py::arg("to"), py::arg("controls") = py::none(), py::arg("attrs") = std::vector<std::string>{},
-          R"(Moves the keys at the current frame of the channels set_channel_keys would key (default: the
-selection's keying group) to frame `to`, keeping their values and tangents; a key already there is
+          py::arg("from_frame") = py::none(), py::arg("copy") = false,
+          R"(Moves the keys at frame `from_frame` (default: the current frame) of the channels
+set_channel_keys would key (default: the selection's keying group) to frame `to` (with copy=True copies
+them there, the keys at `from_frame` kept), keeping their values and tangents; a key already there is
 replaced. NotFoundError when none has a key now. Returns the channels' keys as records.)")
       .def(
           "set_channel_values",

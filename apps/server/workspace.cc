@@ -5,6 +5,7 @@
 
 #include "animate_routes.h"
 #include "curve_routes.h"
+#include "settings_routes.h"
 #include "api_fields.h"
 
 #include <unistd.h>
@@ -98,6 +99,7 @@ struct Workspace::Impl {
     Json out{{"revision", ws.revision()}, {"path", ws.scene_path().string()}, {"fps", s.fps}};
     out.update(frame_json());
     out["range"] = Json::array({s.range[0], s.range[1]});
+    out["playbackRange"] = s.playback ? Json::array({(*s.playback)[0], (*s.playback)[1]}) : Json();
     out["mode"] = ephemeral::mode_name(s.mode);
     out["modes"] = modes;
     out["autoKey"] = s.auto_key;
@@ -373,11 +375,18 @@ struct Workspace::Impl {
     const std::vector<std::string> attrs = attrs_of(body);
     const Json* del = opt(body, "delete");
     const Json* value = opt(body, "value");
-    if (const Json* to = opt(body, "moveTo")) {  // the keys at the current time moved to a frame
+    const Json* from = opt(body, "from");
+    const Json* copy = opt(body, "copy");
+    if (const Json* to = opt(body, "moveTo")) {  // the keys at `from` (the current time) moved or copied to a frame
       if (value || (del && as_bool(*del, "delete"))) refuse(400, "moveTo: a move takes no value or delete", "moveTo");
       const double frame = as_number(*to, "moveTo");
-      return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.move_channel_keys(nodes, attrs, frame)))}};
+      std::optional<double> from_frame;
+      if (from) from_frame = as_number(*from, "from");
+      const bool copying = copy && as_bool(*copy, "copy");
+      return Json{{"revision", ws.revision()},
+                  {"keys", plug_keys_json(take(ws.move_channel_keys(nodes, attrs, frame, copying, from_frame)))}};
     }
+    if (from || copy) refuse(400, std::string(from ? "from" : "copy") + ": only a move (moveTo) takes it", from ? "from" : "copy");
     if (del && as_bool(*del, "delete")) {
       if (value) refuse(400, "value: a delete takes no value", "value");
       return Json{{"revision", ws.revision()}, {"keys", plug_keys_json(take(ws.delete_channel_keys(nodes, attrs)))}};
@@ -415,6 +424,14 @@ struct Workspace::Impl {
     return routes::curves(ws, key_nodes(query), req.query);
   }
   Json post_curve_keys(const Request&, const Json& body) { return routes::curve_keys(ws, body); }
+
+  // ---- routes: scene settings (settings_routes.cc) --------------------------------
+  Json post_playback_range(const Request&, const Json& body) { return routes::playback_range(ws, body); }
+  Json get_selection_sets(const Request&, const Json&) { return routes::selection_sets(ws); }
+  Json post_selection_sets(const Request&, const Json& body) {
+    const bool save = body.is_object() && body.value("op", "") == "save";
+    return routes::selection_set(ws, body, save && opt(body, "controls") ? key_nodes(body) : std::vector<NodeId>{});
+  }
 
   // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
@@ -657,6 +674,9 @@ Response Workspace::handle(const Request& request) {
       {"GET", "/api/channels", &Impl::get_channels},
       {"GET", "/api/curves", &Impl::get_curves},
       {"POST", "/api/curve-keys", &Impl::post_curve_keys},
+      {"POST", "/api/playback-range", &Impl::post_playback_range},
+      {"GET", "/api/selection-sets", &Impl::get_selection_sets},
+      {"POST", "/api/selection-sets", &Impl::post_selection_sets},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/match", &Impl::post_match},
       {"POST", "/api/mirror", &Impl::post_mirror},

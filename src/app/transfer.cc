@@ -99,12 +99,16 @@ Result<tools::TransferReport> Workspace::transfer_keys(const std::string& from, 
 }
 
 Result<std::vector<tools::PlugKeys>> Workspace::move_channel_keys(const std::vector<NodeId>& controls,
-                                                                  const std::vector<std::string>& attrs, double to_frame) {
+                                                                  const std::vector<std::string>& attrs, double to_frame,
+                                                                  bool copy, std::optional<double> from_frame) {
   if (!std::isfinite(to_frame) || std::abs(to_frame) > kMaxFrame)
     return Status(ErrorCode::kInvalidArgument, "moveTo: not a frame within 1e6 of 0").with_field("moveTo");
+  if (from_frame && (!std::isfinite(*from_frame) || std::abs(*from_frame) > kMaxFrame))
+    return Status(ErrorCode::kInvalidArgument, "from: not a frame within 1e6 of 0").with_field("from");
   auto channels = key_channels(controls, attrs);
   if (!channels) return channels.status();
-  Result<std::size_t> moved = tools::move_keys(graph(), *channels, graph().time(), to_frame / graph().fps());
+  const double from = from_frame ? *from_frame / graph().fps() : graph().time();
+  Result<std::size_t> moved = tools::move_keys(graph(), *channels, from, to_frame / graph().fps(), copy);
   if (!moved) return moved.status().field().empty() ? conflict(moved.status()) : moved.status();
   bump_revision();
   return tools::keys_of(graph(), *channels);

@@ -198,6 +198,7 @@ SceneSummary Workspace::summary() const {
     any = true;
   }
   s.range = {std::round(first * g.fps()), std::round(last * g.fps())};
+  s.playback = scene::playback_range(g);
   s.mode = session_->mode();
   s.auto_key = session_->options().auto_key;
   for (NodeId r : ephemeral::rigs_find(g))

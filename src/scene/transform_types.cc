@@ -5,6 +5,7 @@
 #include "rigel/graph/graph.h"
 #include "rigel/math/transform.h"
 #include "rigel/scene/materials.h"
+#include "rigel/scene/scene_options.h"
 
 namespace rigel::scene {
 namespace {
@@ -168,7 +169,8 @@ Status register_scene_types(graph::Registry& registry) {
   for (graph::NodeTypeSpec* spec : {&transform, &joint, &control, &locator, &mesh}) {
     if (Status s = registry.add(std::move(*spec)); !s) return s;
   }
-  return register_material_types(registry);
+  if (Status s = register_material_types(registry); !s) return s;
+  return register_scene_option_types(registry);
 }
 
 std::shared_ptr<const graph::Registry> default_registry() {

@@ -165,11 +165,13 @@ Status delete_keys(graph::Graph& graph, const std::vector<Channel>& channels) {
   return ephemeral::delete_channel_keys(graph, list);
 }
 
-Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& channels, double from, double to) {
+Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& channels, double from, double to,
+                              bool copy) {
   if (!std::isfinite(from) || !std::isfinite(to))
     return Status(ErrorCode::kInvalidArgument, "move keys: the times must be finite").with_field("moveTo");
   const double tolerance = ephemeral::key_time_tolerance(graph);
-  graph::Transaction tx(graph, "move keys (" + frame_text(graph, from) + " to " + frame_text(graph, to) + ")");
+  graph::Transaction tx(graph, std::string(copy ? "copy" : "move") + " keys (" + frame_text(graph, from) + " to " +
+                                   frame_text(graph, to) + ")");
   std::size_t moved = 0;
   bool any = false;
   for (const Channel& c : channels) {
@@ -189,11 +191,11 @@ Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& c
       if (!at) continue;
       any = true;
       if (std::abs(*at - to) <= ops::anim::kKeyTimeTolerance) continue;  // already there
-      const ops::anim::KeyCopy copy{*at, *at, to - *at, tolerance};
-      Status s = ops::anim::copy_curve_keys(graph, conn.src.node, copy, conn.dst);
+      const ops::anim::KeyCopy key_copy{*at, *at, to - *at, tolerance};
+      Status s = ops::anim::copy_curve_keys(graph, conn.src.node, key_copy, conn.dst);
       bool removed = false;
       // (The curve keeps at least the moved key, so it is not deleted.)
-      if (s) s = ops::anim::delete_curve_key(graph, conn.src.node, *at, conn.dst, graph::Value(0.0), removed);
+      if (s && !copy) s = ops::anim::delete_curve_key(graph, conn.src.node, *at, conn.dst, graph::Value(0.0), removed);
       if (!s) {
         tx.rollback();
         return s.with_context("move keys");

@@ -7,6 +7,8 @@
 #include "rigel/io/diffable_json.h"
 #include "rigel/io/json_depth.h"
 #include "rigel/ops/registry.h"
+#include "rigel/scene/scene_options.h"
+#include "rigel/scene/transform_types.h"
 
 #include <gtest/gtest.h>
 
@@ -177,6 +179,27 @@ TEST(SceneFile, round_trip__empty_scene) {
   EXPECT_EQ(first, write_scene(*loaded)) << "an empty scene should round-trip";
   EXPECT_EQ(loaded->graph().node_count(), 0u) << "an empty scene has no nodes";
   EXPECT_EQ(loaded->graph().fps(), 24.0) << "the default frame rate is 24 fps (DESIGN.md)";
+}
+
+TEST(SceneFile, round_trip__playback_range_and_selection_sets_are_saved_with_the_scene) {
+  Scene original;
+  graph::Graph& g = original.graph();
+  auto a = g.create_node(scene::kControlType, "a");
+  auto b = g.create_node(scene::kControlType, "b");
+  ASSERT_TRUE(a && b);
+  ASSERT_TRUE(scene::set_playback_range(g, 12, 96).is_ok());
+  ASSERT_TRUE(scene::save_selection_set(g, "hands", {*b, *a}).is_ok());
+  const std::string first = write_scene(original);
+  std::unique_ptr<Scene> loaded = load_or_fail(first, "settings.rigel");
+  ASSERT_NE(loaded, nullptr);
+  EXPECT_EQ(first, write_scene(*loaded));
+  ASSERT_TRUE(scene::playback_range(loaded->graph()));
+  EXPECT_EQ(*scene::playback_range(loaded->graph()), (std::array<double, 2>{12, 96}));
+  const std::vector<scene::SelectionSet> sets = scene::selection_sets(loaded->graph());
+  ASSERT_EQ(sets.size(), 1u);
+  EXPECT_EQ(sets[0].name, "hands");
+  ASSERT_EQ(sets[0].members.size(), 2u);
+  EXPECT_EQ(loaded->graph().node(sets[0].members[0])->name(), "b");
 }
 
 TEST(SceneFile, round_trip__example_resaves_to_a_stable_text) {

@@ -29,6 +29,8 @@ export interface SceneInfo {
   frame: number;
   time: number;
   range: [number, number];
+  /** The playback range the animator set (saved with the scene), or null. */
+  playbackRange?: [number, number] | null;
   mode: string;
   modes: string[];
   autoKey: boolean;
@@ -212,8 +214,13 @@ export interface TweenRequest {
 
 export interface ChannelKeysRequest {
   controls: string[];
-  attrs: string[];
+  /** Without: the controls' keying group. */
+  attrs?: string[];
   delete?: boolean;
+  /** Move (or with `copy` copy) the keys at `from` (default: the current frame) to this frame. */
+  moveTo?: number;
+  from?: number;
+  copy?: boolean;
 }
 
 export interface ChannelKeysAnswer extends Revised {
@@ -597,6 +604,12 @@ export class Api {
 
   channelKeys(req: ChannelKeysRequest): Promise<ChannelKeysAnswer> {
     return this.http.post('/api/channel-keys', req);
+  }
+
+  // scene settings
+
+  playbackRange(req: { first: number; last: number }): Promise<Revised & { playbackRange: [number, number] }> {
+    return this.http.post('/api/playback-range', req);
   }
 
   // graph editor

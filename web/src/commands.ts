@@ -132,6 +132,25 @@ export function keyChannel(controls: string[], attr: string, remove: boolean, la
   };
 }
 
+/** Moves (or copies) the keys of the controls' keying group at frame `from` to frame `to` (the timeline's tick drag). */
+export function moveKeys(controls: string[], from: number, to: number, copy: boolean): Command<ChannelKeysAnswer> {
+  return {
+    send: (api) => api.channelKeys({ controls, moveTo: to, from, copy }),
+    message: () => `${copy ? 'Copied' : 'Moved'} the keys at frame ${from} to ${to}`,
+    affects: ['pose', 'keys', 'scene'],
+  };
+}
+
+/** Sets the playback range (saved with the scene). */
+export function setPlaybackRange(first: number, last: number): Command<Revised & { playbackRange: [number, number] }> {
+  return {
+    send: (api) => api.playbackRange({ first, last }),
+    apply: (a, store) => store.patchScene({ playbackRange: a.playbackRange }),
+    message: (a) => `Playback range ${a.playbackRange[0]}–${a.playbackRange[1]}`,
+    affects: ['scene'],
+  };
+}
+
 // -------------------------------------------------------------- graph editor
 
 /** Edits, inserts or deletes keys on curves (the graph editor): one request, one undo step. */

@@ -127,7 +127,7 @@ export class Store {
 
   /** What the answer of a change said about the scene (mode, options). */
   // The answers of changes below are newer than any scene fetch still out.
-  patchScene(patch: Partial<Pick<SceneInfo, 'mode' | 'autoKey'>>): void {
+  patchScene(patch: Partial<Pick<SceneInfo, 'mode' | 'autoKey' | 'playbackRange'>>): void {
     this.accept('scene', this.ticket());
     if (this.scene) Object.assign(this.scene, patch);
     if (this.scene) this.signals.sceneChanged.dispatch(this.scene);

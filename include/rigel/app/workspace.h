@@ -36,6 +36,7 @@
 #include "rigel/rig/definition.h"
 #include "rigel/rig/manager.h"
 #include "rigel/scene/scene.h"
+#include "rigel/scene/scene_options.h"
 #include "rigel/tools/bind_pose.h"
 #include "rigel/tools/curves.h"
 #include "rigel/tools/keys.h"
@@ -112,6 +113,7 @@ struct SceneSummary {
   double fps = 24;
   double frame = 0, time = 0;
   std::array<double, 2> range{0, 0};  // first and last keyed frame (0, 0 with no keys)
+  std::optional<std::array<double, 2>> playback;  // the playback range the animator set (scene_options.h)
   ephemeral::Mode mode = ephemeral::Mode::kForward;
   bool auto_key = false;
   std::vector<std::pair<std::string, std::string>> key_scopes;  // ephemeral rig -> keying scope name
@@ -352,11 +354,15 @@ class Workspace {
   // other types, no match), "frames" or "offset". One undo step.
   Result<tools::TransferReport> transfer_keys(const std::string& from, const std::string& to,
                                               const std::optional<std::array<double, 2>>& frames, double offset = 0.0);
-  // Moves the keys at the current time of the channels set_channel_keys
-  // would key to frame `to_frame` (tools::move_keys; |to_frame| <= kMaxFrame,
-  // else kInvalidArgument naming "moveTo"). The answer: the channels' keys.
+  // Moves the keys at frame `from_frame` (default: the current time) of the
+  // channels set_channel_keys would key to frame `to_frame`, or copies them
+  // there with `copy` (tools::move_keys; frames within kMaxFrame of 0, else
+  // kInvalidArgument naming "moveTo" or "from"). The answer: the channels'
+  // keys.
   Result<std::vector<tools::PlugKeys>> move_channel_keys(const std::vector<NodeId>& controls,
-                                                         const std::vector<std::string>& attrs, double to_frame);
+                                                         const std::vector<std::string>& attrs, double to_frame,
+                                                         bool copy = false,
+                                                         std::optional<double> from_frame = std::nullopt);
   // Sets scalar channels (`attrs` of the nodes; without, every scalar
   // keyable channel of theirs) at the current time (tools::set_values): a
   // keyed channel gets a key with the value, a free one is set (and keyed
@@ -407,6 +413,23 @@ class Workspace {
   Result<std::size_t> edit_curve_keys(std::vector<tools::CurveKeyEdit> edits);
   Result<std::size_t> insert_curve_keys(std::vector<tools::CurveKeyRef> keys);
   Result<std::size_t> delete_curve_keys(std::vector<tools::CurveKeyRef> keys);
+  // ---- scene settings (scene/scene_options.h; src/app/scene_settings.cc) ------
+  // The playback range (frames) the animator set, saved with the scene;
+  // none until one is set.
+  std::optional<std::array<double, 2>> playback_range() const;
+  // Errors name "range". One undo step.
+  Status set_playback_range(double first, double last);
+  // Named selection sets, saved with the scene, by name.
+  std::vector<scene::SelectionSet> selection_sets() const;
+  // Saves set `name` with `members` (none: the selection), replacing the
+  // members of a set of that name. Errors name "name" or "members". One
+  // undo step.
+  Result<NodeId> save_selection_set(const std::string& name, const std::vector<NodeId>& members);
+  // Errors name "name" (kNotFound). One undo step.
+  Status remove_selection_set(const std::string& name);
+  // Selects the members of set `name` (or adds them to the selection);
+  // the selection after. kNotFound naming "name" for no such set.
+  Result<std::vector<NodeId>> select_set(const std::string& name, bool add = false);
   // ---- spaces (rig/spaces.h, tools/spaces.h; src/app/spaces.cc) -------------
   // A control's spaces (none when it has no spaceSwitch).
   rig::ControlSpaces spaces(NodeId control) const;

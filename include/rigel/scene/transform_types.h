@@ -72,7 +72,8 @@ inline constexpr const char* kControlType = "control";
 inline constexpr const char* kLocatorType = "locator";
 inline constexpr const char* kMeshType = "mesh";
 
-// Adds the five scene types to `registry`.
+// Adds the five scene types, the look types (materials.h) and the scene
+// settings types (scene_options.h) to `registry`.
 Status register_scene_types(graph::Registry& registry);
 
 // A registry holding every node type this build knows (the scene types

@@ -80,8 +80,10 @@ Status delete_keys(graph::Graph& graph, const std::vector<Channel>& channels);
 // channel moves its key (each component of a double3). kInvalidArgument
 // naming "moveTo" for a time that is not finite; kNotFound when none of
 // the channels has a key at `from`. One undo step; returns the number of
-// keys moved (0 when `to` is `from`'s key time).
-Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& channels, double from, double to);
+// keys moved (0 when `to` is `from`'s key time). With `copy` the keys at
+// `from` stay and copies land at `to` (the timeline's Alt-drag).
+Result<std::size_t> move_keys(graph::Graph& graph, const std::vector<Channel>& channels, double from, double to,
+                              bool copy = false);
 
 // Sets scalar channels to values at the graph's time: a keyed channel gets
 // a key there with its value (a curve drives it, so a set alone would not

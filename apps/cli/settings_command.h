@@ -1,0 +1,32 @@
+#pragma once
+// `rigel playback` and `rigel sets`: the scene's playback range and named
+// selection sets (scene/scene_options.h), shown or changed through
+// app::Workspace. main.cc registers them with add_settings_commands() and
+// runs them with run_settings_commands().
+
+#include <memory>
+#include <optional>
+
+#include <CLI/CLI.hpp>
+
+namespace rigel::cli {
+
+class SettingsCommands {
+ public:
+  SettingsCommands();
+  ~SettingsCommands();
+  SettingsCommands(const SettingsCommands&) = delete;
+  SettingsCommands& operator=(const SettingsCommands&) = delete;
+
+  struct State;
+  State& state() { return *state_; }
+  const State& state() const { return *state_; }
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+void add_settings_commands(CLI::App& app, SettingsCommands& commands);
+std::optional<int> run_settings_commands(const SettingsCommands& commands);
+
+}  // namespace rigel::cli

@@ -1,0 +1,68 @@
+// rigel.Workspace's scene settings (app::Workspace::playback_range,
+// selection sets): Python values in, app calls, records out.
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "wrap_workspace.h"
+
+namespace rigel::python {
+
+void def_scene_settings(WorkspaceClass& cls) {
+  cls.def_property_readonly(
+         "playback_range",
+         [](const WorkspaceRef& w) -> py::object {
+           const auto r = w.ws->playback_range();
+           return r ? py::object(py::make_tuple((*r)[0], (*r)[1])) : py::object(py::none());
+         },
+         "The playback range (first, last) in frames the animator set, saved with the scene; None until set.")
+      .def(
+          "set_playback_range",
+          [](const WorkspaceRef& w, double first, double last) {
+            edit(w, [&](app::Workspace& ws) { check(ws.set_playback_range(first, last)); });
+          },
+          py::arg("first"), py::arg("last"),
+          "Sets the playback range (frames; InvalidArgumentError naming \"range\" for a last before the first). "
+          "One undo step.")
+      .def(
+          "selection_sets",
+          [](const WorkspaceRef& w) {
+            py::list out;
+            for (const scene::SelectionSet& s : w.ws->selection_sets()) {
+              py::dict d;
+              d["name"] = s.name;
+              d["members"] = node_list(w.scene, s.members);
+              d["missing"] = s.missing;
+              out.append(record(d));
+            }
+            return out;
+          },
+          "The named selection sets saved with the scene, by name: records (name, members, missing: the uuids of "
+          "members no longer in the scene).")
+      .def(
+          "save_selection_set",
+          [](const WorkspaceRef& w, const std::string& name, const std::optional<std::vector<NodeArg>>& members) {
+            const std::vector<NodeId> ids = members ? key_nodes_arg(w, members) : std::vector<NodeId>{};
+            edit(w, [&](app::Workspace& ws) { unwrap(ws.save_selection_set(name, ids)); });
+          },
+          py::arg("name"), py::arg("members") = py::none(),
+          "Saves selection set `name` with `members` (default: the selection), replacing the members of a set of "
+          "that name. One undo step.")
+      .def(
+          "remove_selection_set",
+          [](const WorkspaceRef& w, const std::string& name) {
+            edit(w, [&](app::Workspace& ws) { check(ws.remove_selection_set(name)); });
+          },
+          py::arg("name"), "Removes selection set `name` (NotFoundError naming \"name\"). One undo step.")
+      .def(
+          "select_set",
+          [](const WorkspaceRef& w, const std::string& name, bool add) {
+            return node_list(w.scene, edit(w, [&](app::Workspace& ws) { return unwrap(ws.select_set(name, add)); }));
+          },
+          py::arg("name"), py::arg("add") = false,
+          "Selects the members of selection set `name` (or adds them); returns the selection.");
+}
+
+}  // namespace rigel::python
