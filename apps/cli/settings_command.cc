@@ -22,6 +22,11 @@ struct PlaybackArgs {
   bool json = false;
 };
 
+struct PickerArgs {
+  std::string scene;
+  bool json = false;
+};
+
 struct SetsArgs {
   std::string scene, save, remove, output;
   std::vector<std::string> controls;
@@ -103,12 +108,33 @@ int run_sets(const SetsArgs& args) {
   return 0;
 }
 
+int run_picker(const PickerArgs& args) {
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  Json groups = Json::array();
+  for (const app::PickerGroup& p : ws.picker()) {
+    Json controls = Json::array();
+    for (const app::PickerGroup::Entry& e : p.controls)
+      controls.push_back(Json{{"name", ws.graph().node(e.control)->name()}, {"label", e.label}});
+    groups.push_back(Json{{"rig", p.rig}, {"name", p.name}, {"part", p.part}, {"side", std::string(1, p.side)},
+                          {"controls", controls}});
+    if (!args.json)
+      std::cout << p.rig << "  " << p.part << " " << p.side << "  " << p.name << " (" << p.controls.size()
+                << (p.controls.size() == 1 ? " control)\n" : " controls)\n");
+  }
+  if (args.json) std::cout << Json{{"groups", groups}}.dump() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 struct SettingsCommands::State {
   CLI::App* playback = nullptr;
   CLI::App* sets = nullptr;
+  CLI::App* picker = nullptr;
   PlaybackArgs playback_args;
+  PickerArgs picker_args;
   SetsArgs sets_args;
 };
 
@@ -135,12 +161,18 @@ void add_settings_commands(CLI::App& app, SettingsCommands& commands) {
   s.sets->add_option("--remove", s.sets_args.remove, "Remove the set of this name");
   s.sets->add_option("-o,--output", s.sets_args.output, "Scene file to write (.rigel)");
   s.sets->add_flag("--json", s.sets_args.json, "Print a JSON report on stdout");
+
+  s.picker = app.add_subcommand("picker", "The picker's layout: every control grouped by rig, body part and side");
+  s.picker->footer("Examples:\n  rigel picker shot.rigel\n  rigel picker shot.rigel --json");
+  s.picker->add_option("SCENE", s.picker_args.scene, "Scene file (.rigel)")->required();
+  s.picker->add_flag("--json", s.picker_args.json, "Print the groups as JSON on stdout");
 }
 
 std::optional<int> run_settings_commands(const SettingsCommands& commands) {
   const SettingsCommands::State& s = commands.state();
   if (*s.playback) return run_playback(s.playback_args);
   if (*s.sets) return run_sets(s.sets_args);
+  if (*s.picker) return run_picker(s.picker_args);
   return std::nullopt;
 }
 

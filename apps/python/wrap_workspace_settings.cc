@@ -1,5 +1,5 @@
 // rigel.Workspace's scene settings (app::Workspace::playback_range,
-// selection sets): Python values in, app calls, records out.
+// selection sets, the picker): Python values in, app calls, records out.
 
 #include <optional>
 #include <string>
@@ -62,7 +62,27 @@ void def_scene_settings(WorkspaceClass& cls) {
             return node_list(w.scene, edit(w, [&](app::Workspace& ws) { return unwrap(ws.select_set(name, add)); }));
           },
           py::arg("name"), py::arg("add") = false,
-          "Selects the members of selection set `name` (or adds them); returns the selection.");
+          "Selects the members of selection set `name` (or adds them); returns the selection.")
+      .def(
+          "picker",
+          [](const WorkspaceRef& w) {
+            py::list out;
+            for (const app::PickerGroup& p : w.ws->picker()) {
+              py::list controls;
+              for (const app::PickerGroup::Entry& e : p.controls) controls.append(py::make_tuple(node_ref(w.scene, e.control), e.label));
+              py::dict d;
+              d["rig"] = p.rig;
+              d["name"] = p.name;
+              d["part"] = p.part;
+              d["side"] = std::string(1, p.side);
+              d["controls"] = controls;
+              out.append(record(d));
+            }
+            return out;
+          },
+          "The picker: every control in groups (a built rig's components, an ephemeral rig's regions) by rig, body "
+          "part (head, arm, hand, torso, leg, tail, root, other) and side (R, C, L): records (rig, name, part, side, "
+          "controls: [(node, label)]).");
 }
 
 }  // namespace rigel::python

@@ -60,4 +60,21 @@ Json selection_set(app::Workspace& ws, const Json& body, const std::vector<graph
   return out;
 }
 
+Json picker(const app::Workspace& ws) {
+  Json groups = Json::array();
+  for (const app::PickerGroup& p : ws.picker()) {
+    Json controls = Json::array();
+    for (const app::PickerGroup::Entry& e : p.controls) {
+      const graph::Node* n = ws.graph().node(e.control);
+      controls.push_back(Json{{"uuid", n->uuid().str()}, {"name", n->name()}, {"label", e.label}});
+    }
+    groups.push_back(Json{{"rig", p.rig},
+                          {"name", p.name},
+                          {"part", p.part},
+                          {"side", std::string(1, p.side)},
+                          {"controls", controls}});
+  }
+  return Json{{"revision", ws.revision()}, {"groups", groups}};
+}
+
 }  // namespace rigel::server::routes

@@ -22,4 +22,7 @@ Json selection_sets(const app::Workspace& ws);
 // when the request named none).
 Json selection_set(app::Workspace& ws, const Json& body, const std::vector<graph::NodeId>& members);
 
+// GET /api/picker: the picker's groups (app::Workspace::picker).
+Json picker(const app::Workspace& ws);
+
 }  // namespace rigel::server::routes

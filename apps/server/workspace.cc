@@ -428,6 +428,7 @@ struct Workspace::Impl {
   // ---- routes: scene settings (settings_routes.cc) --------------------------------
   Json post_playback_range(const Request&, const Json& body) { return routes::playback_range(ws, body); }
   Json get_selection_sets(const Request&, const Json&) { return routes::selection_sets(ws); }
+  Json get_picker(const Request&, const Json&) { return routes::picker(ws); }
   Json post_selection_sets(const Request&, const Json& body) {
     const bool save = body.is_object() && body.value("op", "") == "save";
     return routes::selection_set(ws, body, save && opt(body, "controls") ? key_nodes(body) : std::vector<NodeId>{});
@@ -676,6 +677,7 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/curve-keys", &Impl::post_curve_keys},
       {"POST", "/api/playback-range", &Impl::post_playback_range},
       {"GET", "/api/selection-sets", &Impl::get_selection_sets},
+      {"GET", "/api/picker", &Impl::get_picker},
       {"POST", "/api/selection-sets", &Impl::post_selection_sets},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/match", &Impl::post_match},

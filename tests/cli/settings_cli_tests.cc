@@ -2,7 +2,7 @@
 // Rigify's human metarig): the playback range and selection sets set,
 // saved with the scene and listed; `rigel key --move-to --copy` keeping
 // the keys it copies; bad input refused with the option named and nothing
-// written.
+// written; `rigel picker` listing the groups.
 #include <filesystem>
 
 #include "cli_test_util.h"
@@ -88,6 +88,23 @@ TEST_F(CliSettings, key_copy_keeps_the_keys_it_copies) {
   EXPECT_FALSE(exited_with(r, 0)) << r;
   EXPECT_NE(r.err.find("--copy"), std::string::npos) << r;
   EXPECT_FALSE(fs::exists(out("d.rigel")));
+}
+
+TEST_F(CliSettings, picker_lists_the_groups_by_part_and_side) {
+  const CliRun r = rigel({"picker", out("a.rigel"), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const Json j = Json::parse(r.out);
+  bool arm = false;
+  for (const Json& g : j["groups"])
+    if (g["name"] == "arm_L") {
+      arm = true;
+      EXPECT_EQ(g["part"], "arm");
+      EXPECT_EQ(g["side"], "L");
+    }
+  EXPECT_TRUE(arm) << j;
+  const CliRun bad = rigel({"picker", out("nosuch.rigel")});
+  EXPECT_EQ(bad.exit_code, 1) << bad;
+  EXPECT_NE(bad.err.find("nosuch.rigel"), std::string::npos) << bad;
 }
 
 }  // namespace

@@ -6,7 +6,7 @@ calls as `rigel playback`, `rigel sets` and POST /api/channel-keys."""
 import pytest
 
 import rigel
-from conftest import BIPED
+from conftest import BIPED, METARIG
 
 
 @pytest.fixture
@@ -66,3 +66,23 @@ def test_keys_moved_and_copied_from_another_frame(hero):
     [k] = w.move_channel_keys(12, [switch], attrs=["fkIk"], from_frame=9)
     assert k.frames == [4.0, 12.0]
     assert w.frame == 0
+
+
+def test_picker_groups_by_part_and_side(hero):
+    groups = {(g.rig, g.name): g for g in hero.picker()}
+    arm = groups[("hero", "arm_L")]
+    assert (arm.part, arm.side) == ("arm", "L")
+    assert hero.scene.resolve("hero:arm_L/ik[0]") in [c for c, _ in arm.controls]
+    assert (groups[("hero", "leg_R")].part, groups[("hero", "leg_R")].side) == ("leg", "R")
+    assert groups[("hero", "global")].part == "root"
+    parts = [g.part for g in hero.picker() if g.rig == "hero"]
+    assert parts.index("head") < parts.index("torso") < parts.index("leg"), "head to toe"
+    # An ephemeral rig on the metarig: the face and each hand a group, the rest by part and side.
+    fresh = rigel.open(str(METARIG))
+    rigel.setup_ephemeral(fresh)
+    w = rigel.Workspace(fresh)
+    eph = {g.name: g for g in w.picker()}
+    assert eph["face_ctrl"].part == "head" and len(eph["face_ctrl"].controls) > 50
+    assert (eph["hand.L_ctrl"].part, eph["hand.L_ctrl"].side) == ("hand", "L")
+    assert (eph["leg_R"].part, eph["leg_R"].side) == ("leg", "R")
+    assert sum(len(g.controls) for g in w.picker()) == 159

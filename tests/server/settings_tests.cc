@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <string>
 
 #include "server_test_util.h"
@@ -104,6 +105,29 @@ TEST(ServerApi, KeysRetimedAndCopiedFromAFrameThatIsNotTheCurrentOne) {
     EXPECT_EQ(resp.status, status) << body << ": " << resp.body;
     EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
   }
+}
+
+TEST(ServerApi, PickerGroupsTheBipedsControlsByPartAndSide) {
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
+  const Json p = s.get("/api/picker");
+  std::map<std::string, Json> groups;
+  std::size_t controls = 0;
+  for (const Json& g : p["groups"]) {
+    groups[g["name"].get<std::string>()] = g;
+    controls += g["controls"].size();
+  }
+  ASSERT_TRUE(groups.count("arm_L") && groups.count("leg_R") && groups.count("hand_L")) << p;
+  EXPECT_EQ(groups["arm_L"]["side"], "L");
+  EXPECT_EQ(groups["arm_L"]["part"], "arm");
+  EXPECT_EQ(groups["leg_R"]["side"], "R");
+  EXPECT_EQ(groups["leg_R"]["part"], "leg");
+  EXPECT_EQ(groups["hand_L"]["part"], "hand");
+  bool ik = false;
+  for (const Json& c : groups["arm_L"]["controls"]) ik |= c["name"] == "hero_arm_L_ik";
+  EXPECT_TRUE(ik) << groups["arm_L"];
+  // Every control once.
+  EXPECT_EQ(controls, s.workspace->workspace().controls().size());
 }
 
 }  // namespace

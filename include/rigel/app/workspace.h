@@ -108,6 +108,21 @@ struct ControlEntry {
   Vec3 color{1, 1, 0};
 };
 
+// The picker (seed 002's future-work picker): the controls laid out by body
+// part and side, generated from the rigs (a built rig's components: their
+// type, name and side; an ephemeral rig's regions and joint names).
+struct PickerGroup {
+  std::string rig;
+  std::string name;   // the component ("arm_L") or region ("face_ctrl", "hand.L_ctrl")
+  std::string part;   // "head", "torso", "arm", "hand", "leg", "tail", "root" or "other"
+  char side = 'C';    // 'L', 'R' or 'C'
+  struct Entry {
+    NodeId control;
+    std::string label;  // a built control's role and index ("fk 1"), an ephemeral one's joint ("index.02.L")
+  };
+  std::vector<Entry> controls;
+};
+
 // The scene's summary: what a client shows before anything else.
 struct SceneSummary {
   double fps = 24;
@@ -413,6 +428,10 @@ class Workspace {
   Result<std::size_t> edit_curve_keys(std::vector<tools::CurveKeyEdit> edits);
   Result<std::size_t> insert_curve_keys(std::vector<tools::CurveKeyRef> keys);
   Result<std::size_t> delete_curve_keys(std::vector<tools::CurveKeyRef> keys);
+  // ---- picker (src/app/picker.cc) ---------------------------------------------
+  // Every control in picker groups: rig by rig, parts head to toe, R C L
+  // within a part, controls in hierarchy order.
+  std::vector<PickerGroup> picker() const;
   // ---- scene settings (scene/scene_options.h; src/app/scene_settings.cc) ------
   // The playback range (frames) the animator set, saved with the scene;
   // none until one is set.
