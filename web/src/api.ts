@@ -227,6 +227,39 @@ export interface ChannelKeysAnswer extends Revised {
   keys: { plug: string; frames: number[] }[];
 }
 
+// ------------------------------------------------------ picker and sets
+
+export interface PickerGroup {
+  rig: string;
+  name: string;
+  part: 'head' | 'arm' | 'hand' | 'torso' | 'leg' | 'tail' | 'root' | 'other';
+  side: 'L' | 'R' | 'C';
+  controls: { uuid: string; name: string; label: string }[];
+}
+
+export interface PickerAnswer extends Revised {
+  groups: PickerGroup[];
+}
+
+export interface SelectionSetInfo {
+  name: string;
+  members: { uuid: string; name: string }[];
+  missing: string[];
+}
+
+export interface SelectionSetsAnswer extends Revised {
+  sets: SelectionSetInfo[];
+  /** After a POST: the selection. */
+  selection?: string[];
+}
+
+export interface SelectionSetRequest {
+  op: 'save' | 'remove' | 'select';
+  name: string;
+  controls?: string[];
+  add?: boolean;
+}
+
 // -------------------------------------------------------------- graph editor
 
 /** One curve of GET /api/curves: keys, tangents (curves only; slopes per frame) and samples. */
@@ -610,6 +643,20 @@ export class Api {
 
   playbackRange(req: { first: number; last: number }): Promise<Revised & { playbackRange: [number, number] }> {
     return this.http.post('/api/playback-range', req);
+  }
+
+  // picker and selection sets
+
+  picker(): Promise<PickerAnswer> {
+    return this.http.get('/api/picker');
+  }
+
+  selectionSets(): Promise<SelectionSetsAnswer> {
+    return this.http.get('/api/selection-sets');
+  }
+
+  selectionSet(req: SelectionSetRequest): Promise<SelectionSetsAnswer> {
+    return this.http.post('/api/selection-sets', req);
   }
 
   // graph editor

@@ -12,6 +12,8 @@ import type {
   ChannelValuesAnswer,
   CurveKeysAnswer,
   CurveKeysRequest,
+  SelectionSetRequest,
+  SelectionSetsAnswer,
   HistoryAnswer,
   KeyAnswer,
   ModeAnswer,
@@ -148,6 +150,19 @@ export function setPlaybackRange(first: number, last: number): Command<Revised &
     apply: (a, store) => store.patchScene({ playbackRange: a.playbackRange }),
     message: (a) => `Playback range ${a.playbackRange[0]}–${a.playbackRange[1]}`,
     affects: ['scene'],
+  };
+}
+
+/** Saves, removes or selects a named selection set (saves and removes are one undo step each). */
+export function selectionSet(req: SelectionSetRequest): Command<SelectionSetsAnswer> {
+  const what = { save: 'Saved', remove: 'Removed', select: 'Selected' }[req.op];
+  return {
+    send: (api) => api.selectionSet(req),
+    apply: (a, store) => {
+      if (req.op === 'select' && a.selection) store.setSelection(a.selection);
+    },
+    message: () => `${what} selection set ${req.name}`,
+    affects: req.op === 'select' ? ['keys'] : ['scene'],
   };
 }
 

@@ -11,6 +11,7 @@ import { ChannelBox } from './channelbox';
 import { DefinitionEditor } from './defeditor';
 import { GraphEditor } from './grapheditor';
 import { h, fill, typingTarget } from './dom';
+import { Picker } from './picker';
 import { RigManager } from './rigs';
 import { StatusBar, run, setStatusBar } from './status';
 import { Store } from './store';
@@ -163,10 +164,14 @@ const editor = new DefinitionEditor(defPanel, theApp);
 const channelBox = new ChannelBox(channelPanel, theApp);
 const toolsPanel = byId('tools-panel');
 new AnimatorTools(toolsPanel, theApp);
+const pickerPanel = byId('picker-panel');
+const picker = new Picker(pickerPanel, theApp);
 
 const tabs = byId('tabs');
-function showTab(which: 'channels' | 'rigs' | 'def'): void {
+function showTab(which: 'channels' | 'picker' | 'rigs' | 'def'): void {
   channelPanel.hidden = which !== 'channels';
+  pickerPanel.hidden = which !== 'picker';
+  picker.visible = which === 'picker';
   toolsPanel.hidden = which !== 'channels';
   rigPanel.hidden = which !== 'rigs';
   defPanel.hidden = which !== 'def';
@@ -178,6 +183,7 @@ function showTab(which: 'channels' | 'rigs' | 'def'): void {
 fill(
   tabs,
   h('button', { dataset: { tab: 'channels' }, testid: 'tab-channels', onclick: () => showTab('channels') }, 'Channels'),
+  h('button', { dataset: { tab: 'picker' }, testid: 'tab-picker', onclick: () => showTab('picker') }, 'Picker'),
   h('button', { dataset: { tab: 'rigs' }, testid: 'tab-rigs', onclick: () => showTab('rigs') }, 'Rig Manager'),
   h('button', { dataset: { tab: 'def' }, testid: 'tab-def', onclick: () => showTab('def') }, 'Definition Editor'),
 );
@@ -326,7 +332,7 @@ const uuidOf = (name: string): string | null => store.byName.get(name) ?? (store
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
-  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy,
+  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy && !picker.busy,
   app: theApp,
   store,
   viewport,
