@@ -2,6 +2,8 @@
 
 #include "settings_command.h"
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -24,6 +26,13 @@ struct PlaybackArgs {
 
 struct PickerArgs {
   std::string scene;
+  bool json = false;
+};
+
+struct TrailArgs {
+  std::string scene, frames;
+  std::vector<std::string> controls;
+  double step = 1;
   bool json = false;
 };
 
@@ -127,12 +136,48 @@ int run_picker(const PickerArgs& args) {
   return 0;
 }
 
+int run_trail(const TrailArgs& args) {
+  const auto range = parse_frames(args.frames);
+  if (!range) return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
+  if (!std::isfinite(args.step) || args.step <= 0) return usage_error("--step must be a positive number of frames");
+  auto scene = load(args.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  std::vector<graph::NodeId> nodes;
+  for (const std::string& name : args.controls) {
+    auto id = ws.key_target(name, "control");
+    if (!id) return fail(Status(id.status().code(), args.scene + ": --control: " + id.status().message()));
+    nodes.push_back(*id);
+  }
+  auto trails = ws.motion_trails(nodes, range->first, range->second, args.step);
+  if (!trails) return fail(trails.status().with_context(args.scene + ": --" + (trails.status().field() == "step" ? "step" : "frames")));
+  Json out = Json::array();
+  for (const tools::MotionTrail& t : *trails) {
+    Json points = Json::array();
+    for (const math::Vec3& p : t.points) points.push_back(Json::array({p.x(), p.y(), p.z()}));
+    const std::string name = ws.graph().node(t.node)->name();
+    out.push_back(Json{{"control", name}, {"frames", t.frames}, {"points", points}, {"keys", t.key_frames}});
+    if (!args.json) {
+      std::cout << name << ":\n";
+      for (std::size_t i = 0; i < t.frames.size(); ++i)
+        std::cout << "  " << number_text(t.frames[i]) << "  " << number_text(t.points[i].x()) << " "
+                  << number_text(t.points[i].y()) << " " << number_text(t.points[i].z())
+                  << (std::find(t.key_frames.begin(), t.key_frames.end(), t.frames[i]) != t.key_frames.end() ? "  key" : "")
+                  << "\n";
+    }
+  }
+  if (args.json) std::cout << Json{{"trails", out}}.dump() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 struct SettingsCommands::State {
   CLI::App* playback = nullptr;
   CLI::App* sets = nullptr;
   CLI::App* picker = nullptr;
+  CLI::App* trail = nullptr;
+  TrailArgs trail_args;
   PlaybackArgs playback_args;
   PickerArgs picker_args;
   SetsArgs sets_args;
@@ -166,6 +211,17 @@ void add_settings_commands(CLI::App& app, SettingsCommands& commands) {
   s.picker->footer("Examples:\n  rigel picker shot.rigel\n  rigel picker shot.rigel --json");
   s.picker->add_option("SCENE", s.picker_args.scene, "Scene file (.rigel)")->required();
   s.picker->add_flag("--json", s.picker_args.json, "Print the groups as JSON on stdout");
+
+  s.trail = app.add_subcommand("trail", "Motion trails: controls' world positions over a range of frames, keys marked");
+  s.trail->footer("Examples:\n  rigel trail shot.rigel --control hero_arm_L_ik --frames 0:48\n"
+                  "  rigel trail shot.rigel --control hero:arm_L/ik,hero:leg_L/ik --frames 0:48 --step 2 --json");
+  s.trail->add_option("SCENE", s.trail_args.scene, "Scene file (.rigel)")->required();
+  s.trail->add_option("--control", s.trail_args.controls, "Controls or other nodes (names or rig addresses)")
+      ->delimiter(',')
+      ->required();
+  s.trail->add_option("--frames", s.trail_args.frames, "The range FIRST:LAST")->required();
+  s.trail->add_option("--step", s.trail_args.step, "Frames between samples (default 1; keys are always sampled)");
+  s.trail->add_flag("--json", s.trail_args.json, "Print the trails as JSON on stdout");
 }
 
 std::optional<int> run_settings_commands(const SettingsCommands& commands) {
@@ -173,6 +229,7 @@ std::optional<int> run_settings_commands(const SettingsCommands& commands) {
   if (*s.playback) return run_playback(s.playback_args);
   if (*s.sets) return run_sets(s.sets_args);
   if (*s.picker) return run_picker(s.picker_args);
+  if (*s.trail) return run_trail(s.trail_args);
   return std::nullopt;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // `rigel playback`, `rigel sets` and `rigel picker`: the scene's playback
 // range and named selection sets (scene/scene_options.h), shown or changed,
-// and the picker's layout of the controls (app::Workspace::picker), through
+// the picker's layout of the controls (app::Workspace::picker), and
+// `rigel trail`: motion trails (app::Workspace::motion_trails), through
 // app::Workspace. main.cc registers them with add_settings_commands() and
 // runs them with run_settings_commands().
 

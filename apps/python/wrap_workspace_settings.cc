@@ -1,5 +1,5 @@
 // rigel.Workspace's scene settings (app::Workspace::playback_range,
-// selection sets, the picker): Python values in, app calls, records out.
+// selection sets, the picker, motion trails and ghosts): Python values in, app calls, records out.
 
 #include <optional>
 #include <string>
@@ -82,7 +82,57 @@ void def_scene_settings(WorkspaceClass& cls) {
           },
           "The picker: every control in groups (a built rig's components, an ephemeral rig's regions) by rig, body "
           "part (head, arm, hand, torso, leg, tail, root, other) and side (R, C, L): records (rig, name, part, side, "
-          "controls: [(node, label)]).");
+          "controls: [(node, label)]).")
+      .def(
+          "motion_trails",
+          [](const WorkspaceRef& w, double first, double last, const std::optional<std::vector<NodeArg>>& controls,
+             double step) {
+            const std::vector<NodeId> ids = controls ? key_nodes_arg(w, controls) : std::vector<NodeId>{};
+            py::list out;
+            for (const tools::MotionTrail& t : unwrap(w.ws->motion_trails(ids, first, last, step))) {
+              py::list points;
+              for (const math::Vec3& p : t.points) points.append(py::make_tuple(p.x(), p.y(), p.z()));
+              py::dict d;
+              d["node"] = node_ref(w.scene, t.node);
+              d["frames"] = t.frames;
+              d["points"] = points;
+              d["keys"] = t.key_frames;
+              out.append(record(d));
+            }
+            return out;
+          },
+          py::arg("first"), py::arg("last"), py::arg("controls") = py::none(), py::arg("step") = 1.0,
+          "Motion trails of `controls` (default: the selection) over frames first..last every `step` frames (and "
+          "at their keys): records (node, frames, points: world positions, keys: the key frames). Changes nothing.")
+      .def(
+          "ghosts",
+          [](const WorkspaceRef& w, const std::optional<std::vector<double>>& frames, int before, int after, double step,
+             bool at_keys) {
+            app::GhostOptions o;
+            if (frames) o.frames = *frames;
+            o.before = before;
+            o.after = after;
+            o.step = step;
+            o.at_keys = at_keys;
+            const app::Ghosts g = unwrap(w.ws->ghosts(o));
+            py::list poses;
+            for (const auto& frame : g.points) {
+              py::list points;
+              for (const math::Vec3& p : frame) points.append(py::make_tuple(p.x(), p.y(), p.z()));
+              poses.append(points);
+            }
+            py::dict d;
+            d["joints"] = node_list(w.scene, g.joints);
+            d["parents"] = g.parents;
+            d["frames"] = g.frames;
+            d["points"] = poses;
+            return record(d);
+          },
+          py::arg("frames") = py::none(), py::arg("before") = 0, py::arg("after") = 0, py::arg("step") = 1.0,
+          py::arg("at_keys") = false,
+          "Ghosts of the skeleton: every joint's world position at `frames`, or at `before` and `after` frames "
+          "`step` apart around the current one, or at the selection's keys: a record (joints, parents: an index "
+          "into joints or -1, frames, points[frame][joint]). Changes nothing.");
 }
 
 }  // namespace rigel::python

@@ -4,8 +4,11 @@
 // fields, each refusal naming the field at fault. Private to the server.
 
 #include <algorithm>
+#include <cerrno>
 #include <climits>
 #include <cmath>
+#include <cstdlib>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -137,6 +140,22 @@ inline std::optional<std::pair<double, double>> frames_field(const Json& body) {
   if (!f) return std::nullopt;
   if (!f->is_array() || f->size() != 2) refuse(400, "frames: expected [first, last]", "frames");
   return std::pair{as_number((*f)[0], "frames"), as_number((*f)[1], "frames")};
+}
+
+// A number in a query string ("first=12.5"), refused naming `field` when
+// it is not one; query_number: the query's `key`, nullopt when absent.
+inline double query_text_number(const std::string& text, const std::string& field) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
+    refuse(400, field + ": expected a number, got '" + text + "'", field);
+  return v;
+}
+inline std::optional<double> query_number(const std::map<std::string, std::string>& query, const char* key) {
+  auto it = query.find(key);
+  if (it == query.end()) return std::nullopt;
+  return query_text_number(it->second, key);
 }
 
 // An array field of node references, each resolved by `resolve(ref,

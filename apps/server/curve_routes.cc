@@ -20,18 +20,6 @@ using namespace api;
 
 namespace {
 
-std::optional<double> query_number(const std::map<std::string, std::string>& query, const char* key) {
-  auto it = query.find(key);
-  if (it == query.end()) return std::nullopt;
-  const std::string& text = it->second;
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
-    refuse(400, std::string(key) + ": expected a number, got '" + text + "'", key);
-  return v;
-}
-
 std::optional<ops::anim::TangentType> tangent_field(const Json& key, const char* field, const std::string& where) {
   const Json* t = opt(key, field);
   if (!t) return std::nullopt;

@@ -6,6 +6,7 @@
 #include "animate_routes.h"
 #include "curve_routes.h"
 #include "settings_routes.h"
+#include "trail_routes.h"
 #include "api_fields.h"
 
 #include <unistd.h>
@@ -429,6 +430,14 @@ struct Workspace::Impl {
   Json post_playback_range(const Request&, const Json& body) { return routes::playback_range(ws, body); }
   Json get_selection_sets(const Request&, const Json&) { return routes::selection_sets(ws); }
   Json get_picker(const Request&, const Json&) { return routes::picker(ws); }
+
+  // ---- routes: motion trails and ghosts (trail_routes.cc) -----------------------
+  Json get_trails(const Request& req, const Json&) {
+    Json query = Json::object();
+    if (req.query.find("controls") != req.query.end()) query["controls"] = query_list(req, "controls");
+    return routes::trails(ws, key_nodes(query), req.query);
+  }
+  Json get_ghosts(const Request& req, const Json&) { return routes::ghosts(ws, req.query); }
   Json post_selection_sets(const Request&, const Json& body) {
     const bool save = body.is_object() && body.value("op", "") == "save";
     return routes::selection_set(ws, body, save && opt(body, "controls") ? key_nodes(body) : std::vector<NodeId>{});
@@ -678,6 +687,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/playback-range", &Impl::post_playback_range},
       {"GET", "/api/selection-sets", &Impl::get_selection_sets},
       {"GET", "/api/picker", &Impl::get_picker},
+      {"GET", "/api/trails", &Impl::get_trails},
+      {"GET", "/api/ghosts", &Impl::get_ghosts},
       {"POST", "/api/selection-sets", &Impl::post_selection_sets},
       {"POST", "/api/channel-keys", &Impl::post_channel_keys},
       {"POST", "/api/match", &Impl::post_match},

@@ -107,5 +107,27 @@ TEST_F(CliSettings, picker_lists_the_groups_by_part_and_side) {
   EXPECT_NE(bad.err.find("nosuch.rigel"), std::string::npos) << bad;
 }
 
+TEST_F(CliSettings, trail_samples_a_control_over_a_range_with_its_keys) {
+  const std::string ik = "hero:arm_L/ik";
+  CliRun r = rigel({"key", out("a.rigel"), "--control", ik, "--attr", "translate", "--frame", "3", "-o", out("b.rigel")});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"trail", out("b.rigel"), "--control", ik, "--frames", "0:8", "--step", "4", "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const Json j = Json::parse(r.out);
+  ASSERT_EQ(j["trails"].size(), 1u);
+  EXPECT_EQ(j["trails"][0]["frames"], Json::array({0.0, 3.0, 4.0, 8.0}));
+  EXPECT_EQ(j["trails"][0]["keys"], Json::array({3.0}));
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"trail", out("b.rigel"), "--control", ik, "--frames", "8:0"},
+        std::vector<std::string>{"trail", out("b.rigel"), "--control", "nobody", "--frames", "0:8"},
+        std::vector<std::string>{"trail", out("b.rigel"), "--control", ik, "--frames", "0:8", "--step", "0"}}) {
+    const CliRun e = rigel(bad);
+    EXPECT_FALSE(exited_with(e, 0)) << e;
+    EXPECT_TRUE(e.err.find("--frames") != std::string::npos || e.err.find("--control") != std::string::npos ||
+                e.err.find("--step") != std::string::npos)
+        << e;
+  }
+}
+
 }  // namespace
 }  // namespace rigel::cli::testing

@@ -86,3 +86,23 @@ def test_picker_groups_by_part_and_side(hero):
     assert (eph["hand.L_ctrl"].part, eph["hand.L_ctrl"].side) == ("hand", "L")
     assert (eph["leg_R"].part, eph["leg_R"].side) == ("leg", "R")
     assert sum(len(g.controls) for g in w.picker()) == 159
+
+
+def test_motion_trails_and_ghosts(hero):
+    w = hero
+    ik = w.scene.resolve("hero:arm_L/ik[0]")
+    for f in (0, 10):
+        w.set_frame(f)
+        w.set_channel_values(f * 0.02, [ik], attrs=["translateY"])
+        w.set_channel_keys([ik], attrs=["translate"])
+    w.set_frame(4)
+    [t] = w.motion_trails(0, 10, [ik], step=5)
+    assert t.node == ik and t.frames == [0.0, 5.0, 10.0] and t.keys == [0.0, 10.0]
+    moved = sum((a - b) ** 2 for a, b in zip(t.points[2], t.points[0])) ** 0.5
+    assert moved == pytest.approx(0.2)
+    g = w.ghosts(before=1, after=1, step=2)
+    assert g.frames == [2.0, 6.0] and len(g.points) == 2 and len(g.points[0]) == len(g.joints)
+    assert w.frame == 4
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.motion_trails(5, 1, [ik])
+    assert info.value.field == "frames"

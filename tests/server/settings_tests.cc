@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -128,6 +129,54 @@ TEST(ServerApi, PickerGroupsTheBipedsControlsByPartAndSide) {
   EXPECT_TRUE(ik) << groups["arm_L"];
   // Every control once.
   EXPECT_EQ(controls, s.workspace->workspace().controls().size());
+}
+
+TEST(ServerApi, TrailsAndGhostsFromTheEvaluatedGraph) {
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
+  for (int f : {0, 10}) {
+    s.post("/api/time", {{"frame", f}});
+    s.post("/api/channel-values", {{"controls", {"hero_arm_L_ik"}}, {"attrs", {"translateY"}}, {"value", f * 0.02}});
+    s.post("/api/channel-keys", {{"controls", {"hero_arm_L_ik"}}, {"attrs", {"translate"}}});
+  }
+  s.post("/api/time", {{"frame", 5}});
+  const std::size_t undo = s.workspace->workspace().graph().undo_count();
+  Json t = s.get("/api/trails?controls=hero_arm_L_ik&first=0&last=10&step=5");
+  ASSERT_EQ(t["trails"].size(), 1u) << t;
+  EXPECT_EQ(t["trails"][0]["frames"], Json::array({0.0, 5.0, 10.0}));
+  EXPECT_EQ(t["trails"][0]["keys"], Json::array({0.0, 10.0}));
+  // translateY moved by 0.2 in the control's parent space (rotated, not scaled): the trail by 0.2.
+  double moved = 0;
+  for (int k = 0; k < 3; ++k)
+    moved += std::pow(t["trails"][0]["points"][2][k].get<double>() - t["trails"][0]["points"][0][k].get<double>(), 2);
+  EXPECT_NEAR(std::sqrt(moved), 0.2, 1e-9);
+  EXPECT_EQ(s.get("/api/scene")["frame"], 5.0) << "the time stays";
+
+  Json g = s.get("/api/ghosts?before=2&after=1&step=3");
+  EXPECT_GE(g["joints"].size(), 159u) << "the metarig's and the rig's joints";
+  EXPECT_EQ(g["parents"].size(), g["joints"].size());
+  EXPECT_EQ(g["parents"][0], -1);
+  ASSERT_EQ(g["frames"].size(), 3u);
+  EXPECT_EQ(g["frames"][0]["frame"], -1.0);
+  EXPECT_EQ(g["frames"][2]["frame"], 8.0);
+  EXPECT_EQ(g["frames"][1]["points"].size(), g["joints"].size());
+  s.post("/api/select", {{"controls", {s.uuid("hero_arm_L_ik")}}});
+  g = s.get("/api/ghosts?keys=1");
+  ASSERT_EQ(g["frames"].size(), 2u) << "at the keys of the selection's keying group";
+  g = s.get("/api/ghosts?frames=3,4.5");
+  EXPECT_EQ(g["frames"][1]["frame"], 4.5);
+  EXPECT_EQ(s.workspace->workspace().graph().undo_count(), undo) << "nothing changed";
+
+  for (auto [bad, field] : {std::pair{"/api/trails?controls=hero_arm_L_ik&first=0", "last"},
+                            std::pair{"/api/trails?controls=hero_arm_L_ik&first=9&last=2", "frames"},
+                            std::pair{"/api/trails?controls=hero_arm_L_ik&first=0&last=9&step=0", "step"},
+                            std::pair{"/api/ghosts?frames=1,x", "frames[1]"},
+                            std::pair{"/api/ghosts?before=2.5", "before"},
+                            std::pair{"/api/ghosts?before=-1", "before"}}) {
+    Response r = s.request("GET", bad, "");
+    EXPECT_EQ(r.status, 400) << bad << ": " << r.body;
+    EXPECT_EQ(Json::parse(r.body)["field"], field) << bad << ": " << r.body;
+  }
 }
 
 }  // namespace

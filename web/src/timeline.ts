@@ -214,15 +214,19 @@ export class Timeline {
     if (!this.scrubbing) {
       this.scrubbing = (async () => {
         try {
-          while (this.scrubTarget !== null) {
-            const f = this.scrubTarget;
-            try {
-              await this.app.setFrame(f);
-            } finally {
-              if (this.scrubTarget === f) this.scrubTarget = null;
+          // A target set while the keys are re-read is gone to as well
+          // (this loop is the only one that moves the frame).
+          do {
+            while (this.scrubTarget !== null) {
+              const f = this.scrubTarget;
+              try {
+                await this.app.setFrame(f);
+              } finally {
+                if (this.scrubTarget === f) this.scrubTarget = null;
+              }
             }
-          }
-          await this.app.refreshKeys();
+            await this.app.refreshKeys();
+          } while (this.scrubTarget !== null);
         } catch (e) {
           this.scrubTarget = null;
           this.app.status.caught(e);

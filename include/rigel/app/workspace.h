@@ -41,6 +41,7 @@
 #include "rigel/tools/curves.h"
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
+#include "rigel/tools/trails.h"
 #include "rigel/tools/transfer.h"
 #include "rigel/tools/mirror.h"
 #include "rigel/tools/spaces.h"
@@ -121,6 +122,22 @@ struct PickerGroup {
     std::string label;  // a built control's role and index ("fk 1"), an ephemeral one's joint ("index.02.L")
   };
   std::vector<Entry> controls;
+};
+
+// Ghosts (onion skin) of the skeleton: every joint's world position at some
+// frames, with each joint's parent (an index into joints, -1 for a root) so
+// a client draws bones as lines.
+struct GhostOptions {
+  std::vector<double> frames;  // these frames; else:
+  int before = 0, after = 0;   // this many ghosts each side of the current frame,
+  double step = 1;             // this many frames apart; or
+  bool at_keys = false;        // at the keys of the selection's keying group (every control's without one)
+};
+struct Ghosts {
+  std::vector<NodeId> joints;
+  std::vector<int> parents;
+  std::vector<double> frames;
+  std::vector<std::vector<Vec3>> points;  // [frame][joint]
 };
 
 // The scene's summary: what a client shows before anything else.
@@ -428,6 +445,15 @@ class Workspace {
   Result<std::size_t> edit_curve_keys(std::vector<tools::CurveKeyEdit> edits);
   Result<std::size_t> insert_curve_keys(std::vector<tools::CurveKeyRef> keys);
   Result<std::size_t> delete_curve_keys(std::vector<tools::CurveKeyRef> keys);
+  // ---- motion trails and ghosts (tools/trails.h; src/app/trails.cc) -----------
+  // A trail for each control (none: the selection) over frames first..last
+  // every `step` frames, with its keys marked. Errors name "controls",
+  // "frames" or "step". Changes nothing.
+  Result<std::vector<tools::MotionTrail>> motion_trails(const std::vector<NodeId>& controls, double first, double last,
+                                                        double step = 1);
+  // Ghosts of the skeleton (at most 100 frames, each within kMaxFrame;
+  // errors name "frames", "before", "after" or "step"). Changes nothing.
+  Result<Ghosts> ghosts(const GhostOptions& options);
   // ---- picker (src/app/picker.cc) ---------------------------------------------
   // Every control in picker groups: rig by rig, parts head to toe, R C L
   // within a part, controls in hierarchy order.
