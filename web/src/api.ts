@@ -260,6 +260,27 @@ export interface SelectionSetRequest {
   add?: boolean;
 }
 
+// ------------------------------------------------- motion trails and ghosts
+
+export interface TrailInfo {
+  control: string;
+  name: string;
+  frames: number[];
+  points: Vec3[];
+  keys: number[];
+}
+
+export interface TrailsAnswer extends Revised {
+  trails: TrailInfo[];
+}
+
+export interface GhostsAnswer extends Revised {
+  joints: string[];
+  /** Each joint's parent: an index into joints, -1 for a root. */
+  parents: number[];
+  frames: { frame: number; points: Vec3[] }[];
+}
+
 // -------------------------------------------------------------- graph editor
 
 /** One curve of GET /api/curves: keys, tangents (curves only; slopes per frame) and samples. */
@@ -657,6 +678,16 @@ export class Api {
 
   selectionSet(req: SelectionSetRequest): Promise<SelectionSetsAnswer> {
     return this.http.post('/api/selection-sets', req);
+  }
+
+  // motion trails and ghosts (background: they follow edits, never block one)
+
+  trails(controls: string[], first: number, last: number, step = 1): Promise<TrailsAnswer> {
+    return this.http.get(`/api/trails?controls=${controls.map(q).join(',')}&first=${first}&last=${last}&step=${step}`, { background: true });
+  }
+
+  ghosts(before: number, after: number, step: number): Promise<GhostsAnswer> {
+    return this.http.get(`/api/ghosts?before=${before}&after=${after}&step=${step}`, { background: true });
   }
 
   // graph editor

@@ -11,6 +11,7 @@ import { ChannelBox } from './channelbox';
 import { DefinitionEditor } from './defeditor';
 import { GraphEditor } from './grapheditor';
 import { h, fill, typingTarget } from './dom';
+import { Overlays } from './overlays';
 import { Picker } from './picker';
 import { RigManager } from './rigs';
 import { StatusBar, run, setStatusBar } from './status';
@@ -123,7 +124,20 @@ function toggleGraph(): void {
   graphEditor.visible = !graphEditor.visible;
   graphBtn.classList.toggle('active', graphEditor.visible);
 }
-fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), graphBtn);
+// Motion trails of the selection (T) and ghosts of the skeleton (O); the timeline gives the range.
+let overlaysRange: () => [number, number] = () => [0, 100];
+const overlays = new Overlays(viewport, theApp, () => overlaysRange());
+const trailBtn = h('button', { title: 'Motion trails of the selected controls over the playback range (T)', testid: 'toggle-trails', onclick: () => toggleTrails() }, 'Trail', h('kbd', {}, 'T'));
+const ghostBtn = h('button', { title: 'Ghosts: the skeleton 2, 4 and 6 frames before (red) and after (green) (O)', testid: 'toggle-ghosts', onclick: () => toggleGhosts() }, 'Ghosts', h('kbd', {}, 'O'));
+function toggleTrails(): void {
+  overlays.setTrails(!overlays.showTrails);
+  trailBtn.classList.toggle('active', overlays.showTrails);
+}
+function toggleGhosts(): void {
+  overlays.setGhosts(!overlays.showGhosts);
+  ghostBtn.classList.toggle('active', overlays.showGhosts);
+}
+fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), graphBtn, trailBtn, ghostBtn);
 
 const info = byId('info');
 function renderToolbar(): void {
@@ -156,6 +170,7 @@ store.signals.keysChanged.add(renderToolbar);
 // -------------------------------------------------------------------- panels
 
 const timeline = new Timeline(byId('timeline'), theApp);
+overlaysRange = () => timeline.range();
 const rigPanel = byId('rigs-panel');
 const defPanel = byId('def-panel');
 const channelPanel = byId('channel-panel');
@@ -212,6 +227,7 @@ const kShortcuts: [string, string][] = [
   ['← / →', 'Previous / next frame'],
   ['F', 'Frame the character'],
   ['M', 'Mesh: shaded, x-ray, hidden'],
+  ['T / O', 'Motion trails / ghosts on or off'],
   ['G', 'Graph editor (in it: A frame all, F frame selected, I insert key, Delete delete keys)'],
   ['Esc', 'Clear the selection (or close this)'],
   ['Ctrl+Z / Ctrl+Shift+Z', 'Undo / redo'],
@@ -267,6 +283,12 @@ window.addEventListener('keydown', (e) => {
     case 'g':
       toggleGraph();
       break;
+    case 't':
+      toggleTrails();
+      break;
+    case 'o':
+      toggleGhosts();
+      break;
     case 'e':
       setGizmo('rotate');
       break;
@@ -312,6 +334,7 @@ interface RigelHook {
   editor: DefinitionEditor;
   channelBox: ChannelBox;
   graphEditor: GraphEditor;
+  overlays: Overlays;
   /** Client pixels where clicking picks the control (by uuid or name), or null. */
   project: (control: string) => { x: number; y: number } | null;
   /** Client pixels of a world point. */
@@ -332,7 +355,7 @@ const uuidOf = (name: string): string | null => store.byName.get(name) ?? (store
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
-  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy && !picker.busy,
+  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy && !picker.busy && !overlays.busy,
   app: theApp,
   store,
   viewport,
@@ -340,6 +363,7 @@ window.rigel = {
   editor,
   channelBox,
   graphEditor,
+  overlays,
   project: (control) => {
     const u = uuidOf(control);
     return u ? viewport.project(u) : null;
