@@ -1,15 +1,24 @@
 // The frame rate while dragging: a long gizmo drag in inverse mode on the
 // demo character, sampling the app's own counters (frames rendered, poses
-// applied from /api/drag answers). Written to test-results/frame-rate.json.
+// applied from /api/drag answers), plain and with the motion trail of the
+// dragged control and the ghosts on (each drag answer re-reads both).
+// Written to test-results/frame-rate.json and frame-rate-overlays.json.
 
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { clickControl, expect, expectSelection, setMode, test, webDir } from './fixtures';
 
-test('frame rate while dragging', async ({ app: page, server, shots }, testInfo) => {
+for (const overlays of [false, true])
+test(`frame rate while dragging${overlays ? ' with a motion trail and ghosts' : ''}`, async ({ app: page, server, shots }, testInfo) => {
   await setMode(page, server, 'inverse');
   await clickControl(page, 'hand.L_ctrl');
   await expectSelection(page, server, ['hand.L_ctrl']);
+  if (overlays) {
+    await page.keyboard.press('t');
+    await page.keyboard.press('o');
+    await expect.poll(() => page.evaluate(() => (window as any).rigel.overlays.state().ghosts.length)).toBe(6);
+    await expect.poll(() => page.evaluate(() => (window as any).rigel.overlays.state().trails.length)).toBe(1);
+  }
   await expect.poll(() => page.evaluate(() => (window as any).rigel.gizmoHandle('y') !== null)).toBe(true);
 
   const hnd = await page.evaluate(() => (window as any).rigel.gizmoHandle('y'));
@@ -29,7 +38,7 @@ test('frame rate while dragging', async ({ app: page, server, shots }, testInfo)
   }
   const elapsed = (Date.now() - t0) / 1000;
   const end = await page.evaluate(() => (window as any).rigel.stats());
-  await shots.take('while-dragging');
+  await shots.take(overlays ? 'while-dragging-with-overlays' : 'while-dragging');
   await page.mouse.up();
   await expect.poll(() => page.evaluate(() => (window as any).rigel.app.drag.active)).toBe(false);
 
@@ -38,6 +47,7 @@ test('frame rate while dragging', async ({ app: page, server, shots }, testInfo)
     renderer: end.renderer,
     antialias: end.antialias,
     mode: 'inverse',
+    trailAndGhosts: overlays,
     control: 'hand.L_ctrl',
     seconds: Number(elapsed.toFixed(2)),
     mouseMoves: i,
@@ -51,10 +61,11 @@ test('frame rate while dragging', async ({ app: page, server, shots }, testInfo)
     meanDragRoundTripMs: Number(end.drag.meanRoundTripMs.toFixed(2)),
     fpsSamples: samples,
   };
-  console.log(`frame rate while dragging: ${JSON.stringify(result)}`);
-  await testInfo.attach('frame-rate.json', { body: JSON.stringify(result, null, 2), contentType: 'application/json' });
+  const file = overlays ? 'frame-rate-overlays.json' : 'frame-rate.json';
+  console.log(`frame rate while dragging${overlays ? ' (trail and ghosts on)' : ''}: ${JSON.stringify(result)}`);
+  await testInfo.attach(file, { body: JSON.stringify(result, null, 2), contentType: 'application/json' });
   mkdirSync(join(webDir, 'test-results'), { recursive: true });
-  writeFileSync(join(webDir, 'test-results', 'frame-rate.json'), JSON.stringify(result, null, 2) + '\n');
+  writeFileSync(join(webDir, 'test-results', file), JSON.stringify(result, null, 2) + '\n');
 
   expect(result.dragFailures).toBe(0);
   // The drag path keeps answering and the viewport keeps drawing for the
