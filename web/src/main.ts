@@ -7,6 +7,7 @@ import { Api } from './api';
 import { userText } from './names';
 import type { Vec3 } from './api';
 import { App, kModeKeys } from './app';
+import { installBoxSelect } from './boxselect';
 import { ChannelBox } from './channelbox';
 import { DefinitionEditor } from './defeditor';
 import { GraphEditor } from './grapheditor';
@@ -52,6 +53,7 @@ const viewport = new Viewport(byId('viewport'), store, {
 });
 app = new App(api, store, statusBar);
 const theApp = app;
+installBoxSelect(byId('viewport'), viewport, theApp);
 
 // ------------------------------------------------------------------ toolbar
 
@@ -137,7 +139,16 @@ function toggleGhosts(): void {
   overlays.setGhosts(!overlays.showGhosts);
   ghostBtn.classList.toggle('active', overlays.showGhosts);
 }
-fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), graphBtn, trailBtn, ghostBtn);
+// Isolate selection (I): only the selected controls drawn and picked, until pressed again.
+const isolateBtn = h('button', { title: 'Isolate the selected controls (I)', testid: 'isolate', onclick: () => toggleIsolate() }, 'Isolate', h('kbd', {}, 'I'));
+function toggleIsolate(): void {
+  if (viewport.isolated) viewport.setIsolated(null);
+  else if (store.selection.length) viewport.setIsolated(store.selection);
+  else statusBar.error('Isolate: select the controls to keep first');
+  isolateBtn.classList.toggle('active', viewport.isolated !== null);
+}
+fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), isolateBtn, graphBtn, trailBtn, ghostBtn);
+byId('viewport').append(h('div.grid-label', { title: 'The ground grid: 10 by 10 scene units' }, 'grid square: 0.5 units'));
 
 const info = byId('info');
 function renderToolbar(): void {
@@ -225,7 +236,9 @@ const kShortcuts: [string, string][] = [
   ['K', 'Auto-key on / off'],
   ['Space', 'Play / stop'],
   ['← / →', 'Previous / next frame'],
-  ['F', 'Frame the character'],
+  ['F / A', 'Frame the selection / frame all'],
+  ['I', 'Isolate the selection (again: show all)'],
+  ['Ctrl+drag / Ctrl+Shift+drag', 'Box select / add to the selection'],
   ['M', 'Mesh: shaded, x-ray, hidden'],
   ['T / O', 'Motion trails / ghosts on or off'],
   ['G', 'Graph editor (in it: A frame all, F frame selected, I insert key, Delete delete keys)'],
@@ -309,7 +322,13 @@ window.addEventListener('keydown', (e) => {
       timeline.stepFrame(1);
       break;
     case 'f':
+      viewport.frameSelected();
+      break;
+    case 'a':
       viewport.frameAll();
+      break;
+    case 'i':
+      toggleIsolate();
       break;
     case 'escape':
       run(theApp.select([], false));

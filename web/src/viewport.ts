@@ -15,6 +15,8 @@ import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
 import type { ControlInfo, Quat, RigInfo, Trs, Vec3 } from './api';
 import type { Character, Store } from './store';
+import { disposeTree, distanceToShape, webglRendererName } from './viewgeom';
+import type { ScreenShape } from './viewgeom';
 
 /** How near (CSS pixels) the pointer must be to a control's shape to pick it. */
 const kPickRadiusPx = 8;
@@ -41,12 +43,6 @@ interface ControlView {
   closed: boolean;
 }
 
-interface ScreenShape {
-  /** x, y pairs in canvas pixels; NaN where the point is behind the camera. */
-  xy: Float32Array;
-  closed: boolean;
-  origin: [number, number] | null;
-}
 
 export interface FrameStats {
   /** Frames rendered in the last second. */
@@ -84,6 +80,8 @@ export class Viewport {
   private readonly meshLooks = new Map<THREE.Material, { transparent: boolean; opacity: number; depthWrite: boolean }>();
   private meshMode: MeshDisplay = 'shaded';
   private readonly hiddenGroups = new Set<string>();
+  /** Isolate selection: only these controls are drawn and picked (null: all). */
+  private isolatedSet: Set<string> | null = null;
   private readonly byUuid = new Map<string, THREE.Object3D>();
   private readonly controls = new Map<string, ControlView>();
   private jointPairs: [THREE.Object3D, THREE.Object3D][] = [];
@@ -339,7 +337,7 @@ export class Viewport {
       line.renderOrder = 10;
       line.frustumCulled = false;
       line.userData.controlShape = c.uuid;
-      line.visible = !this.hiddenGroups.has(c.group);
+      line.visible = this.shows(c);
       object.add(line);
       this.controls.set(c.uuid, { info: c, object, line, material, base, points, closed: c.shape.closed });
     }
@@ -393,9 +391,54 @@ export class Viewport {
   setGroupVisible(group: string, visible: boolean): void {
     if (visible) this.hiddenGroups.delete(group);
     else this.hiddenGroups.add(group);
-    for (const c of this.controls.values()) if (c.info.group === group) c.line.visible = visible;
+    this.applyVisibility();
+  }
+
+  /** Isolates these controls (only they are drawn and picked), or shows all again with null. */
+  setIsolated(uuids: readonly string[] | null): void {
+    this.isolatedSet = uuids ? new Set(uuids) : null;
+    this.applyVisibility();
+  }
+
+  get isolated(): readonly string[] | null {
+    return this.isolatedSet ? [...this.isolatedSet] : null;
+  }
+
+  private shows(c: ControlInfo): boolean {
+    return !this.hiddenGroups.has(c.group) && (!this.isolatedSet || this.isolatedSet.has(c.uuid));
+  }
+
+  private applyVisibility(): void {
+    for (const c of this.controls.values()) c.line.visible = this.shows(c.info);
     this.viewVersion++;
     this.dirty = true;
+  }
+
+  /** The controls drawn whose shape's centre on screen lies in the client rectangle (box select). */
+  controlsIn(x0: number, y0: number, x1: number, y1: number): string[] {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const [ax, bx] = [Math.min(x0, x1) - rect.left, Math.max(x0, x1) - rect.left];
+    const [ay, by] = [Math.min(y0, y1) - rect.top, Math.max(y0, y1) - rect.top];
+    const out: string[] = [];
+    for (const [uuid, s] of this.screenShapes()) {
+      let [x, y, n] = s.origin ? [s.origin[0], s.origin[1], 1] : [0, 0, 0];
+      for (let i = 0; !s.origin && i < s.xy.length; i += 2)
+        if (!Number.isNaN(s.xy[i]!)) [x, y, n] = [x + s.xy[i]!, y + s.xy[i + 1]!, n + 1];
+      if (n && x / n >= ax && x / n <= bx && y / n >= ay && y / n <= by) out.push(uuid);
+    }
+    return out;
+  }
+
+  /** Frames the camera on the selected controls (at least half a unit across), or everything without a selection. */
+  frameSelected(): void {
+    const selected = this.store.selection.map((u) => this.controls.get(u)).filter((c) => c !== undefined);
+    if (!selected.length) return this.frameAll();
+    this.root?.updateMatrixWorld(true);
+    const box = new THREE.Box3();
+    const v = new THREE.Vector3();
+    for (const c of selected) box.expandByPoint(c.object.getWorldPosition(v));
+    box.expandByVector(new THREE.Vector3(0.25, 0.25, 0.25));
+    this.fit(box);
   }
 
   /** Frames the camera on the character's joints (or its meshes). */
@@ -407,7 +450,10 @@ export class Viewport {
     for (const j of this.joints) box.expandByPoint(j.getWorldPosition(v));
     for (const c of this.controls.values()) box.expandByPoint(c.object.getWorldPosition(v));
     if (box.isEmpty()) box.setFromObject(this.root);
-    if (box.isEmpty()) return;
+    if (!box.isEmpty()) this.fit(box);
+  }
+
+  private fit(box: THREE.Box3): void {
     const center = box.getCenter(new THREE.Vector3());
     const size = box.getSize(new THREE.Vector3());
     // Fit height and width (the view looks along -Z, slightly from the side).
@@ -732,53 +778,4 @@ export class Viewport {
   invalidate(): void {
     this.dirty = true;
   }
-}
-
-/** The renderer string of the browser's WebGL ('' when there is none). */
-function webglRendererName(): string {
-  const gl = document.createElement('canvas').getContext('webgl2') ?? document.createElement('canvas').getContext('webgl');
-  if (!gl) return '';
-  const info = gl.getExtension('WEBGL_debug_renderer_info');
-  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER) ?? '');
-  gl.getExtension('WEBGL_lose_context')?.loseContext();
-  return name;
-}
-
-function distanceToShape(s: ScreenShape, x: number, y: number): number {
-  let best = Infinity;
-  const n = s.xy.length / 2;
-  if (n === 1) {
-    const px = s.xy[0]!;
-    if (!Number.isNaN(px)) best = Math.hypot(px - x, s.xy[1]! - y);
-  }
-  const segs = s.closed ? n : n - 1;
-  for (let i = 0; i < segs; i++) {
-    const j = (i + 1) % n;
-    const ax = s.xy[2 * i]!;
-    const ay = s.xy[2 * i + 1]!;
-    const bx = s.xy[2 * j]!;
-    const by = s.xy[2 * j + 1]!;
-    if (Number.isNaN(ax) || Number.isNaN(bx)) continue;
-    best = Math.min(best, segmentDistance(x, y, ax, ay, bx, by));
-  }
-  if (s.origin) best = Math.min(best, Math.hypot(s.origin[0] - x, s.origin[1] - y));
-  return best;
-}
-
-function segmentDistance(px: number, py: number, ax: number, ay: number, bx: number, by: number): number {
-  const dx = bx - ax;
-  const dy = by - ay;
-  const len2 = dx * dx + dy * dy;
-  let t = len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0;
-  t = Math.max(0, Math.min(1, t));
-  return Math.hypot(px - (ax + t * dx), py - (ay + t * dy));
-}
-
-function disposeTree(root: THREE.Object3D): void {
-  root.traverse((o) => {
-    const m = o as THREE.Mesh;
-    if (m.geometry) m.geometry.dispose();
-    const mats = m.material ? (Array.isArray(m.material) ? m.material : [m.material]) : [];
-    for (const mat of mats) mat.dispose();
-  });
 }
