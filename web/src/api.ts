@@ -1,6 +1,7 @@
 // The JSON API of `rigel serve` (docs/SERVER.md), one typed method per
-// route with its request and answer types next to it: no other file names a
-// route or declares what an answer holds. Every request goes through one
+// route with its request and answer types next to it (the animator views'
+// types in apiviews.ts, re-exported here): no other file names a route or
+// declares what an answer holds. Every request goes through one
 // client (http.ts), so every error reaches the status bar and every change
 // the tab makes is recorded as its own revision.
 
@@ -8,6 +9,22 @@ import { ApiError, Http } from './http';
 import type { ApiEvents, RequestOptions } from './http';
 
 export { ApiError };
+export * from './apiviews';
+import type {
+  CurveKeysAnswer,
+  CurveKeysRequest,
+  CurvesAnswer,
+  CurvesRequest,
+  ExportAnswer,
+  GhostsAnswer,
+  PickerAnswer,
+  PoseApplyRequest,
+  PoseInfo,
+  SelectionSetRequest,
+  SelectionSetsAnswer,
+  SpacesAnswer,
+  TrailsAnswer,
+} from './apiviews';
 export type { ApiEvents, RequestOptions };
 
 export type Vec3 = [number, number, number];
@@ -225,116 +242,6 @@ export interface ChannelKeysRequest {
 
 export interface ChannelKeysAnswer extends Revised {
   keys: { plug: string; frames: number[] }[];
-}
-
-// ------------------------------------------------------ picker and sets
-
-export interface PickerGroup {
-  rig: string;
-  name: string;
-  part: 'head' | 'arm' | 'hand' | 'torso' | 'leg' | 'tail' | 'root' | 'other';
-  side: 'L' | 'R' | 'C';
-  controls: { uuid: string; name: string; label: string }[];
-}
-
-export interface PickerAnswer extends Revised {
-  groups: PickerGroup[];
-}
-
-export interface SelectionSetInfo {
-  name: string;
-  members: { uuid: string; name: string }[];
-  missing: string[];
-}
-
-export interface SelectionSetsAnswer extends Revised {
-  sets: SelectionSetInfo[];
-  /** After a POST: the selection. */
-  selection?: string[];
-}
-
-export interface SelectionSetRequest {
-  op: 'save' | 'remove' | 'select';
-  name: string;
-  controls?: string[];
-  add?: boolean;
-}
-
-// ------------------------------------------------- motion trails and ghosts
-
-export interface TrailInfo {
-  control: string;
-  name: string;
-  frames: number[];
-  points: Vec3[];
-  keys: number[];
-}
-
-export interface TrailsAnswer extends Revised {
-  trails: TrailInfo[];
-}
-
-export interface GhostsAnswer extends Revised {
-  joints: string[];
-  /** Each joint's parent: an index into joints, -1 for a root. */
-  parents: number[];
-  frames: { frame: number; points: Vec3[] }[];
-}
-
-// -------------------------------------------------------------- graph editor
-
-/** One curve of GET /api/curves: keys, tangents (curves only; slopes per frame) and samples. */
-export interface CurveInfo {
-  /** The channel plug it drives: what /api/curve-keys names it by. */
-  plug: string;
-  curve: string;
-  kind: 'curve' | 'vectorTrack' | 'rotationTrack';
-  component: number;
-  label: string;
-  /** Whether key values can be edited (not a glTF rotation track's). */
-  editable: boolean;
-  frames: number[];
-  values: number[];
-  inTangents?: string[];
-  outTangents?: string[];
-  inSlopes?: number[];
-  outSlopes?: number[];
-  samples: { frames: number[]; values: number[] };
-}
-
-export interface CurvesAnswer extends Revised {
-  fps: number;
-  curves: CurveInfo[];
-}
-
-export interface CurvesRequest {
-  controls: string[];
-  first?: number;
-  last?: number;
-  step?: number;
-  euler?: boolean;
-}
-
-export interface CurveKeyEdit {
-  curve: string;
-  frame: number;
-  toFrame?: number;
-  value?: number;
-  component?: number;
-  tangent?: string;
-  inTangent?: string;
-  outTangent?: string;
-  inSlope?: number;
-  outSlope?: number;
-}
-
-export interface CurveKeysRequest {
-  op: 'edit' | 'insert' | 'delete';
-  keys: CurveKeyEdit[];
-}
-
-export interface CurveKeysAnswer extends Revised {
-  changed: number;
 }
 
 // ---------------------------------------------------------------------- rigs
@@ -717,6 +624,38 @@ export class Api {
 
   bindPose(controls: string[]): Promise<ToolAnswer> {
     return this.http.post('/api/bind-pose', { controls });
+  }
+
+  poses(library: string, options: RequestOptions = {}): Promise<Revised & { poses: PoseInfo[] }> {
+    return this.http.get(`/api/poses?library=${q(library)}`, options);
+  }
+
+  savePose(req: { library: string; name: string; controls?: string[] }): Promise<Revised & { name: string; entries: number }> {
+    return this.http.post('/api/poses/save', req);
+  }
+
+  applyPose(req: PoseApplyRequest): Promise<ToolAnswer> {
+    return this.http.post('/api/poses/apply', req);
+  }
+
+  removePose(req: { library: string; name: string }): Promise<Revised> {
+    return this.http.post('/api/poses/remove', req);
+  }
+
+  spaces(control: string): Promise<SpacesAnswer> {
+    return this.http.get(`/api/spaces?control=${q(control)}`);
+  }
+
+  switchSpace(req: { control: string; switch: string; frame?: number }): Promise<ToolAnswer & { from: string; to: string; maxError: number }> {
+    return this.http.post('/api/space', req);
+  }
+
+  transfer(req: { from: string; to: string; offset?: number }): Promise<ToolAnswer & { channels: number }> {
+    return this.http.post('/api/transfer', req);
+  }
+
+  exportGltf(req: { path: string; deformOnly?: boolean; bake?: boolean }): Promise<ExportAnswer> {
+    return this.http.post('/api/export', req);
   }
 
   tween(req: TweenRequest): Promise<ToolAnswer> {

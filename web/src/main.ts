@@ -189,7 +189,7 @@ const rigManager = new RigManager(rigPanel, theApp);
 const editor = new DefinitionEditor(defPanel, theApp);
 const channelBox = new ChannelBox(channelPanel, theApp);
 const toolsPanel = byId('tools-panel');
-new AnimatorTools(toolsPanel, theApp);
+const animatorTools = new AnimatorTools(toolsPanel, theApp);
 const pickerPanel = byId('picker-panel');
 const picker = new Picker(pickerPanel, theApp);
 
@@ -203,6 +203,7 @@ function showTab(which: 'channels' | 'picker' | 'rigs' | 'def'): void {
   defPanel.hidden = which !== 'def';
   rigManager.visible = which === 'rigs';
   channelBox.visible = which === 'channels';
+  if (which === 'channels') run(animatorTools.poses.refresh());
   byId('side').classList.toggle('wide', which === 'def');
   for (const b of tabs.querySelectorAll<HTMLButtonElement>('button')) b.classList.toggle('active', b.dataset.tab === which);
 }
