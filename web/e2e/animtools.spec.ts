@@ -2,11 +2,12 @@
 // the pose library (save, apply as the API does, mirrored, blended, undo),
 // a space switch at a frame (the world pose kept, the space changed, undo),
 // transfer of keys onto the other arm with an offset, and a deform-only
-// glTF export.
+// glTF export that the Khronos validator passes.
 
+import { spawnSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { join } from 'node:path';
-import { clickControl, expect, expectSelection, goToFrame, poseDifference, settle, test, type RigelServer } from './fixtures';
+import { clickControl, expect, expectSelection, goToFrame, poseDifference, repoDir, settle, test, type RigelServer } from './fixtures';
 import type { Page } from '@playwright/test';
 
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
@@ -95,5 +96,8 @@ test('pose library, space switch, transfer and deform-only export from the page'
   await page.getByTestId('tool-export').click();
   await expect(page.locator('#statusbar')).toContainText('Wrote');
   expect(existsSync(join(server.root, 'export', 'shot.glb'))).toBe(true);
+  // The Khronos validator: no error.
+  const v = spawnSync(process.execPath, [join(repoDir, 'tools/validate-gltf.mjs'), join(server.root, 'export', 'shot.glb')], { encoding: 'utf8' });
+  expect(v.status, `${v.stdout}${v.stderr}`).toBe(0);
   expect(await page.evaluate(() => (window as any).rigel.errors)).toEqual([]);
 });
