@@ -7,38 +7,14 @@
 import { spawnSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { join } from 'node:path';
-import { clickControl, expect, expectSelection, goToFrame, poseDifference, repoDir, settle, test, type RigelServer } from './fixtures';
-import type { Page } from '@playwright/test';
+import { clickControl, expect, expectSelection, goToFrame, poseDifference, repoDir, sameAsApi, settle, test, undoInPage, type RigelServer } from './fixtures';
 
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
-
-async function undo(page: Page, server: RigelServer): Promise<void> {
-  await settle(page, server);
-  await page.getByTestId('undo').click();
-  await settle(page, server);
-}
 
 async function post(server: RigelServer, path: string, body: unknown): Promise<any> {
   const r = await server.post(path, body);
   expect(r.status, `${path}: ${JSON.stringify(r.body)}`).toBe(200);
   return r.body;
-}
-
-/** Clicks `testid`, checks the pose changed, undo gives it back, and `route` with `body` gives the page's pose. */
-async function sameAsApi(page: Page, server: RigelServer, testid: string, route: string, body: unknown): Promise<void> {
-  await settle(page, server);
-  const before = await server.worldPose();
-  const revision = (await server.get('/api/revision')).revision;
-  await page.getByTestId(testid).click();
-  await expect.poll(async () => (await server.get('/api/revision')).revision).toBeGreaterThan(revision);
-  await settle(page, server);
-  const byPage = await server.worldPose();
-  expect(poseDifference(byPage, before), `${testid} changes the pose`).toBeGreaterThan(1e-4);
-  await undo(page, server);
-  expect(poseDifference(await server.worldPose(), before), `undo takes ${testid} back`).toBeLessThan(1e-9);
-  await post(server, route, body);
-  expect(poseDifference(await server.worldPose(), byPage), `${testid}: the page and the API agree`).toBeLessThan(1e-9);
-  await post(server, '/api/undo', {});
 }
 
 test('pose library, space switch, transfer and deform-only export from the page', async ({ app: page, server, shots }) => {
@@ -74,7 +50,7 @@ test('pose library, space switch, transfer and deform-only export from the page'
   await page.getByTestId('tool-space-switch').click();
   await expect.poll(async () => (await server.get('/api/spaces?control=hero_arm_L_ik')).current).toBe('world');
   expect(poseDifference(await server.worldPose(), before)).toBeLessThan(1e-9);
-  await undo(page, server);
+  await undoInPage(page, server);
   await expect.poll(async () => (await server.get('/api/spaces?control=hero_arm_L_ik')).current).not.toBe('world');
 
   // Transfer the left arm's switch keys onto the right arm, 5 frames later.

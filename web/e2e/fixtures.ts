@@ -355,3 +355,33 @@ export async function goToFrame(page: Page, server: RigelServer, frame: number):
   // Back to the viewport so that shortcuts reach the app, not the field.
   await field.blur();
 }
+
+/** Undo through the page's button, waiting for the page to settle before and after. */
+export async function undoInPage(page: Page, server: RigelServer): Promise<void> {
+  await settle(page, server);
+  await page.getByTestId('undo').click();
+  await settle(page, server);
+}
+
+/**
+ * Clicks `testid` in the page, then checks: the pose changed, undo gives the
+ * pose before, and the same request through the API (`route`, `body`) gives
+ * the page's pose (then is undone too).
+ */
+export async function sameAsApi(page: Page, server: RigelServer, testid: string, route: string, body: unknown): Promise<void> {
+  await settle(page, server);
+  const before = await server.worldPose();
+  const revision = (await server.get('/api/revision')).revision;
+  await page.getByTestId(testid).click();
+  await expect.poll(async () => (await server.get('/api/revision')).revision).toBeGreaterThan(revision);
+  await settle(page, server);
+  const byPage = await server.worldPose();
+  expect(poseDifference(byPage, before), `${testid} changes the pose`).toBeGreaterThan(1e-4);
+  await undoInPage(page, server);
+  expect(poseDifference(await server.worldPose(), before), `undo takes ${testid} back`).toBeLessThan(1e-9);
+  const r = await server.post(route, body);
+  expect(r.status, JSON.stringify(r.body)).toBe(200);
+  expect(poseDifference(await server.worldPose(), byPage), `${testid}: the page and the API agree`).toBeLessThan(1e-9);
+  const u = await server.post('/api/undo');
+  expect(u.status).toBe(200);
+}

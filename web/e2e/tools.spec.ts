@@ -2,39 +2,9 @@
 // match, mirror, bind pose and tween each change the pose as the same call
 // through the API does, and undo returns each.
 
-import { clickControl, expect, expectSelection, poseDifference, settle, test, type RigelServer } from './fixtures';
-import type { Page } from '@playwright/test';
+import { clickControl, expect, expectSelection, sameAsApi, settle, test, undoInPage } from './fixtures';
 
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
-
-async function undo(page: Page, server: RigelServer): Promise<void> {
-  await settle(page, server);
-  await page.getByTestId('undo').click();
-  await settle(page, server);
-}
-
-/**
- * Clicks the tool in the page, then checks: the pose changed, undo gives the
- * pose before, and the same request through the API gives the page's pose
- * (then is undone too).
- */
-async function sameAsApi(page: Page, server: RigelServer, tool: string, route: string, body: unknown): Promise<void> {
-  await settle(page, server);
-  const before = await server.worldPose();
-  const revision = (await server.get('/api/revision')).revision;
-  await page.getByTestId(`tool-${tool}`).click();
-  await expect.poll(async () => (await server.get('/api/revision')).revision).toBeGreaterThan(revision);
-  await settle(page, server);
-  const byPage = await server.worldPose();
-  expect(poseDifference(byPage, before), `${tool} changes the pose`).toBeGreaterThan(1e-4);
-  await undo(page, server);
-  expect(poseDifference(await server.worldPose(), before), `undo takes ${tool} back`).toBeLessThan(1e-9);
-  const r = await server.post(route, body);
-  expect(r.status, JSON.stringify(r.body)).toBe(200);
-  expect(poseDifference(await server.worldPose(), byPage), `${tool}: the page and the API agree`).toBeLessThan(1e-9);
-  const u = await server.post('/api/undo');
-  expect(u.status).toBe(200);
-}
 
 test('animator tools: match, mirror, bind pose and tween as the API does them, each undone', async ({ app: page, server, shots }) => {
   expect((await server.post('/api/rigs/add', { definition: 'examples/biped.rig.xml' })).status).toBe(200);
@@ -60,7 +30,7 @@ test('animator tools: match, mirror, bind pose and tween as the API does them, e
   await settle(page, server);
   const handAfter = (await server.worldPose()).get('hand.L')!;
   for (let i = 0; i < 3; i++) expect(Math.abs(handAfter[i]! - handBefore[i]!)).toBeLessThan(1e-6);
-  await undo(page, server);
+  await undoInPage(page, server);
   await expect.poll(async () => (await server.get('/api/channels?controls=hero_arm_L_fkIkSwitch')).controls[0].channels[0].value).toBe(0);
 
   // Mirror the FK arm onto the right one (the FK controls selected), bind pose, tween.
@@ -68,8 +38,8 @@ test('animator tools: match, mirror, bind pose and tween as the API does them, e
   await clickControl(page, 'hero_arm_L_fk0', true, server);
   await expectSelection(page, server, ['hero_arm_L_fk1', 'hero_arm_L_fk0']);
   await set(['hero_arm_R_ik'], ['fkIk'], 0);
-  await sameAsApi(page, server, 'mirror', '/api/mirror', { controls: ['hero_arm_L_fk1', 'hero_arm_L_fk0'] });
-  await sameAsApi(page, server, 'bind-pose', '/api/bind-pose', { controls: ['hero_arm_L_fk1', 'hero_arm_L_fk0'] });
+  await sameAsApi(page, server, 'tool-mirror', '/api/mirror', { controls: ['hero_arm_L_fk1', 'hero_arm_L_fk0'] });
+  await sameAsApi(page, server, 'tool-bind-pose', '/api/bind-pose', { controls: ['hero_arm_L_fk1', 'hero_arm_L_fk0'] });
 
   // Tween: keys at 0 (bent) and 10 (bind pose), the slider at 50% at frame 5.
   expect((await server.post('/api/channel-keys', { controls: ['hero_arm_L_fk1'], attrs: ['rotate'] })).status).toBe(200);
@@ -79,5 +49,5 @@ test('animator tools: match, mirror, bind pose and tween as the API does them, e
   await set(['hero_arm_L_fk1'], ['rotateZ'], 90); // off the curve: the tween puts it back between the keys
   await settle(page, server);
   await page.getByTestId('tool-tween-fraction').fill('50');
-  await sameAsApi(page, server, 'tween', '/api/tween', { controls: ['hero_arm_L_fk1', 'hero_arm_L_fk0'], fraction: 0.5 });
+  await sameAsApi(page, server, 'tool-tween', '/api/tween', { controls: ['hero_arm_L_fk1', 'hero_arm_L_fk0'], fraction: 0.5 });
 });
