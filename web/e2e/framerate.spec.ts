@@ -74,3 +74,53 @@ test(`frame rate while dragging${overlays ? ' with a motion trail and ghosts' : 
   expect(result.posesApplied).toBeGreaterThanOrEqual(5);
   expect(result.renderedFps).toBeGreaterThan(2);
 });
+
+// The frame rate while playing: two keys on the hand 24 frames apart, played
+// for 3 s (the timeline steps one frame per POST /api/time and fetches the
+// pose), plain and with the trail and ghosts on (both re-read each frame).
+for (const overlays of [false, true])
+test(`frame rate while playing${overlays ? ' with a motion trail and ghosts' : ''}`, async ({ app: page, server }, testInfo) => {
+  await setMode(page, server, 'forward');
+  await clickControl(page, 'hand.L_ctrl');
+  await expectSelection(page, server, ['hand.L_ctrl']);
+  const hand = (await server.uuids()).get('hand.L_ctrl')!;
+  for (const [f, v] of [[0, 0], [24, 0.2]] as const) {
+    expect((await server.post('/api/time', { frame: f })).status).toBe(200);
+    expect((await server.post('/api/channel-values', { controls: [hand], attrs: ['translateY'], value: v })).status).toBe(200);
+    expect((await server.post('/api/key', { controls: [hand] })).status).toBe(200);
+  }
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.store.keys?.frames.length)).toBe(2);
+  if (overlays) {
+    await page.keyboard.press('t');
+    await page.keyboard.press('o');
+    await expect.poll(() => page.evaluate(() => (window as any).rigel.overlays.state().trails.length)).toBe(1);
+  }
+  const start = await page.evaluate(() => (window as any).rigel.stats());
+  const played0 = await page.evaluate(() => (window as any).rigel.timeline.playedFrames.length);
+  await page.keyboard.press('Space');
+  await expect(page.getByTestId('play')).toHaveClass(/active/);
+  const t0 = Date.now();
+  // A 3 s measuring window, sampling the played frames as the drag test samples its counters.
+  const playedSamples: number[] = [];
+  while (Date.now() - t0 < 3000) playedSamples.push(await page.evaluate(() => (window as any).rigel.timeline.playedFrames.length));
+  const end = await page.evaluate(() => (window as any).rigel.stats());
+  const played = (await page.evaluate(() => (window as any).rigel.timeline.playedFrames.length)) - played0;
+  const elapsed = (Date.now() - t0) / 1000;
+  await page.keyboard.press('Space');
+  await expect(page.getByTestId('play')).not.toHaveClass(/active/);
+  const result = {
+    browser: `headless ${testInfo.project.use.browserName ?? 'chromium'}`,
+    renderer: end.renderer,
+    trailAndGhosts: overlays,
+    seconds: Number(elapsed.toFixed(2)),
+    framesPlayed: played,
+    playedFps: Number((played / elapsed).toFixed(1)),
+    renderedFps: Number(((end.frames - start.frames) / elapsed).toFixed(1)),
+    posesPerSecond: Number(((end.poses - start.poses) / elapsed).toFixed(1)),
+  };
+  const file = overlays ? 'play-rate-overlays.json' : 'play-rate.json';
+  console.log(`frame rate while playing${overlays ? ' (trail and ghosts on)' : ''}: ${JSON.stringify(result)}`);
+  mkdirSync(join(webDir, 'test-results'), { recursive: true });
+  writeFileSync(join(webDir, 'test-results', file), JSON.stringify(result, null, 2) + '\n');
+  expect(result.framesPlayed).toBeGreaterThanOrEqual(3);
+});

@@ -3,9 +3,9 @@
 // drawn as a few line objects: one line and one set of key points per
 // selected control's trail over the playback range, one set of bone
 // segments per ghost frame (before the current frame tinted red, after it
-// green, fainter further away). Both follow the selection, the time, the
-// keys and every pose change (a drag), one request of each in flight at a
-// time, so they stay on while dragging.
+// green, fainter further away). Trails follow the selection, the keys and
+// every edit (a drag), ghosts the time too; one request of each in flight
+// at a time, so they stay on while dragging and playing.
 
 import * as THREE from 'three';
 import type { App } from './app';
@@ -21,6 +21,7 @@ export const kGhostStep = 2;
 export class Overlays {
   private trailsOn = false;
   private ghostsOn = false;
+  private trailsStale = true;
   private trails: TrailsAnswer | null = null;
   private ghosts: GhostsAnswer | null = null;
   private readonly trailGroup = new THREE.Group();
@@ -35,15 +36,18 @@ export class Overlays {
     this.trailGroup.name = 'motion trails';
     this.ghostGroup.name = 'ghosts';
     viewport.scene.add(this.trailGroup, this.ghostGroup);
-    const refresh = () => {
+    // A trail changes with the selection, the keys and edits (a drag), not
+    // with the time: playing re-reads only the ghosts.
+    const refresh = (trails: boolean) => {
+      if (trails) this.trailsStale = true;
       if (this.trailsOn || this.ghostsOn) run(this.refresh());
     };
     const s = app.store.signals;
-    s.selectionChanged.add(refresh);
-    s.keysChanged.add(refresh);
-    s.poseChanged.add(refresh);
-    s.timeChanged.add(refresh);
-    s.sceneChanged.add(refresh);
+    s.selectionChanged.add(() => refresh(true));
+    s.keysChanged.add(() => refresh(true));
+    s.poseChanged.add(() => refresh(this.app.drag.active));
+    s.timeChanged.add(() => refresh(false));
+    s.sceneChanged.add(() => refresh(true));
   }
 
   get showTrails(): boolean {
@@ -56,6 +60,7 @@ export class Overlays {
 
   setTrails(on: boolean): void {
     this.trailsOn = on;
+    this.trailsStale = true;
     if (!on) this.clear(this.trailGroup);
     run(this.refresh());
   }
@@ -87,13 +92,17 @@ export class Overlays {
   private async fetch(): Promise<void> {
     const selection = [...this.app.store.selection];
     const [first, last] = this.range();
+    const readTrails = this.trailsStale;
+    this.trailsStale = false;
     const [trails, ghosts] = await Promise.all([
-      this.trailsOn && selection.length ? this.app.api.trails(selection, first, last) : Promise.resolve(null),
+      readTrails && this.trailsOn && selection.length ? this.app.api.trails(selection, first, last) : Promise.resolve(null),
       this.ghostsOn ? this.app.api.ghosts(kGhostCount, kGhostCount, kGhostStep) : Promise.resolve(null),
     ]);
-    this.trails = trails;
+    if (readTrails) {
+      this.trails = trails;
+      this.drawTrails();
+    }
     this.ghosts = ghosts;
-    this.drawTrails();
     this.drawGhosts();
     this.viewport.invalidate();
   }
