@@ -1,7 +1,8 @@
 // Motion trails and ghosts: the selected hand control's trail over the
 // playback range drawn from the server's evaluated curves, its keys
 // marked, following a key moved; ghosts of the skeleton before and after
-// the current frame, following the time; both on while a drag runs.
+// the current frame, following the time, and at the keys; both on while a
+// drag runs.
 
 import { clickControl, dragGizmo, expect, expectSelection, goToFrame, setMode, settle, test, type RigelServer } from './fixtures';
 import type { Page } from '@playwright/test';
@@ -56,7 +57,10 @@ test('motion trail and ghosts follow keys, time and drags', async ({ app: page, 
   expect((await drawn(page, server)).ghosts).toEqual([8, 10, 12, 16, 18, 20]);
   await shots.take('trail-after-drag');
 
-  // Off: nothing drawn.
+  // O again: ghosts at the keys (0 and 14); again: off, with T nothing drawn.
+  await page.keyboard.press('o');
+  await expect(page.getByTestId('toggle-ghosts')).toContainText('keys');
+  await expect.poll(async () => (await drawn(page, server)).ghosts).toEqual([0, 14]);
   await page.keyboard.press('t');
   await page.keyboard.press('o');
   await expect.poll(async () => (await drawn(page, server)).trails.length + (await drawn(page, server)).ghosts.length).toBe(0);

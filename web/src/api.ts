@@ -593,8 +593,10 @@ export class Api {
     return this.http.get(`/api/trails?controls=${controls.map(q).join(',')}&first=${first}&last=${last}&step=${step}`, { background: true });
   }
 
-  ghosts(before: number, after: number, step: number): Promise<GhostsAnswer> {
-    return this.http.get(`/api/ghosts?before=${before}&after=${after}&step=${step}`, { background: true });
+  /** Ghosts around the current frame, or (atKeys) at the selection's keys. */
+  ghosts(before: number, after: number, step: number, atKeys = false): Promise<GhostsAnswer> {
+    const query = atKeys ? 'keys=1' : `before=${before}&after=${after}&step=${step}`;
+    return this.http.get(`/api/ghosts?${query}`, { background: true });
   }
 
   // graph editor

@@ -130,14 +130,17 @@ function toggleGraph(): void {
 let overlaysRange: () => [number, number] = () => [0, 100];
 const overlays = new Overlays(viewport, theApp, () => overlaysRange());
 const trailBtn = h('button', { title: 'Motion trails of the selected controls over the playback range (T)', testid: 'toggle-trails', onclick: () => toggleTrails() }, 'Trail', h('kbd', {}, 'T'));
-const ghostBtn = h('button', { title: 'Ghosts: the skeleton 2, 4 and 6 frames before (red) and after (green) (O)', testid: 'toggle-ghosts', onclick: () => toggleGhosts() }, 'Ghosts', h('kbd', {}, 'O'));
+const ghostBtn = h('button', { title: 'Ghosts: the skeleton 2, 4 and 6 frames before (red) and after (green); again: at the keys; again: off (O)', testid: 'toggle-ghosts', onclick: () => toggleGhosts() }, 'Ghosts', h('kbd', {}, 'O'));
 function toggleTrails(): void {
   overlays.setTrails(!overlays.showTrails);
   trailBtn.classList.toggle('active', overlays.showTrails);
 }
+// O cycles the ghosts: around the current frame, at the selection's keys, off.
 function toggleGhosts(): void {
-  overlays.setGhosts(!overlays.showGhosts);
+  const mode = overlays.ghostMode;
+  overlays.setGhosts(mode !== 'keys', mode === 'off' ? false : mode === 'around');
   ghostBtn.classList.toggle('active', overlays.showGhosts);
+  fill(ghostBtn, overlays.ghostMode === 'keys' ? 'Ghosts: keys' : 'Ghosts', h('kbd', {}, 'O'));
 }
 // Isolate selection (I): only the selected controls drawn and picked, until pressed again.
 const isolateBtn = h('button', { title: 'Isolate the selected controls (I)', testid: 'isolate', onclick: () => toggleIsolate() }, 'Isolate', h('kbd', {}, 'I'));
@@ -241,7 +244,7 @@ const kShortcuts: [string, string][] = [
   ['I', 'Isolate the selection (again: show all)'],
   ['Ctrl+drag / Ctrl+Shift+drag', 'Box select / add to the selection'],
   ['M', 'Mesh: shaded, x-ray, hidden'],
-  ['T / O', 'Motion trails / ghosts on or off'],
+  ['T / O', 'Motion trails on or off / ghosts around the frame, at the keys, off'],
   ['G', 'Graph editor (in it: A frame all, F frame selected, I insert key, Delete delete keys)'],
   ['Esc', 'Clear the selection (or close this)'],
   ['Ctrl+Z / Ctrl+Shift+Z', 'Undo / redo'],

@@ -3,7 +3,8 @@
 // drawn as a few line objects: one line and one set of key points per
 // selected control's trail over the playback range, one set of bone
 // segments per ghost frame (before the current frame tinted red, after it
-// green, fainter further away). Trails follow the selection, the keys and
+// green, fainter further away), around the current frame or at the
+// selection's keys. Trails follow the selection, the keys and
 // every edit (a drag), ghosts the time too; one request of each in flight
 // at a time, so they stay on while dragging and playing.
 
@@ -21,6 +22,7 @@ export const kGhostStep = 2;
 export class Overlays {
   private trailsOn = false;
   private ghostsOn = false;
+  private ghostsAtKeys = false;
   private trailsStale = true;
   private trails: TrailsAnswer | null = null;
   private ghosts: GhostsAnswer | null = null;
@@ -58,6 +60,11 @@ export class Overlays {
     return this.ghostsOn;
   }
 
+  /** 'off', 'around' (the current frame) or 'keys' (the selection's keys). */
+  get ghostMode(): 'off' | 'around' | 'keys' {
+    return !this.ghostsOn ? 'off' : this.ghostsAtKeys ? 'keys' : 'around';
+  }
+
   setTrails(on: boolean): void {
     this.trailsOn = on;
     this.trailsStale = true;
@@ -65,8 +72,9 @@ export class Overlays {
     run(this.refresh());
   }
 
-  setGhosts(on: boolean): void {
+  setGhosts(on: boolean, atKeys = false): void {
     this.ghostsOn = on;
+    this.ghostsAtKeys = atKeys;
     if (!on) this.clear(this.ghostGroup);
     run(this.refresh());
   }
@@ -96,7 +104,7 @@ export class Overlays {
     this.trailsStale = false;
     const [trails, ghosts] = await Promise.all([
       readTrails && this.trailsOn && selection.length ? this.app.api.trails(selection, first, last) : Promise.resolve(null),
-      this.ghostsOn ? this.app.api.ghosts(kGhostCount, kGhostCount, kGhostStep) : Promise.resolve(null),
+      this.ghostsOn ? this.app.api.ghosts(kGhostCount, kGhostCount, kGhostStep, this.ghostsAtKeys) : Promise.resolve(null),
     ]);
     if (readTrails) {
       this.trails = trails;
@@ -147,7 +155,7 @@ export class Overlays {
         const parent = parents[j]!;
         if (parent >= 0) segments.push(...f.points[parent]!, ...p);
       });
-      const distance = Math.abs(f.frame - now) / (kGhostCount * kGhostStep);
+      const distance = this.ghostsAtKeys ? 0.5 : Math.abs(f.frame - now) / (kGhostCount * kGhostStep);
       const bones = new THREE.LineSegments(
         new THREE.BufferGeometry().setAttribute('position', new THREE.Float32BufferAttribute(segments, 3)),
         new THREE.LineBasicMaterial({
