@@ -1,7 +1,8 @@
 // The rest of the animator tools in the page on the biped built on the body:
 // the pose library (save, apply as the API does, mirrored, blended, undo),
 // a space switch at a frame (the world pose kept, the space changed, undo),
-// transfer of keys onto the other arm with an offset, and a deform-only
+// transfer of keys onto the other arm with an offset, FK/IK match baked
+// over the playback range, and a deform-only
 // glTF export that the Khronos validator passes.
 
 import { spawnSync } from 'node:child_process';
@@ -75,5 +76,15 @@ test('pose library, space switch, transfer and deform-only export from the page'
   // The Khronos validator: no error.
   const v = spawnSync(process.execPath, [join(repoDir, 'tools/validate-gltf.mjs'), join(server.root, 'export', 'shot.glb')], { encoding: 'utf8' });
   expect(v.status, `${v.stdout}${v.stderr}`).toBe(0);
+
+  // FK/IK match baked over the playback range: a key on every frame of it, none outside.
+  await post(server, '/api/playback-range', { first: 2, last: 8 });
+  await settle(page, server);
+  await page.getByTestId('tool-over-range').check();
+  await clickControl(page, 'hero_arm_L_ik', false, server);
+  await page.getByTestId('tool-match-ik').click();
+  await expect
+    .poll(async () => (await server.get('/api/channel-keys?controls=hero_arm_L_ik&attrs=translate')).keys[0]?.frames)
+    .toEqual([2, 3, 4, 5, 6, 7, 8]);
   expect(await page.evaluate(() => (window as any).rigel.errors)).toEqual([]);
 });

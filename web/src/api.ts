@@ -204,6 +204,8 @@ export interface MatchRequest {
   rig: string;
   component: string;
   to: 'fk' | 'ik';
+  /** Bake over these frames (default: the current frame). */
+  frames?: [number, number];
 }
 
 export interface MatchAnswer extends Revised {
@@ -648,7 +650,7 @@ export class Api {
     return this.http.get(`/api/spaces?control=${q(control)}`);
   }
 
-  switchSpace(req: { control: string; switch: string; frame?: number }): Promise<ToolAnswer & { from: string; to: string; maxError: number }> {
+  switchSpace(req: { control: string; switch: string; frame?: number; frames?: [number, number] }): Promise<ToolAnswer & { from: string; to: string; maxError: number }> {
     return this.http.post('/api/space', req);
   }
 

@@ -192,7 +192,7 @@ const rigManager = new RigManager(rigPanel, theApp);
 const editor = new DefinitionEditor(defPanel, theApp);
 const channelBox = new ChannelBox(channelPanel, theApp);
 const toolsPanel = byId('tools-panel');
-const animatorTools = new AnimatorTools(toolsPanel, theApp);
+const animatorTools = new AnimatorTools(toolsPanel, theApp, () => timeline.range());
 const pickerPanel = byId('picker-panel');
 const picker = new Picker(pickerPanel, theApp);
 

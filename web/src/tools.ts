@@ -1,6 +1,7 @@
 // The animator tools in the page (docs/RIG.md, the tools of the animator
 // tools issue through their JSON API): FK/IK match of the selected built
-// control's limb at the current frame (keyed, the switch stepped), mirror
+// control's limb at the current frame or baked over the timeline's
+// playback range (keyed, the switch stepped), mirror
 // of the selection to the other side, flip of its whole rig, bind pose of
 // the selection, and tween of the selection's keying group between its
 // neighbouring keys; a space switch of the selected control at this frame
@@ -25,11 +26,15 @@ export class AnimatorTools {
   private readonly exportPath: HTMLInputElement;
   private readonly deformOnly: HTMLInputElement;
   readonly poses: PosePanel;
+  private readonly overRange: HTMLInputElement;
 
   constructor(
     el: HTMLElement,
     private readonly app: App,
+    /** The timeline's playback range: what "over the range" bakes. */
+    private readonly range: () => [number, number] = () => [0, 100],
   ) {
+    this.overRange = h('input', { type: 'checkbox', testid: 'tool-over-range' });
     this.tween = h('input', { type: 'range', min: '0', max: '100', value: '50', testid: 'tool-tween-fraction' });
     this.target = h('div.dim', { testid: 'tool-target' });
     const button = (id: string, label: string, title: string, action: () => Promise<void>) =>
@@ -46,6 +51,7 @@ export class AnimatorTools {
       el,
       h('div.panel-head', {}, h('h2', {}, 'Animator Tools')),
       this.target,
+      h('label.toggle', { title: 'Match and space switch bake every frame of the timeline’s playback range, not only this frame' }, this.overRange, 'Over the playback range'),
       h('div.form-row', {},
         button('match-fk', 'FK ← IK', 'Key the limb\'s FK controls to its IK pose at this frame (fkIk keyed 0, stepped)', () => this.match('fk')),
         button('match-ik', 'IK ← FK', 'Key the limb\'s IK controls to its FK pose at this frame (fkIk keyed 1, stepped)', () => this.match('ik'))),
@@ -99,7 +105,7 @@ export class AnimatorTools {
     }
     await this.app.execute(
       commands.tool(
-        (api) => api.match({ ...c, to }),
+        (api) => api.match(this.overRange.checked ? { ...c, to, frames: this.range() } : { ...c, to }),
         (a) => `Matched ${c.component} ${to === 'fk' ? 'FK to IK' : 'IK to FK'}: ${a.keys} keys, error ${a.maxError.toExponential(1)}`,
       ),
     );
@@ -149,8 +155,12 @@ export class AnimatorTools {
       return;
     }
     const frame = this.app.store.scene?.frame ?? 0;
+    const frames = this.overRange.checked ? this.range() : null;
     await this.app.execute(
-      commands.tool((api) => api.switchSpace({ control, switch: to, frame }), (a) => `Space ${a.from} → ${a.to} at frame ${frame}`),
+      commands.tool(
+        (api) => api.switchSpace(frames ? { control, switch: to, frames } : { control, switch: to, frame }),
+        (a) => `Space ${a.from} → ${a.to} ${frames ? `baked over ${frames[0]}–${frames[1]}` : `at frame ${frame}`}`,
+      ),
     );
     await this.readSpaces();
   }
