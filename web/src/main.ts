@@ -9,6 +9,7 @@ import type { Vec3 } from './api';
 import { App, kModeKeys } from './app';
 import { installBoxSelect } from './boxselect';
 import { ChannelBox } from './channelbox';
+import { ContextMenu } from './contextmenu';
 import { DefinitionEditor } from './defeditor';
 import { GraphEditor } from './grapheditor';
 import { h, fill, typingTarget } from './dom';
@@ -151,6 +152,7 @@ function toggleIsolate(): void {
   isolateBtn.classList.toggle('active', viewport.isolated !== null);
 }
 fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), isolateBtn, graphBtn, trailBtn, ghostBtn);
+new ContextMenu(byId('viewport'), viewport, theApp, () => toggleIsolate());
 byId('viewport').append(h('div.grid-label', { title: 'The ground grid: 10 by 10 scene units' }, 'grid square: 0.5 units'));
 
 const info = byId('info');
@@ -249,6 +251,7 @@ const kShortcuts: [string, string][] = [
   ['Esc', 'Clear the selection (or close this)'],
   ['Ctrl+Z / Ctrl+Shift+Z', 'Undo / redo'],
   ['Click / Shift+click', 'Select a control / add or remove it'],
+  ['Right-click a control', 'Its actions: key, bind pose, match, spaces, mirror, frame, isolate'],
   ['?', 'This help'],
 ];
 const help = h(
