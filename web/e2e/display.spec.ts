@@ -45,11 +45,24 @@ test('mesh shaded, x-ray and hidden; groups of controls hidden, shown and picked
   await clickControl(page, 'f_index.02.L_ctrl', false, server);
   await expectSelection(page, server, ['f_index.02.L_ctrl']);
 
+  // Every control shape is drawn in one call: the frame's draw calls stay
+  // far below the number of controls (the mesh, joints, gizmo, grid and the
+  // merged shapes), and the shapes' segments follow what is shown.
+  const stats = () => page.evaluate(() => (window as any).rigel.stats() as { drawCalls: number; controlSegments: number });
+  await expect.poll(async () => (await stats()).drawCalls).toBeGreaterThan(0);
+  const all = await stats();
+  expect(controls.length).toBeGreaterThan(100);
+  expect(all.drawCalls).toBeLessThan(30);
+  expect(all.controlSegments).toBeGreaterThan(controls.length);
+
   // Only the face shown: a face control picked by clicking; the rest cannot be.
   await page.getByTestId('groups').click();
   await page.getByTestId('groups-none').click();
+  await expect.poll(async () => (await stats()).controlSegments).toBe(0);
   await page.getByTestId('group-face_ctrl').check();
   await page.getByTestId('groups').click();
+  await expect.poll(async () => (await stats()).controlSegments).toBeGreaterThan(0);
+  expect((await stats()).controlSegments).toBeLessThan(all.controlSegments);
   expect(await page.evaluate(() => (window as any).rigel.project('f_index.02.L_ctrl'))).toBeNull();
   const target = face.find((n) => n.startsWith('lip.T.L')) ?? face[0]!;
   await clickControl(page, target, false, server);

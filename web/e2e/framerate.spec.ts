@@ -59,6 +59,8 @@ test(`frame rate while dragging${overlays ? ' with a motion trail and ghosts' : 
     dragAnswers: end.drag.answers - start.drag.answers,
     dragFailures: end.drag.failures - start.drag.failures,
     meanDragRoundTripMs: Number(end.drag.meanRoundTripMs.toFixed(2)),
+    drawCalls: end.drawCalls,
+    controlSegments: end.controlSegments,
     fpsSamples: samples,
   };
   const file = overlays ? 'frame-rate-overlays.json' : 'frame-rate.json';

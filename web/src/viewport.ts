@@ -1,7 +1,8 @@
 // The 3D viewport: the store's character (the glTF of GET
 // /api/character.glb), its joints drawn as lines and points, control shapes
 // as lines in each control's local space, orbit/pan/zoom, picking of
-// controls and the transform gizmo. It renders from the store, following
+// controls and the transform gizmo. All control shapes are one draw call
+// (ControlLines). It renders from the store, following
 // its signals (character, pose, selection, rigs in edit mode); what the
 // user does with the mouse goes out through ViewportEvents.
 //
@@ -14,6 +15,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
 import type { ControlInfo, Quat, RigInfo, Trs, Vec3 } from './api';
+import { ControlLines } from './controllines';
+import type { ControlShape } from './controllines';
 import type { Character, Store } from './store';
 import { disposeTree, distanceToShape, webglRendererName } from './viewgeom';
 import type { ScreenShape } from './viewgeom';
@@ -32,15 +35,9 @@ export interface ViewportEvents {
   gestureEnd(): void;
 }
 
-interface ControlView {
+interface ControlView extends ControlShape {
   info: ControlInfo;
-  object: THREE.Object3D;
-  line: THREE.Line;
-  material: THREE.LineBasicMaterial;
   base: THREE.Color;
-  /** Local points of the shape (an empty shape picks at its origin). */
-  points: THREE.Vector3[];
-  closed: boolean;
 }
 
 
@@ -55,6 +52,9 @@ export interface FrameStats {
   renderer: string;
   /** Whether frames are multisampled (off on software renderers). */
   antialias: boolean;
+  /** Draw calls of the last frame, and the control segments drawn in it. */
+  drawCalls: number;
+  controlSegments: number;
 }
 
 /** How the character's meshes are drawn: as loaded, see-through, or not at all. */
@@ -84,6 +84,7 @@ export class Viewport {
   private isolatedSet: Set<string> | null = null;
   private readonly byUuid = new Map<string, THREE.Object3D>();
   private readonly controls = new Map<string, ControlView>();
+  private readonly controlLines = new ControlLines();
   private jointPairs: [THREE.Object3D, THREE.Object3D][] = [];
   private joints: THREE.Object3D[] = [];
   private jointLines: THREE.LineSegments | null = null;
@@ -140,7 +141,7 @@ export class Viewport {
     this.orbit.enableDamping = false;
     this.orbit.addEventListener('change', () => this.viewChanged());
 
-    this.scene.add(this.proxy);
+    this.scene.add(this.proxy, this.controlLines.object);
     this.gizmo = new TransformControls(this.camera, this.renderer.domElement);
     this.gizmo.setSpace('world');
     this.gizmo.setSize(0.9);
@@ -330,16 +331,9 @@ export class Viewport {
       const object = this.byUuid.get(c.uuid);
       if (!object) continue;
       const points = c.shape.points.map((p) => new THREE.Vector3(p[0], p[1], p[2]));
-      const geo = new THREE.BufferGeometry().setFromPoints(points.length ? points : [new THREE.Vector3()]);
       const base = new THREE.Color(c.shape.color[0], c.shape.color[1], c.shape.color[2]);
-      const material = new THREE.LineBasicMaterial({ color: base.clone(), depthTest: false, transparent: true });
-      const line = c.shape.closed ? new THREE.LineLoop(geo, material) : new THREE.Line(geo, material);
-      line.renderOrder = 10;
-      line.frustumCulled = false;
-      line.userData.controlShape = c.uuid;
-      line.visible = this.shows(c);
-      object.add(line);
-      this.controls.set(c.uuid, { info: c, object, line, material, base, points, closed: c.shape.closed });
+      const view = { info: c, object, base, points, closed: c.shape.closed, color: base.clone(), visible: this.shows(c), top: false };
+      this.controls.set(c.uuid, view);
     }
     this.refreshColors();
   }
@@ -409,7 +403,8 @@ export class Viewport {
   }
 
   private applyVisibility(): void {
-    for (const c of this.controls.values()) c.line.visible = this.shows(c.info);
+    for (const c of this.controls.values()) c.visible = this.shows(c.info);
+    this.controlLines.layout(this.controls.values());
     this.viewVersion++;
     this.dirty = true;
   }
@@ -681,7 +676,7 @@ export class Viewport {
       }
     };
     for (const [uuid, c] of this.controls) {
-      if (!c.object.visible || !c.line.visible) continue;
+      if (!c.object.visible || !c.visible) continue;
       const m = c.object.matrixWorld;
       const xy = new Float32Array(c.points.length * 2);
       c.points.forEach((p, i) => {
@@ -705,12 +700,13 @@ export class Viewport {
     const primary = this.primary();
     const selected = new Set(this.selection);
     for (const [uuid, c] of this.controls) {
-      if (uuid === primary) c.material.color.copy(kPrimary);
-      else if (selected.has(uuid)) c.material.color.copy(kSelected);
-      else if (uuid === this.hover) c.material.color.copy(c.base).lerp(kHover, 0.6);
-      else c.material.color.copy(c.base);
-      c.line.renderOrder = selected.has(uuid) ? 12 : 10;
+      if (uuid === primary) c.color.copy(kPrimary);
+      else if (selected.has(uuid)) c.color.copy(kSelected);
+      else if (uuid === this.hover) c.color.copy(c.base).lerp(kHover, 0.6);
+      else c.color.copy(c.base);
+      c.top = selected.has(uuid);
     }
+    this.controlLines.layout(this.controls.values());
     this.dirty = true;
   }
 
@@ -754,6 +750,7 @@ export class Viewport {
     this.dirty = false;
     this.scene.updateMatrixWorld();
     this.updateJoints();
+    this.controlLines.update();
     this.renderer.render(this.scene, this.camera);
     this.frames++;
     this.frameTimes.push(performance.now());
@@ -771,6 +768,8 @@ export class Viewport {
       poses: this.poses,
       renderer: this.rendererName,
       antialias: this.renderer.getContext().getContextAttributes()?.antialias ?? false,
+      drawCalls: this.renderer.info.render.calls,
+      controlSegments: this.controlLines.segments,
     };
   }
 
