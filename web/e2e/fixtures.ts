@@ -31,6 +31,8 @@ export interface ServerOptions {
   ephemeral: boolean;
   /** Require this token on writes (the page gets it as ?token=). */
   token: string | null;
+  /** The character file to serve (tests/data/gltf/...; the body by default). */
+  character?: string;
 }
 
 export class RigelServer {
@@ -183,7 +185,7 @@ export async function startServer(opts: ServerOptions): Promise<RigelServer> {
   copyFileSync(join(repoDir, 'examples/biped.rig.xml'), join(root, 'examples/biped.rig.xml'));
   copyFileSync(join(repoDir, bipedGeo), join(root, bipedGeo));
 
-  const args = ['serve', character, '--port', '0', '--json', '--root', root, '--web', join(webDir, 'dist')];
+  const args = ['serve', opts.character ? join(repoDir, opts.character) : character, '--port', '0', '--json', '--root', root, '--web', join(webDir, 'dist')];
   if (opts.ephemeral) args.push('--setup-ephemeral');
   if (opts.token) args.push('--token', opts.token);
   const { proc, url, log } = await spawnServer(args);

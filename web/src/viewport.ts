@@ -444,8 +444,51 @@ export class Viewport {
     const v = new THREE.Vector3();
     for (const j of this.joints) box.expandByPoint(j.getWorldPosition(v));
     for (const c of this.controls.values()) box.expandByPoint(c.object.getWorldPosition(v));
+    if (this.meshMode !== 'hidden') box.union(this.meshBox());
     if (box.isEmpty()) box.setFromObject(this.root);
     if (!box.isEmpty()) this.fit(box);
+  }
+
+  /**
+   * The world box of the meshes in the pose shown (skinned ones through
+   * their bones: a head is above its last joint), empty without meshes.
+   */
+  meshBox(): THREE.Box3 {
+    this.root?.updateMatrixWorld(true);
+    const box = new THREE.Box3();
+    for (const mesh of this.meshes) {
+      const skinned = mesh as THREE.SkinnedMesh;
+      if (skinned.isSkinnedMesh) {
+        skinned.skeleton.update();
+        skinned.computeBoundingBox();
+      } else if (!mesh.geometry.boundingBox) mesh.geometry.computeBoundingBox();
+      const local = skinned.isSkinnedMesh ? skinned.boundingBox : mesh.geometry.boundingBox;
+      if (local && !local.isEmpty()) box.union(local.clone().applyMatrix4(mesh.matrixWorld));
+    }
+    return box;
+  }
+
+  /**
+   * Where the centres of the meshes' box faces fall on screen (client
+   * pixels: the top face's is the top of the head), for the tests; null
+   * without meshes.
+   */
+  meshScreenBox(): { left: number; top: number; right: number; bottom: number } | null {
+    const box = this.meshBox();
+    if (box.isEmpty()) return null;
+    const out = { left: Infinity, top: Infinity, right: -Infinity, bottom: -Infinity };
+    const c = box.getCenter(new THREE.Vector3());
+    for (let i = 0; i < 6; i++) {
+      const q = [c.x, c.y, c.z] as Vec3;
+      const axis = i >> 1;
+      q[axis] = (i & 1 ? box.max : box.min).getComponent(axis);
+      const p = this.toScreen(q);
+      out.left = Math.min(out.left, p.x);
+      out.right = Math.max(out.right, p.x);
+      out.top = Math.min(out.top, p.y);
+      out.bottom = Math.max(out.bottom, p.y);
+    }
+    return out;
   }
 
   private fit(box: THREE.Box3): void {
