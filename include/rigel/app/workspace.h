@@ -46,6 +46,7 @@
 #include "rigel/tools/mirror.h"
 #include "rigel/tools/spaces.h"
 #include "rigel/tools/poses.h"
+#include "rigel/tools/rigging.h"
 #include "rigel/tools/tween.h"
 
 namespace rigel::app {
@@ -486,6 +487,28 @@ class Workspace {
   // it (tools::switch_space). Errors name "control", "space" or "frames"
   // (as match). One undo step.
   Result<tools::SpaceSwitchReport> switch_space(NodeId control, const tools::SpaceSwitchOptions& options);
+  // ---- rigger actions (tools/rigging.h; src/app/rigging.cc) --------------------
+  // A control's shape and colour; the same pasted onto controls; shapes
+  // mirrored or flipped in place, or mirrored onto the opposite controls.
+  // Errors name "controls" (and "shape" for a bad paste). One undo step each.
+  Result<tools::ControlLook> control_look(NodeId control) const;
+  Status paste_control_look(const std::vector<NodeId>& controls, const tools::ControlLook& look,
+                            tools::LookParts parts = {});
+  Status edit_control_shape(const std::vector<NodeId>& controls, tools::ShapeEdit edit);
+  Result<std::vector<tools::MirroredShape>> mirror_shape_to_opposite(const std::vector<NodeId>& controls);
+  // Locators (tools::create_locators) at nodes; errors name "nodes".
+  Result<std::vector<NodeId>> create_locators(const std::vector<NodeId>& at, double size = 0.1);
+  // Joint hierarchies mirrored (tools::mirror_joints); an ephemeral
+  // control stands for its joint. Errors name "joints".
+  Result<tools::MirrorJointsReport> mirror_joints(const std::vector<NodeId>& roots,
+                                                  const tools::MirrorJointsOptions& options = {});
+  // Matches the nodes' world position and/or rotation to `target`'s (seed
+  // 004's match position / rotation): an ephemeral rig's control is moved
+  // through the session in the current mode (as a drag to that place
+  // would), any other transform (a built rig's control, a locator, a
+  // joint) has its channels set (keyed when auto-key is on). The selection
+  // is kept. Errors name "nodes" or "target"; one undo step.
+  Result<std::vector<NodeId>> align(const std::vector<NodeId>& nodes, NodeId target, bool position, bool rotation);
   // ---- pose library (tools/poses.h; src/app/poses.cc) ------------------------
   // `library`: a folder, resolved as resolve_path does (inside root() when
   // there is one; errors name "library"); `name`: a pose name
