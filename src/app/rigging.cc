@@ -58,10 +58,16 @@ Result<std::vector<NodeId>> Workspace::create_locators(const std::vector<NodeId>
 
 Result<tools::MirrorJointsReport> Workspace::mirror_joints(const std::vector<NodeId>& roots,
                                                            const tools::MirrorJointsOptions& options) {
+  // An ephemeral control stands for the joint it drives (its translate feeds the joint's).
   std::vector<NodeId> joints;
   for (NodeId id : roots) {
-    const NodeId target = ephemeral::rig_of(graph(), id).is_valid() ? key_target(id) : id;
-    joints.push_back(target.is_valid() ? target : id);
+    NodeId joint = id;
+    if (is_control(id) && ephemeral::rig_of(graph(), id).is_valid())
+      for (NodeId j : scene_->hierarchy()) {
+        const auto src = graph().source({j, xform::kTranslate});
+        if (src && src->node == id && graph().node(j)->type().name() == scene::kJointType) joint = j;
+      }
+    joints.push_back(joint);
   }
   auto report = tools::mirror_joints(*scene_, joints, options);
   if (!report) return named(report.status(), "joints");

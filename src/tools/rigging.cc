@@ -56,6 +56,16 @@ Status place(scene::Scene& scene, NodeId node, const Mat4& world) {
   return s;
 }
 
+// The node holding a joint's channels: the control feeding its translate
+// (an ephemeral rig's: its world is the joint's), else the joint.
+NodeId channel_holder(const graph::Graph& g, NodeId joint) {
+  const auto src = g.source({joint, xform::kTranslate});
+  if (src && src->attr == xform::kTranslate && g.node(src->node) &&
+      g.node(src->node)->type().name() == scene::kControlType)
+    return src->node;
+  return joint;
+}
+
 std::vector<Vec3> points_of(const graph::Graph& g, NodeId control) {
   graph::Graph& eval = const_cast<graph::Graph&>(g);  // evaluation caches; the values do not change
   const auto* p = std::get_if<std::vector<Vec3>>(&eval.evaluate(control, control_attr::kShapePoints));
@@ -273,7 +283,7 @@ Result<MirrorJointsReport> mirror_joints(scene::Scene& scene, const std::vector<
     } else {
       report.updated.push_back(p.target);
     }
-    if (Status s = place(scene, p.target, p.world); !s) return fail(s, p);
+    if (Status s = place(scene, channel_holder(g, p.target), p.world); !s) return fail(s, p);
   }
   return report;
 }

@@ -2,7 +2,9 @@
 // Rigger actions (seed 004 §4.5's shape, transform and joint action
 // groups): a control's shape and colour copied and pasted, mirrored, flipped
 // and mirrored onto the control on the other side; locators made at nodes;
-// a joint hierarchy mirrored to the other side with its names swapped.
+// a joint hierarchy mirrored to the other side with its names swapped (a
+// joint an ephemeral rig drives is moved through the control holding its
+// channels).
 // Each is one undo step, and on failure nothing changes. (Matching one
 // selection's position or rotation to another's goes through the posing
 // session: app::Workspace::align.)
