@@ -5,6 +5,7 @@
 
 #include "animate_routes.h"
 #include "curve_routes.h"
+#include "rigging_routes.h"
 #include "settings_routes.h"
 #include "trail_routes.h"
 #include "api_fields.h"
@@ -443,6 +444,17 @@ struct Workspace::Impl {
     return routes::selection_set(ws, body, save && opt(body, "controls") ? key_nodes(body) : std::vector<NodeId>{});
   }
 
+  // ---- routes: rigger actions (rigging_routes.cc) --------------------------------
+  Json get_shape(const Request& req, const Json&) {
+    auto it = req.query.find("control");
+    if (it == req.query.end()) refuse(400, "missing query 'control'", "control");
+    return routes::shape(ws, it->second);
+  }
+  Json post_shape(const Request&, const Json& body) { return routes::shape_edit(ws, body); }
+  Json post_align(const Request&, const Json& body) { return routes::align(ws, body); }
+  Json post_locators(const Request&, const Json& body) { return routes::locators(ws, body); }
+  Json post_mirror_joints(const Request&, const Json& body) { return routes::mirror_joints(ws, body); }
+
   // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
   Json post_export(const Request&, const Json& body) { return routes::export_scene(ws, body); }
@@ -700,6 +712,11 @@ Response Workspace::handle(const Request& request) {
       {"GET", "/api/spaces", &Impl::get_spaces},
       {"POST", "/api/space", &Impl::post_space},
       {"POST", "/api/export", &Impl::post_export},
+      {"GET", "/api/shape", &Impl::get_shape},
+      {"POST", "/api/shape", &Impl::post_shape},
+      {"POST", "/api/align", &Impl::post_align},
+      {"POST", "/api/locators", &Impl::post_locators},
+      {"POST", "/api/mirror-joints", &Impl::post_mirror_joints},
       {"GET", "/api/poses", &Impl::get_poses},
       {"POST", "/api/poses/save", &Impl::post_poses_save},
       {"POST", "/api/poses/apply", &Impl::post_poses_apply},

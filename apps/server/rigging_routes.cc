@@ -1,0 +1,119 @@
+// The JSON API's rigger-action routes (rigging_routes.h).
+
+#include "rigging_routes.h"
+
+#include <string>
+#include <vector>
+
+#include "api_fields.h"
+
+namespace rigel::server::routes {
+
+using namespace api;
+
+namespace {
+
+Json refs_json(const app::Workspace& ws, const std::vector<graph::NodeId>& ids) {
+  Json out = Json::array();
+  for (graph::NodeId id : ids) {
+    const graph::Node* n = ws.graph().node(id);
+    out.push_back(Json{{"uuid", n->uuid().str()}, {"name", n->name()}});
+  }
+  return out;
+}
+
+// The request's node list (names, uuids or rig addresses), or the selection.
+std::vector<graph::NodeId> nodes_or_selection(const app::Workspace& ws, const Json& body, const char* key) {
+  auto nodes = nodes_field(body, key, [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); });
+  return nodes ? *nodes : ws.selection();
+}
+
+bool flag(const Json& body, const char* key, bool fallback) {
+  const Json* j = opt(body, key);
+  return j ? as_bool(*j, key) : fallback;
+}
+
+tools::ControlLook look_of(const Json& j) {
+  if (!j.is_object()) refuse(400, "shape: expected an object with points, closed and color", "shape");
+  tools::ControlLook look;
+  const Json* found = opt(j, "points");
+  if (!found) refuse(400, "shape.points: missing", "shape.points");
+  const Json& points = *found;
+  if (!points.is_array()) refuse(400, "shape.points: expected an array of [x, y, z]", "shape.points");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    look.points.push_back(as_numbers<3>(points[i], "shape.points[" + std::to_string(i) + "]"));
+  if (const Json* c = opt(j, "closed")) look.closed = as_bool(*c, "shape.closed");
+  if (const Json* c = opt(j, "color")) look.color = as_numbers<3>(*c, "shape.color");
+  return look;
+}
+
+}  // namespace
+
+Json shape(const app::Workspace& ws, const std::string& control) {
+  const graph::NodeId id = take(ws.node(control, "control"));
+  auto look = ws.control_look(id);
+  if (!look) refuse(400, "control: " + look.status().message(), "control");
+  Json points = Json::array();
+  for (const math::Vec3& p : look->points) points.push_back(vec_json(p));
+  return Json{{"control", ws.graph().node(id)->uuid().str()},
+              {"name", ws.graph().node(id)->name()},
+              {"points", points},
+              {"closed", look->closed},
+              {"color", vec_json(look->color)}};
+}
+
+Json shape_edit(app::Workspace& ws, const Json& body) {
+  const std::string op = as_string(need(body, "op"), "op");
+  const std::vector<graph::NodeId> controls = nodes_or_selection(ws, body, "controls");
+  Json out{{"controls", refs_json(ws, controls)}};
+  if (op == "paste") {
+    tools::LookParts parts{false, false};
+    if (const Json* p = opt(body, "parts")) {
+      if (!p->is_array()) refuse(400, "parts: expected an array of \"shape\" and \"color\"", "parts");
+      for (std::size_t i = 0; i < p->size(); ++i) {
+        const std::string part = as_string((*p)[i], "parts[" + std::to_string(i) + "]");
+        if (part == "shape") parts.shape = true;
+        else if (part == "color") parts.color = true;
+        else refuse(400, "parts[" + std::to_string(i) + "]: expected \"shape\" or \"color\", got \"" + part + "\"", "parts");
+      }
+    } else {
+      parts = {true, true};
+    }
+    check(ws.paste_control_look(controls, look_of(need(body, "shape")), parts));
+  } else if (op == "mirror" || op == "flip") {
+    check(ws.edit_control_shape(controls, op == "mirror" ? tools::ShapeEdit::kMirror : tools::ShapeEdit::kFlip));
+  } else if (op == "opposite") {
+    Json pairs = Json::array();
+    for (const tools::MirroredShape& p : take(ws.mirror_shape_to_opposite(controls)))
+      pairs.push_back(Json{{"from", ws.graph().node(p.from)->uuid().str()}, {"to", ws.graph().node(p.to)->uuid().str()}});
+    out["pairs"] = pairs;
+  } else {
+    refuse(400, "op: expected \"paste\", \"mirror\", \"flip\" or \"opposite\", got \"" + op + "\"", "op");
+  }
+  out["revision"] = ws.revision();
+  return out;
+}
+
+Json align(app::Workspace& ws, const Json& body) {
+  const graph::NodeId target = take(ws.node(as_string(need(body, "target"), "target"), "target"));
+  std::vector<graph::NodeId> nodes = nodes_or_selection(ws, body, "nodes");
+  const auto moved = take(ws.align(nodes, target, flag(body, "position", true), flag(body, "rotation", true)));
+  return Json{{"revision", ws.revision()}, {"moved", refs_json(ws, moved)}};
+}
+
+Json locators(app::Workspace& ws, const Json& body) {
+  const Json* size = opt(body, "size");
+  const auto made = take(ws.create_locators(nodes_or_selection(ws, body, "nodes"), size ? as_number(*size, "size") : 0.1));
+  return Json{{"revision", ws.revision()}, {"locators", refs_json(ws, made)}};
+}
+
+Json mirror_joints(app::Workspace& ws, const Json& body) {
+  tools::MirrorJointsOptions options;
+  options.update_existing = flag(body, "update", false);
+  const auto report = take(ws.mirror_joints(nodes_or_selection(ws, body, "joints"), options));
+  return Json{{"revision", ws.revision()},
+              {"created", refs_json(ws, report.created)},
+              {"updated", refs_json(ws, report.updated)}};
+}
+
+}  // namespace rigel::server::routes

@@ -1,0 +1,29 @@
+#pragma once
+// The JSON API's rigger-action routes (rigging_routes.cc; seed 004's shape,
+// transform and joint actions, app::Workspace's rigger actions): each reads
+// its request's fields, calls the app layer and answers with JSON.
+
+#include <nlohmann/json.hpp>
+
+#include "rigel/app/workspace.h"
+
+namespace rigel::server::routes {
+
+using Json = nlohmann::ordered_json;
+
+// GET /api/shape?control=C: the control's look {"control", "name",
+// "points", "closed", "color"} (what the page copies).
+Json shape(const app::Workspace& ws, const std::string& control);
+// POST /api/shape {"op": "paste"|"mirror"|"flip"|"opposite", "controls"?
+// (the selection by default), "shape"? (paste: {"points", "closed",
+// "color"}), "parts"? (paste: ["shape", "color"] by default)}.
+Json shape_edit(app::Workspace& ws, const Json& body);
+// POST /api/align {"nodes"? (the selection), "target", "position"?,
+// "rotation"? (both true by default)}: the nodes matched to the target.
+Json align(app::Workspace& ws, const Json& body);
+// POST /api/locators {"nodes"? (the selection), "size"?}.
+Json locators(app::Workspace& ws, const Json& body);
+// POST /api/mirror-joints {"joints"? (the selection), "update"?}.
+Json mirror_joints(app::Workspace& ws, const Json& body);
+
+}  // namespace rigel::server::routes

@@ -1,0 +1,103 @@
+// The JSON API's rigger actions (GET/POST /api/shape, POST /api/align,
+// /api/locators, /api/mirror-joints; docs/SERVER.md) on the biped built on
+// the bundled metarig: the same results as the library's calls, each one
+// undo step, refusals naming the field.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "server_test_util.h"
+#include "workspace.h"
+
+namespace rigel::server {
+namespace {
+
+TEST(ServerApi, ShapesCopiedPastedMirroredFlippedAndMirroredToTheOtherSide) {
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
+  const Json arm = s.get("/api/shape?control=hero:arm_L/ik");
+  const Json leg = s.get("/api/shape?control=hero_leg_L_ik");
+  EXPECT_EQ(arm["name"], "hero_arm_L_ik");
+  ASSERT_NE(arm["points"], leg["points"]);
+  // Paste the arm's shape onto the leg's control (the colour stays).
+  Json r = s.post("/api/shape", {{"op", "paste"}, {"controls", {"hero_leg_L_ik"}}, {"shape", arm}, {"parts", {"shape"}}});
+  EXPECT_EQ(r["controls"][0]["name"], "hero_leg_L_ik");
+  Json pasted = s.get("/api/shape?control=hero_leg_L_ik");
+  EXPECT_EQ(pasted["points"], arm["points"]);
+  EXPECT_EQ(pasted["color"], leg["color"]);
+  s.post("/api/undo", Json::object());
+  EXPECT_EQ(s.get("/api/shape?control=hero_leg_L_ik")["points"], leg["points"]);
+  // Mirror in place on the selection; twice gives it back.
+  s.post("/api/select", {{"controls", {s.uuid("hero_arm_L_ik")}}});
+  s.post("/api/shape", {{"op", "mirror"}});
+  const Json once = s.get("/api/shape?control=hero_arm_L_ik");
+  EXPECT_EQ(once["points"][0][0].get<double>(), -arm["points"][0][0].get<double>());
+  s.post("/api/shape", {{"op", "mirror"}});
+  EXPECT_EQ(s.get("/api/shape?control=hero_arm_L_ik")["points"], arm["points"]);
+  s.post("/api/shape", {{"op", "flip"}});
+  EXPECT_EQ(s.get("/api/shape?control=hero_arm_L_ik")["points"][0][2].get<double>(), -arm["points"][0][2].get<double>());
+  // Onto the other side.
+  r = s.post("/api/shape", {{"op", "opposite"}, {"controls", {"hero_arm_L_ik"}}});
+  ASSERT_EQ(r["pairs"].size(), 1u);
+  EXPECT_EQ(r["pairs"][0]["to"], s.uuid("hero_arm_R_ik"));
+  for (auto [body, field] :
+       {std::pair{R"({"op":"paste","controls":["hero_arm_L_ik"]})", "shape"},
+        std::pair{R"({"op":"paste","controls":["hero_arm_L_ik"],"shape":{"points":[[0,0]]}})", "shape.points[0]"},
+        std::pair{R"({"op":"paste","controls":["hero_arm_L_ik"],"shape":{"points":[],"color":[3,0,0]}})", "shape.color"},
+        std::pair{R"({"op":"paste","controls":["hero_arm_L_ik"],"shape":{"points":[]},"parts":["size"]})", "parts"},
+        std::pair{R"({"op":"opposite","controls":["hero_hip_main"]})", "controls"},
+        std::pair{R"({"op":"mirror","controls":["hand.L"]})", "controls"},
+        std::pair{R"({"op":"grow"})", "op"}}) {
+    Response resp = s.request("POST", "/api/shape", body);
+    EXPECT_EQ(resp.status, 400) << body << ": " << resp.body;
+    EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
+  }
+  EXPECT_EQ(s.request("GET", "/api/shape?control=nobody", "").status, 404);
+  EXPECT_EQ(s.request("GET", "/api/shape", "").status, 400);
+}
+
+TEST(ServerApi, LocatorsAlignAndMirrorJoints) {
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
+  Json r = s.post("/api/locators", {{"nodes", {"hand.L"}}, {"size", 0.05}});
+  ASSERT_EQ(r["locators"].size(), 1u);
+  EXPECT_EQ(r["locators"][0]["name"], "hand.L_loc");
+  const Json controls = s.get("/api/nodes")["controls"];
+  bool drawn = false;
+  for (const Json& c : controls) drawn = drawn || c["name"] == "hand.L_loc";
+  EXPECT_TRUE(drawn) << "a locator is a control the page draws";
+  // The arm's IK control onto the locator moved away: position and rotation.
+  s.post("/api/channel-values", {{"controls", {"hand.L_loc"}}, {"attrs", {"translateY"}}, {"value", 1.3}});
+  r = s.post("/api/align", {{"nodes", {"hero:arm_L/ik"}}, {"target", "hand.L_loc"}});
+  EXPECT_EQ(r["moved"][0]["name"], "hero_arm_L_ik");
+  const Json pose = s.get("/api/pose?space=world")["nodes"];
+  EXPECT_LT(std::abs(pose[s.uuid("hero_arm_L_ik")][1].get<double>() - 1.3), 1e-9);
+  s.post("/api/undo", Json::object());
+  EXPECT_GT(std::abs(s.get("/api/pose?space=world")["nodes"][s.uuid("hero_arm_L_ik")][1].get<double>() - 1.3), 1e-3);
+  // Joints: a centre one is refused; the left arm updates the right.
+  Response centre = s.request("POST", "/api/mirror-joints", R"({"joints":["spine"]})");
+  EXPECT_EQ(centre.status, 400) << centre.body;
+  EXPECT_EQ(Json::parse(centre.body)["field"], "joints");
+  Response exists = s.request("POST", "/api/mirror-joints", R"({"joints":["f_pinky.01.L"]})");
+  EXPECT_EQ(exists.status, 400) << exists.body;
+  // The built rig drives the right hand's joints: a conflict naming what feeds them.
+  Response driven = s.request("POST", "/api/mirror-joints", R"({"joints":["f_pinky.01.L"],"update":true})");
+  EXPECT_EQ(driven.status, 409) << driven.body;
+  EXPECT_NE(driven.body.find("hero_hand_R_drive"), std::string::npos) << driven.body;
+  Served bare = served_character();
+  r = bare.post("/api/mirror-joints", {{"joints", {"f_pinky.01.L"}}, {"update", true}});
+  EXPECT_EQ(r["updated"].size(), 3u);
+  EXPECT_TRUE(r["created"].empty());
+  for (auto [body, field] : {std::pair{R"({"nodes":["hero_arm_L_ik"]})", "target"},
+                             std::pair{R"({"nodes":["hero_arm_L_ik"],"target":"hand.L_loc","position":false,"rotation":false})", "match"},
+                             std::pair{R"({"nodes":["hero_arm_L_ik"],"target":"hand.L_loc","position":1})", "position"}}) {
+    Response resp = s.request("POST", "/api/align", body);
+    EXPECT_EQ(resp.status, 400) << body << ": " << resp.body;
+    EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
+  }
+  EXPECT_EQ(Json::parse(s.request("POST", "/api/locators", R"({"nodes":["hand.L"],"size":-1})").body)["field"], "size");
+}
+
+}  // namespace
+}  // namespace rigel::server
