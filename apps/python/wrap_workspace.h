@@ -3,7 +3,8 @@
 // most methods; wrap_workspace_tools.cc: transfer, move keys and channel
 // values; wrap_workspace_spaces.cc: spaces; wrap_workspace_poses.cc: the pose
 // library; wrap_workspace_curves.cc: the graph editor;
-// wrap_workspace_settings.cc: playback range and selection sets).
+// wrap_workspace_settings.cc: playback range and selection sets;
+// wrap_workspace_rigging.cc: rigger actions).
 
 #include <memory>
 #include <optional>
@@ -56,5 +57,9 @@ void def_curves(WorkspaceClass& cls);
 // Workspace.playback_range, set_playback_range, selection_sets, save_selection_set,
 // remove_selection_set, select_set.
 void def_scene_settings(WorkspaceClass& cls);
+// Workspace.control_look, paste_control_look, mirror_control_shape,
+// flip_control_shape, mirror_shape_to_opposite, create_locators, align,
+// mirror_joints.
+void def_rigging(WorkspaceClass& cls);
 
 }  // namespace rigel::python
