@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "animate_commands.h"
+#include "rigging_commands.h"
 #include "settings_command.h"
 #include "space_command.h"
 #include "cli_util.h"
@@ -48,6 +49,8 @@ int main(int argc, char** argv) {
   // `playback`, `sets`: the scene's playback range and selection sets.
   rigel::cli::SettingsCommands settings;
   rigel::cli::add_settings_commands(app, settings);
+  rigel::cli::RiggingCommands rigging;
+  rigel::cli::add_rigging_commands(app, rigging);
   // `poses save|apply|list|remove`: the pose library.
   rigel::cli::PosesCommand poses;
   rigel::cli::add_poses_command(app, poses);
@@ -103,6 +106,7 @@ int main(int argc, char** argv) {
     if (*transfer.command) return rigel::cli::run_transfer(transfer);
     if (const std::optional<int> code = rigel::cli::run_space_command(space)) return *code;
     if (const std::optional<int> code = rigel::cli::run_settings_commands(settings)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_rigging_commands(rigging)) return *code;
     if (const std::optional<int> code = rigel::cli::run_poses_command(poses)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
