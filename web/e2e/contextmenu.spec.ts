@@ -9,7 +9,7 @@ test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
 
 async function menu(page: Page, server: RigelServer, control: string): Promise<void> {
   await settle(page, server);
-  const at = (await page.evaluate((c) => (window as any).rigel.project(c), control)) as { x: number; y: number } | null;
+  const at = (await page.evaluate((c) => (window as any).rigel.project(c, true), control)) as { x: number; y: number } | null;
   expect(at, `${control} can be right-clicked`).not.toBeNull();
   await page.mouse.click(at!.x, at!.y, { button: 'right' });
   await expect(page.getByTestId('context-menu')).toBeVisible();

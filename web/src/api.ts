@@ -17,11 +17,15 @@ import type {
   CurvesRequest,
   ExportAnswer,
   GhostsAnswer,
+  NodeRef,
   PickerAnswer,
   PoseApplyRequest,
   PoseInfo,
   SelectionSetRequest,
   SelectionSetsAnswer,
+  ShapeEditAnswer,
+  ShapeEditRequest,
+  ShapeInfo,
   SpacesAnswer,
   TrailsAnswer,
 } from './apiviews';
@@ -644,6 +648,27 @@ export class Api {
 
   removePose(req: { library: string; name: string }): Promise<Revised> {
     return this.http.post('/api/poses/remove', req);
+  }
+
+  // Rigger actions (docs/SERVER.md "Rigger actions").
+  shape(control: string): Promise<ShapeInfo> {
+    return this.http.get(`/api/shape?control=${q(control)}`);
+  }
+
+  shapeEdit(req: ShapeEditRequest): Promise<ShapeEditAnswer> {
+    return this.http.post('/api/shape', req);
+  }
+
+  align(req: { nodes?: string[]; target: string; position?: boolean; rotation?: boolean }): Promise<Revised & { moved: NodeRef[] }> {
+    return this.http.post('/api/align', req);
+  }
+
+  locators(req: { nodes?: string[]; size?: number }): Promise<Revised & { locators: NodeRef[] }> {
+    return this.http.post('/api/locators', req);
+  }
+
+  mirrorJoints(req: { joints?: string[]; update?: boolean }): Promise<Revised & { created: NodeRef[]; updated: NodeRef[] }> {
+    return this.http.post('/api/mirror-joints', req);
   }
 
   spaces(control: string): Promise<SpacesAnswer> {

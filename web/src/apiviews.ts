@@ -149,3 +149,30 @@ export interface CurveKeysRequest {
 export interface CurveKeysAnswer extends Revised {
   changed: number;
 }
+
+/** GET /api/shape: a control's look (what Copy shape / Copy colour keep). */
+export interface ShapeInfo {
+  control: string;
+  name: string;
+  points: Vec3[];
+  closed: boolean;
+  color: Vec3;
+}
+
+export interface NodeRef {
+  uuid: string;
+  name: string;
+}
+
+/** POST /api/shape. */
+export interface ShapeEditRequest {
+  op: 'paste' | 'mirror' | 'flip' | 'opposite';
+  controls?: string[];
+  shape?: { points: Vec3[]; closed: boolean; color: Vec3 };
+  parts?: ('shape' | 'color')[];
+}
+
+export interface ShapeEditAnswer extends Revised {
+  controls: NodeRef[];
+  pairs?: { from: string; to: string }[];
+}

@@ -152,7 +152,7 @@ function toggleIsolate(): void {
   isolateBtn.classList.toggle('active', viewport.isolated !== null);
 }
 fill(byId('display'), meshBtn, h('span.menu-anchor', {}, groupsBtn, groupsMenu), isolateBtn, graphBtn, trailBtn, ghostBtn);
-new ContextMenu(byId('viewport'), viewport, theApp, () => toggleIsolate());
+const contextMenu = new ContextMenu(byId('viewport'), viewport, theApp, () => toggleIsolate());
 byId('viewport').append(h('div.grid-label', { title: 'The ground grid: 10 by 10 scene units' }, 'grid square: 0.5 units'));
 
 const info = byId('info');
@@ -361,8 +361,9 @@ interface RigelHook {
   channelBox: ChannelBox;
   graphEditor: GraphEditor;
   overlays: Overlays;
+  contextMenu: ContextMenu;
   /** Client pixels where clicking picks the control (by uuid or name), or null. */
-  project: (control: string) => { x: number; y: number } | null;
+  project: (control: string, rightClick?: boolean) => { x: number; y: number } | null;
   /** Client pixels of a world point. */
   toScreen: (p: Vec3) => { x: number; y: number; visible: boolean };
   gizmoHandle: (axis: 'x' | 'y' | 'z') => { x: number; y: number; dx: number; dy: number } | null;
@@ -390,9 +391,10 @@ window.rigel = {
   channelBox,
   graphEditor,
   overlays,
-  project: (control) => {
+  contextMenu,
+  project: (control, rightClick = false) => {
     const u = uuidOf(control);
-    return u ? viewport.project(u) : null;
+    return u ? viewport.project(u, rightClick) : null;
   },
   toScreen: (p) => viewport.toScreen(p),
   gizmoHandle: (axis) => viewport.gizmoHandle(axis),

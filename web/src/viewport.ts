@@ -603,9 +603,10 @@ export class Viewport {
    * Where to click to pick `uuid` (client CSS pixels): the point of its
    * shape that the picker resolves to it with the widest margin to every
    * other control, or null when no point of it can be picked (off screen or
-   * hidden under others).
+   * hidden under others). A right click (`rightClick`) is not caught by
+   * the gizmo, so points under it count then.
    */
-  project(uuid: string): { x: number; y: number } | null {
+  project(uuid: string, rightClick = false): { x: number; y: number } | null {
     const shapes = this.screenShapes();
     const own = shapes.get(uuid);
     if (!own) return null;
@@ -626,7 +627,7 @@ export class Viewport {
     let best: { x: number; y: number; margin: number } | null = null;
     for (const [x, y] of candidates) {
       if (x < 2 || y < 2 || x > w - 2 || y > h - 2) continue;
-      if (this.gizmoCatches(rect.left + x, rect.top + y)) continue; // a click there grabs the gizmo
+      if (!rightClick && this.gizmoCatches(rect.left + x, rect.top + y)) continue; // a click there grabs the gizmo
       const hit = this.nearest(x, y, null);
       if (!hit || hit.uuid !== uuid || hit.dist > kPickRadiusPx) continue;
       const other = this.nearest(x, y, uuid);
