@@ -132,7 +132,7 @@ int run_list(const PoseArgs& args) {
   if (args.json) {
     Json poses = Json::array();
     for (const tools::PoseInfo& p : *list) {
-      Json j{{"name", p.name}, {"rig", p.rig}, {"entries", p.entries}};
+      Json j{{"name", p.name}, {"rig", p.rig}, {"entries", p.entries}, {"thumbnail", p.thumbnail}};
       if (!p.error.empty()) j["error"] = p.error;
       poses.push_back(std::move(j));
     }

@@ -78,18 +78,26 @@ channels, keyed, unpaired, skipped).)")
               d["name"] = p.name;
               d["rig"] = p.rig;
               d["entries"] = p.entries;
+              d["thumbnail"] = p.thumbnail;
               d["error"] = p.error.empty() ? py::object(py::none()) : py::object(py::str(p.error));
               out.append(record(d));
             }
             return out;
           },
-          py::arg("library"), R"(The library's poses by name: records (name, rig, entries, error: why a file cannot be read, or None).)")
+          py::arg("library"), R"(The library's poses by name: records (name, rig, entries, thumbnail: whether NAME.pose.svg is beside it, error: why a file cannot be read, or None).)")
+      .def(
+          "pose_thumbnail",
+          [](const WorkspaceRef& w, const std::string& library, const std::string& name) {
+            return unwrap(w.ws->pose_thumbnail(library, name));
+          },
+          py::arg("library"), py::arg("name"),
+          R"(The SVG text of a saved pose's thumbnail (the skeletons in the pose, from the front; NotFoundError when there is none).)")
       .def(
           "remove_pose",
           [](const WorkspaceRef& w, const std::string& library, const std::string& name) {
             if (Status s = w.ws->remove_pose(library, name); !s) raise(s);
           },
-          py::arg("library"), py::arg("name"), R"(Deletes LIBRARY/NAME.pose.json (NotFoundError when there is none).)");
+          py::arg("library"), py::arg("name"), R"(Deletes LIBRARY/NAME.pose.json and its thumbnail (NotFoundError when there is none).)");
 }
 
 }  // namespace rigel::python

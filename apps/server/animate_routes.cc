@@ -261,7 +261,7 @@ Json poses_list(app::Workspace& ws, const Json& query) {
   const std::vector<tools::PoseInfo> list = take(ws.list_poses(as_string(need(query, "library"), "library")));
   Json poses = Json::array();
   for (const tools::PoseInfo& p : list) {
-    Json j{{"name", p.name}, {"rig", p.rig}, {"entries", p.entries}};
+    Json j{{"name", p.name}, {"rig", p.rig}, {"entries", p.entries}, {"thumbnail", p.thumbnail}};
     if (!p.error.empty()) j["error"] = p.error;
     poses.push_back(std::move(j));
   }

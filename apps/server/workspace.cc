@@ -147,6 +147,17 @@ struct Workspace::Impl {
   }
 
   // The scene as binary glTF: exported beside nothing, to a private file.
+  // GET /api/poses/thumbnail?library=L&name=N: the pose's SVG thumbnail.
+  Response get_pose_thumbnail(const Request& req) {
+    auto field = [&](const char* key) {
+      auto it = req.query.find(key);
+      if (it == req.query.end()) refuse(400, std::string("missing query '") + key + "'", key);
+      return it->second;
+    };
+    const std::string library = field("library"), name = field("name");
+    return Response{200, take(ws.pose_thumbnail(library, name)), "image/svg+xml"};
+  }
+
   Response get_character() {
     static std::atomic<int> counter{0};
     const fs::path tmp = fs::temp_directory_path() /
@@ -718,6 +729,7 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/locators", &Impl::post_locators},
       {"POST", "/api/mirror-joints", &Impl::post_mirror_joints},
       {"GET", "/api/poses", &Impl::get_poses},
+      {"GET", "/api/poses/thumbnail", nullptr},
       {"POST", "/api/poses/save", &Impl::post_poses_save},
       {"POST", "/api/poses/apply", &Impl::post_poses_apply},
       {"POST", "/api/poses/remove", &Impl::post_poses_remove},
@@ -760,7 +772,8 @@ Response Workspace::handle(const Request& request) {
       }
       if (!body.is_object()) throw ApiError{400, std::string("the body must be a JSON object, got ") + body.type_name(), "body"};
     }
-    if (!route->handler) return impl_->get_character();
+    if (!route->handler)
+      return route->path == std::string("/api/character.glb") ? impl_->get_character() : impl_->get_pose_thumbnail(request);
     // A new edit made after undoing a step to 0 drops that rig's entry.
     struct Prune {
       app::Workspace& ws;

@@ -50,6 +50,7 @@ Result<tools::SavedPose> Workspace::save_pose(const std::string& library, const 
   }
   Result<tools::SavedPose> saved = tools::save_pose(graph(), nodes, name, *folder);
   if (!saved) return saved.status().field().empty() ? conflict(saved.status()) : saved.status();
+  if (Status s = tools::save_pose_thumbnail(*scene_, *folder, name); !s) return s;
   return saved;
 }
 
@@ -71,6 +72,12 @@ Result<std::vector<tools::PoseInfo>> Workspace::list_poses(const std::string& li
   Result<fs::path> folder = resolve_path(library, "library");
   if (!folder) return folder.status();
   return tools::list_poses(*folder);
+}
+
+Result<std::string> Workspace::pose_thumbnail(const std::string& library, const std::string& name) const {
+  Result<fs::path> folder = resolve_path(library, "library");
+  if (!folder) return folder.status();
+  return tools::load_pose_thumbnail(*folder, name);
 }
 
 Status Workspace::remove_pose(const std::string& library, const std::string& name) {

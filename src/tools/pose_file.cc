@@ -255,6 +255,8 @@ Result<std::vector<PoseInfo>> list_poses(const fs::path& library) {
       info.rig = pose->rig;
       info.entries = pose->entries.size();
     }
+    info.thumbnail = fs::is_regular_file(library / (info.name + kPoseThumbnailExtension), ec);
+    ec.clear();
     out.push_back(std::move(info));
   }
   if (ec) return Status(ErrorCode::kIoError, "pose library " + library.string() + ": " + ec.message()).with_field("library");
@@ -273,6 +275,10 @@ Status remove_pose(const fs::path& library, const std::string& name) {
     return Status(ErrorCode::kInvalidArgument, path->string() + ": not a file").with_field("name");
   if (!fs::remove(*path, ec) || ec)
     return Status(ErrorCode::kIoError, path->string() + ": " + (ec ? ec.message() : std::string("not removed")))
+        .with_field("name");
+  const fs::path thumbnail = library / (name + kPoseThumbnailExtension);
+  if (fs::is_regular_file(fs::symlink_status(thumbnail, ec)) && (!fs::remove(thumbnail, ec) || ec))
+    return Status(ErrorCode::kIoError, thumbnail.string() + ": " + (ec ? ec.message() : std::string("not removed")))
         .with_field("name");
   return Status::ok();
 }

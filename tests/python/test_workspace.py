@@ -493,8 +493,16 @@ def test_pose_library_saves_applies_lists_and_removes(built, tmp_path):
     assert half.keyed == half.channels and len(half.set) == 1
     assert [p.name for p in w.list_poses(library)] == ["wave"]
     assert w.list_poses(library)[0].rig == "arm_rig" and w.list_poses(library)[0].error is None
+    # The thumbnail saved beside it: the skeleton in the pose, as SVG.
+    assert w.list_poses(library)[0].thumbnail
+    svg = w.pose_thumbnail(library, "wave")
+    assert svg.startswith("<svg ") and "<line " in svg
+    assert svg == (tmp_path / "poses" / "wave.pose.svg").read_text()
     w.remove_pose(library, "wave")
     assert w.list_poses(library) == []
+    assert not (tmp_path / "poses" / "wave.pose.svg").exists()
+    with pytest.raises(rigel.NotFoundError):
+        w.pose_thumbnail(library, "wave")
 
 
 def test_pose_library_refusals_name_the_argument(built, tmp_path):

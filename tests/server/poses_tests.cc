@@ -36,6 +36,15 @@ TEST(ServerApi, PoseLibrarySavesAppliesListsAndRemovesInsideTheRoot) {
   ASSERT_EQ(list["poses"].size(), 1u) << list;
   EXPECT_EQ(list["poses"][0]["name"], "wave");
   EXPECT_EQ(list["poses"][0]["rig"], "hero");
+  EXPECT_EQ(list["poses"][0]["thumbnail"], true);
+  const Response thumb = s.request("GET", "/api/poses/thumbnail?library=poses&name=wave", "");
+  EXPECT_EQ(thumb.status, 200) << thumb.body;
+  EXPECT_EQ(thumb.content_type, "image/svg+xml");
+  EXPECT_EQ(thumb.body, io::testing::read_text(s.root / "poses" / "wave.pose.svg"));
+  EXPECT_NE(thumb.body.find("<line "), std::string::npos);
+  EXPECT_EQ(s.request("GET", "/api/poses/thumbnail?library=poses&name=nope", "").status, 404);
+  EXPECT_EQ(s.request("GET", "/api/poses/thumbnail?library=poses", "").status, 400);
+  EXPECT_EQ(s.request("GET", "/api/poses/thumbnail?library=../up&name=wave", "").status, 400);
   s.post("/api/bind-pose", {{"controls", {"hero:"}}});
   EXPECT_EQ(std::get<math::Vec3>(g.evaluate(fk0, scene::xform::kRotate)), math::Vec3::Zero());
   Json applied = s.post("/api/poses/apply", {{"library", "poses"}, {"name", "wave"}, {"controls", {"hero:arm_L/fk[0]"}}});

@@ -378,3 +378,52 @@ TEST(Poses, bad_input_is_refused_naming_the_thing_and_changing_nothing) {
 
 }  // namespace
 }  // namespace rigel::tools
+
+namespace rigel::tools {
+namespace {
+
+// The thumbnail: one line per joint with a parent joint, inside the
+// picture, the same bytes for the same pose and other bytes for another;
+// written beside the pose, listed, read back and removed with it.
+TEST(PoseThumbnails, a_front_view_of_the_skeleton_in_the_pose) {
+  auto s = testing::built_rig();
+  ASSERT_TRUE(s);
+  graph::Graph& g = s->graph();
+  std::size_t bones = 0;
+  for (graph::NodeId id : s->hierarchy())
+    if (g.node(id)->type().name() == scene::kJointType && g.node(g.parent(id)) &&
+        g.node(g.parent(id))->type().name() == scene::kJointType)
+      ++bones;
+  const std::string rest = skeleton_thumbnail_svg(*s);
+  std::size_t lines = 0;
+  for (std::size_t at = rest.find("<line "); at != std::string::npos; at = rest.find("<line ", at + 1)) ++lines;
+  EXPECT_EQ(lines, bones);
+  EXPECT_EQ(rest.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 96 128\"", 0), 0u);
+  // Every coordinate inside the picture.
+  for (const char* attr : {"x1=\"", "x2=\"", "y1=\"", "y2=\""})
+    for (std::size_t at = rest.find(attr); at != std::string::npos; at = rest.find(attr, at + 1)) {
+      const double v = std::stod(rest.substr(at + 4));
+      EXPECT_GE(v, 0.0);
+      EXPECT_LE(v, attr[0] == 'x' ? 96.0 : 128.0);
+    }
+  EXPECT_EQ(skeleton_thumbnail_svg(*s), rest) << "the same pose, the same bytes";
+  ASSERT_TRUE(g.set_value({testing::at(g, "hero:arm_L/fk[0]"), xform::kRotate}, graph::Value(Vec3(0, 0, 70))).is_ok());
+  EXPECT_NE(skeleton_thumbnail_svg(*s), rest) << "another pose, another picture";
+
+  io::testing::TempDir dir;
+  const fs::path library = dir.path() / "poses";
+  ASSERT_TRUE(save_pose(g, {rig::find_rig(g, "hero")}, "raised", library).is_ok());
+  ASSERT_TRUE(save_pose_thumbnail(*s, library, "raised").is_ok());
+  EXPECT_EQ(*load_pose_thumbnail(library, "raised"), skeleton_thumbnail_svg(*s));
+  auto list = list_poses(library);
+  ASSERT_TRUE(list.is_ok());
+  ASSERT_EQ(list->size(), 1u) << "the thumbnail is not a pose";
+  EXPECT_TRUE(list->front().thumbnail);
+  ASSERT_TRUE(remove_pose(library, "raised").is_ok());
+  EXPECT_FALSE(fs::exists(library / "raised.pose.svg"));
+  EXPECT_EQ(load_pose_thumbnail(library, "raised").status().field(), "name");
+  EXPECT_EQ(save_pose_thumbnail(*s, library, "../x").field(), "name");
+}
+
+}  // namespace
+}  // namespace rigel::tools

@@ -32,6 +32,13 @@ test('pose library, space switch, transfer and deform-only export from the page'
   await page.getByTestId('pose-save').click();
   await expect(page.getByTestId('pose-raised')).toBeVisible();
   expect(existsSync(join(server.root, 'poses', 'raised.pose.json'))).toBe(true);
+  // Its thumbnail: the skeleton in the pose, drawn in the row.
+  expect(existsSync(join(server.root, 'poses', 'raised.pose.svg'))).toBe(true);
+  const thumb = page.getByTestId('pose-thumb-raised');
+  await expect(thumb).toBeVisible();
+  await expect.poll(() => thumb.evaluate((img: HTMLImageElement) => img.complete && img.naturalWidth)).toBe(96);
+  await thumb.scrollIntoViewIfNeeded();
+  await shots.take('pose-thumbnail');
   await post(server, '/api/bind-pose', { controls: ['hero:'] });
   await settle(page, server);
 

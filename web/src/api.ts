@@ -638,6 +638,11 @@ export class Api {
     return this.http.get(`/api/poses?library=${q(library)}`, options);
   }
 
+  /** A saved pose's SVG thumbnail (the skeleton in the pose, from the front). */
+  poseThumbnail(library: string, name: string): Promise<ArrayBuffer> {
+    return this.http.bytes(`/api/poses/thumbnail?library=${q(library)}&name=${q(name)}`);
+  }
+
   savePose(req: { library: string; name: string; controls?: string[] }): Promise<Revised & { name: string; entries: number }> {
     return this.http.post('/api/poses/save', req);
   }

@@ -13,6 +13,8 @@ export interface PoseInfo {
   rig: string;
   entries: number;
   error?: string;
+  /** A thumbnail (NAME.pose.svg) is beside it. */
+  thumbnail?: boolean;
 }
 
 export interface PoseApplyRequest {

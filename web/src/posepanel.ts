@@ -2,7 +2,9 @@
 // library"): the poses of a library folder inside the served root (GET
 // /api/poses), each applied whole or to the selection, mirrored, or
 // blended by the fraction slider (POST /api/poses/apply, keyed when asked),
-// removed; the selection's pose (or its whole rig's) saved under a name.
+// removed, each shown by its thumbnail (GET /api/poses/thumbnail: the
+// skeleton in the pose, saved with it); the selection's pose (or its whole
+// rig's) saved under a name.
 // Each change is one request, one undo step (saving and removing change
 // files, not the scene).
 
@@ -20,6 +22,7 @@ export class PosePanel {
   private readonly keyIt: HTMLInputElement;
   private readonly list: HTMLElement;
   private poses: PoseInfo[] = [];
+  private thumbUrls: string[] = [];
 
   constructor(
     el: HTMLElement,
@@ -53,6 +56,9 @@ export class PosePanel {
   }
 
   private render(): void {
+    for (const url of this.thumbUrls) URL.revokeObjectURL(url);
+    this.thumbUrls = [];
+    const library = this.library.value.trim() || 'poses';
     fill(
       this.list,
       this.poses.length ? null : h('p.dim', {}, 'No poses in this library yet.'),
@@ -60,6 +66,7 @@ export class PosePanel {
         h(
           'div.pose-row',
           { testid: `pose-${p.name}`, title: p.error ?? `${p.rig}: ${p.entries} controls` },
+          p.thumbnail ? this.thumbnail(library, p.name) : h('span.pose-thumb.empty', {}),
           h('span.pose-name', {}, p.name, p.error ? ' (unreadable)' : ''),
           h('button.small', { testid: `pose-apply-${p.name}`, onclick: () => run(this.apply(p, false)) }, 'Apply'),
           h('button.small', { testid: `pose-mirror-${p.name}`, onclick: () => run(this.apply(p, true)) }, 'Mirrored'),
@@ -67,6 +74,20 @@ export class PosePanel {
         ),
       ),
     );
+  }
+
+  /** The pose's thumbnail, loaded in the background (the skeleton in the pose, from the front). */
+  private thumbnail(library: string, name: string): HTMLElement {
+    const img = h('img.pose-thumb', { testid: `pose-thumb-${name}`, alt: name, width: '36', height: '48' }) as HTMLImageElement;
+    this.app.api
+      .poseThumbnail(library, name)
+      .then((bytes) => {
+        const url = URL.createObjectURL(new Blob([bytes], { type: 'image/svg+xml' }));
+        this.thumbUrls.push(url);
+        img.src = url;
+      })
+      .catch(() => img.classList.add('missing'));
+    return img;
   }
 
   private async save(): Promise<void> {

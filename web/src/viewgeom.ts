@@ -1,8 +1,8 @@
 // The viewport's helpers that hold no state: the browser's WebGL renderer
-// name, distances from a click to a control's shape on screen, and freeing
-// a loaded character's GPU resources.
+// name, distances from a click to a control's shape on screen, freeing a
+// loaded character's GPU resources, and the posed box of the meshes.
 
-import type * as THREE from 'three';
+import * as THREE from 'three';
 
 /** A control's shape projected to the canvas (CSS pixels; NaN where behind the camera). */
 export interface ScreenShape {
@@ -59,4 +59,47 @@ export function disposeTree(root: THREE.Object3D): void {
     const mats = m.material ? (Array.isArray(m.material) ? m.material : [m.material]) : [];
     for (const mat of mats) mat.dispose();
   });
+}
+
+/**
+ * The world box of meshes in the pose shown (world matrices up to date):
+ * skinned ones through their bones, so a head above its last joint counts;
+ * empty without meshes.
+ */
+export function meshesBox(meshes: readonly THREE.Mesh[]): THREE.Box3 {
+  const box = new THREE.Box3();
+  for (const mesh of meshes) {
+    const skinned = mesh as THREE.SkinnedMesh;
+    if (skinned.isSkinnedMesh) {
+      skinned.skeleton.update();
+      skinned.computeBoundingBox();
+    } else if (!mesh.geometry.boundingBox) mesh.geometry.computeBoundingBox();
+    const local = skinned.isSkinnedMesh ? skinned.boundingBox : mesh.geometry.boundingBox;
+    if (local && !local.isEmpty()) box.union(local.clone().applyMatrix4(mesh.matrixWorld));
+  }
+  return box;
+}
+
+/**
+ * Where the centres of a box's six faces fall on screen (the top face's is
+ * the top of a character's head), as the extremes; null for an empty box.
+ */
+export function boxFacesOnScreen(
+  box: THREE.Box3,
+  toScreen: (p: [number, number, number]) => { x: number; y: number },
+): { left: number; top: number; right: number; bottom: number } | null {
+  if (box.isEmpty()) return null;
+  const out = { left: Infinity, top: Infinity, right: -Infinity, bottom: -Infinity };
+  const c = box.getCenter(new THREE.Vector3());
+  for (let i = 0; i < 6; i++) {
+    const q: [number, number, number] = [c.x, c.y, c.z];
+    const axis = i >> 1;
+    q[axis] = (i & 1 ? box.max : box.min).getComponent(axis);
+    const p = toScreen(q);
+    out.left = Math.min(out.left, p.x);
+    out.right = Math.max(out.right, p.x);
+    out.top = Math.min(out.top, p.y);
+    out.bottom = Math.max(out.bottom, p.y);
+  }
+  return out;
 }

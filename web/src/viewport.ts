@@ -18,7 +18,7 @@ import type { ControlInfo, Quat, RigInfo, Trs, Vec3 } from './api';
 import { ControlLines } from './controllines';
 import type { ControlShape } from './controllines';
 import type { Character, Store } from './store';
-import { disposeTree, distanceToShape, webglRendererName } from './viewgeom';
+import { boxFacesOnScreen, disposeTree, distanceToShape, meshesBox, webglRendererName } from './viewgeom';
 import type { ScreenShape } from './viewgeom';
 
 /** How near (CSS pixels) the pointer must be to a control's shape to pick it. */
@@ -449,46 +449,15 @@ export class Viewport {
     if (!box.isEmpty()) this.fit(box);
   }
 
-  /**
-   * The world box of the meshes in the pose shown (skinned ones through
-   * their bones: a head is above its last joint), empty without meshes.
-   */
+  /** The meshes' posed world box (viewgeom.meshesBox). */
   meshBox(): THREE.Box3 {
     this.root?.updateMatrixWorld(true);
-    const box = new THREE.Box3();
-    for (const mesh of this.meshes) {
-      const skinned = mesh as THREE.SkinnedMesh;
-      if (skinned.isSkinnedMesh) {
-        skinned.skeleton.update();
-        skinned.computeBoundingBox();
-      } else if (!mesh.geometry.boundingBox) mesh.geometry.computeBoundingBox();
-      const local = skinned.isSkinnedMesh ? skinned.boundingBox : mesh.geometry.boundingBox;
-      if (local && !local.isEmpty()) box.union(local.clone().applyMatrix4(mesh.matrixWorld));
-    }
-    return box;
+    return meshesBox(this.meshes);
   }
 
-  /**
-   * Where the centres of the meshes' box faces fall on screen (client
-   * pixels: the top face's is the top of the head), for the tests; null
-   * without meshes.
-   */
+  /** Where the meshes' box faces' centres fall on screen (client pixels), for the tests. */
   meshScreenBox(): { left: number; top: number; right: number; bottom: number } | null {
-    const box = this.meshBox();
-    if (box.isEmpty()) return null;
-    const out = { left: Infinity, top: Infinity, right: -Infinity, bottom: -Infinity };
-    const c = box.getCenter(new THREE.Vector3());
-    for (let i = 0; i < 6; i++) {
-      const q = [c.x, c.y, c.z] as Vec3;
-      const axis = i >> 1;
-      q[axis] = (i & 1 ? box.max : box.min).getComponent(axis);
-      const p = this.toScreen(q);
-      out.left = Math.min(out.left, p.x);
-      out.right = Math.max(out.right, p.x);
-      out.top = Math.min(out.top, p.y);
-      out.bottom = Math.max(out.bottom, p.y);
-    }
-    return out;
+    return boxFacesOnScreen(this.meshBox(), (p) => this.toScreen(p));
   }
 
   private fit(box: THREE.Box3): void {

@@ -515,8 +515,9 @@ class Workspace {
   // (tools::check_pose_name; errors name "name").
   // Saves the pose of `controls` (built rigs' controls, components or rigs)
   // or, with none, of the whole of rig `rig` (empty: the scene's only rig)
-  // as LIBRARY/NAME.pose.json. Errors name "rig", "controls", "name" or
-  // "library". Changes nothing in the scene.
+  // as LIBRARY/NAME.pose.json, with its thumbnail (NAME.pose.svg: the
+  // skeletons in the pose, tools::skeleton_thumbnail_svg). Errors name
+  // "rig", "controls", "name" or "library". Changes nothing in the scene.
   Result<tools::SavedPose> save_pose(const std::string& library, const std::string& name, const std::string& rig,
                                      const std::vector<NodeId>& controls);
   // Applies a saved pose (tools::apply_pose) to rig `rig` (empty: the rig
@@ -531,6 +532,9 @@ class Workspace {
   Result<std::vector<tools::PoseInfo>> list_poses(const std::string& library) const;
   // Deletes a pose (kNotFound naming "name" when there is none).
   Status remove_pose(const std::string& library, const std::string& name);
+  // A saved pose's thumbnail (the SVG save_pose writes beside it,
+  // tools::skeleton_thumbnail_svg); kNotFound naming "name" without one.
+  Result<std::string> pose_thumbnail(const std::string& library, const std::string& name) const;
 
   // ---- files -----------------------------------------------------------------
   // Saves the scene (atomically) at `path`, or at scene_path() when empty;

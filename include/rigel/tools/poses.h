@@ -31,11 +31,14 @@
 
 #include "rigel/base/status.h"
 #include "rigel/graph/graph.h"
+#include "rigel/scene/scene.h"
 #include "rigel/tools/mirror.h"
 
 namespace rigel::tools {
 
 inline constexpr const char* kPoseExtension = ".pose.json";
+// A pose's thumbnail beside its file: NAME.pose.svg.
+inline constexpr const char* kPoseThumbnailExtension = ".pose.svg";
 
 // One channel's value: math::Vec3 (translate, scale, any other double3),
 // math::Quat ("rotation": the local rotation, whatever the node's rotate
@@ -97,13 +100,29 @@ struct PoseInfo {
   std::string rig;        // the pose's rig
   std::size_t entries = 0;
   std::string error;      // why it cannot be read ("" when it can)
+  bool thumbnail = false;  // NAME.pose.svg is beside it
 };
 // The library's poses by name (files named NAME.pose.json with a safe
 // name; others are ignored). kNotFound naming "library" when the folder
 // does not exist.
 Result<std::vector<PoseInfo>> list_poses(const std::filesystem::path& library);
-// Deletes LIBRARY/NAME.pose.json: kNotFound naming "name" when there is none.
+// Deletes LIBRARY/NAME.pose.json (and its thumbnail): kNotFound naming
+// "name" when there is none.
 Status remove_pose(const std::filesystem::path& library, const std::string& name);
+
+// The pose library's thumbnails: a front view (looking down -Z, +Y up) of
+// the scene's skeletons as evaluated now, each joint joined to its parent
+// joint by a line, fitted with a margin into a 96 x 128 SVG (its aspect
+// kept, numbers to 0.1 px, so the same pose gives the same bytes). A scene
+// without joints gives an empty picture.
+std::string skeleton_thumbnail_svg(scene::Scene& scene);
+// LIBRARY/NAME.pose.svg, the name checked.
+Result<std::filesystem::path> pose_thumbnail_path(const std::filesystem::path& library, const std::string& name);
+// Writes the scene's thumbnail for pose `name` (atomically, beside the
+// pose); kIoError naming "library" when it cannot.
+Status save_pose_thumbnail(scene::Scene& scene, const std::filesystem::path& library, const std::string& name);
+// The thumbnail's SVG text: kNotFound naming "name" when there is none.
+Result<std::string> load_pose_thumbnail(const std::filesystem::path& library, const std::string& name);
 
 struct ApplyPoseOptions {
   // The target rig's nodes to set (the selection); empty: every node the
