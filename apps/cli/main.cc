@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "animate_commands.h"
+#include "pipeline_commands.h"
 #include "rigging_commands.h"
 #include "settings_command.h"
 #include "space_command.h"
@@ -30,6 +31,8 @@ int main(int argc, char** argv) {
   CLI::App app{"rigel: a character-rigging engine that needs no host application"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
+  std::string log_level;
+  rigel::cli::add_log_level_option(app, log_level);
 
   // `inspect`, `eval`, `import`, `export`, `bake`: scene files.
   rigel::cli::SceneCommands scene;
@@ -49,8 +52,12 @@ int main(int argc, char** argv) {
   // `playback`, `sets`: the scene's playback range and selection sets.
   rigel::cli::SettingsCommands settings;
   rigel::cli::add_settings_commands(app, settings);
+  // `shape`, `align`, `locator`, `mirror-joints`: rigger actions.
   rigel::cli::RiggingCommands rigging;
   rigel::cli::add_rigging_commands(app, rigging);
+  // `project`, `asset`, `config`: the rigging pipeline.
+  rigel::cli::PipelineCommands pipeline;
+  rigel::cli::add_pipeline_commands(app, pipeline);
   // `poses save|apply|list|remove`: the pose library.
   rigel::cli::PosesCommand poses;
   rigel::cli::add_poses_command(app, poses);
@@ -99,7 +106,9 @@ int main(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? 0 : rigel::cli::kExitUsage;
   }
+  if (const std::optional<int> code = rigel::cli::apply_log_level(log_level)) return *code;
   try {
+    if (const std::optional<int> code = rigel::cli::run_pipeline_commands(pipeline)) return *code;
     if (const std::optional<int> code = rigel::cli::run_scene_commands(scene)) return *code;
     if (const std::optional<int> code = rigel::cli::run_key_commands(keys)) return *code;
     if (const std::optional<int> code = rigel::cli::run_animate_commands(animate)) return *code;

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "pipeline_commands.h"
 #include "rigel/app/rig_files.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
@@ -75,6 +76,7 @@ int run_build(const BuildArgs& args) {
   options.character = args.character;
   options.steps = args.steps;
   options.edit_mode = args.edit_mode;
+  options.naming_template = settings().string("naming.template");
   const bool progress = !args.json && isatty(2);
   if (progress) options.progress = [](int step, int of) { std::cerr << "\rrigel: building " << step << "/" << of << std::flush; };
   std::vector<rig::Diagnostic> missing;

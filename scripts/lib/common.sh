@@ -7,7 +7,7 @@ RIGEL_PACKAGES=(
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libtinygltf-dev libpugixml-dev libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-pytest
-  pkg-config libcpp-httplib-dev ccache
+  pkg-config libcpp-httplib-dev libspdlog-dev ccache
 )
 
 rigel_log() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }

@@ -36,6 +36,7 @@ Result<BuiltFile> build_rig_file(const rig::Definition& definition, const fs::pa
   }
   rig::BuildOptions build_options;
   build_options.edit_mode = options.edit_mode;
+  build_options.naming_template = options.naming_template;
   auto build = rig::Build::open(**scene, definition, factory, build_options);
   if (!build) return build.status().with_context(definition_path.string());
   out.of = static_cast<int>((*build)->plan().size());

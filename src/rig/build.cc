@@ -122,6 +122,12 @@ Status Build::sync() {
       std::clamp<std::int64_t>(std::get<std::int64_t>(pos), 0, static_cast<std::int64_t>(plan_.size())));
   const graph::AttrIndex edit = g.node(root)->type().attr_find("editMode");
   if (edit != graph::kNoAttr) options_.edit_mode = std::get<bool>(g.node(root)->value(edit));
+  // The names the rig was built with, for every later step and rebuild.
+  const graph::AttrIndex naming = g.node(root)->type().attr_find("namingTemplate");
+  if (naming != graph::kNoAttr) {
+    const std::string& t = std::get<std::string>(g.node(root)->value(naming));
+    if (!t.empty()) options_.naming_template = t;
+  }
   return Status::ok();
 }
 

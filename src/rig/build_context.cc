@@ -120,15 +120,42 @@ Result<Mat4> BuildContext::guide_world(int i) {
   return guide_values(guide);
 }
 
-Result<NodeId> BuildContext::create(std::string_view type, std::string_view role, int index, int guide, NodeId parent) {
-  std::string name = rig_name();
-  if (component_) {
-    name += '_';
-    name += full_name();
+std::string built_node_name(const std::string& naming_template, const std::string& rig, const std::string& component,
+                            const std::string& name, const std::string& side, const std::string& role, int index) {
+  const std::string t = naming_template.empty() ? std::string("{rig}_{component}_{role}{index}") : naming_template;
+  std::string out;
+  bool drop_next = false;  // an empty token takes the '_' after it
+  for (std::size_t i = 0; i < t.size();) {
+    if (t[i] == '{') {
+      const std::size_t end = t.find('}', i);
+      const std::string token = end == std::string::npos ? t.substr(i) : t.substr(i, end - i + 1);
+      std::string value;
+      if (token == "{rig}") value = rig;
+      else if (token == "{component}") value = component;
+      else if (token == "{name}") value = name;
+      else if (token == "{side}") value = side;
+      else if (token == "{role}") value = role;
+      else if (token == "{index}") value = index >= 0 ? std::to_string(index) : std::string();
+      else value = token;  // not a token: kept as written
+      i = end == std::string::npos ? t.size() : end + 1;
+      if (value.empty()) {
+        if (i < t.size() && t[i] == '_') ++i;
+        else if (!out.empty() && out.back() == '_') drop_next = true;
+        continue;
+      }
+      out += value;
+      continue;
+    }
+    out += t[i++];
   }
-  name += '_';
-  name += role;
-  if (index >= 0) name += std::to_string(index);
+  if (drop_next && !out.empty() && out.back() == '_') out.pop_back();
+  return out;
+}
+
+Result<NodeId> BuildContext::create(std::string_view type, std::string_view role, int index, int guide, NodeId parent) {
+  const std::string name =
+      built_node_name(naming_, rig_name(), component_ ? full_name() : std::string(), component_ ? component_->name : std::string(),
+                      component_ ? side_name(component_->side) : std::string(), std::string(role), index);
   Result<NodeId> id = parent.is_valid() ? scene_.create(type, name, parent) : graph().create_node(type, name);
   if (!id) return id.status();
   Status s = link(*id, role, index, guide);

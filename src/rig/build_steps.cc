@@ -191,6 +191,7 @@ Status Build::construct(int index) {
 
   BuildContext ctx(scene_, definition_);
   ctx.edit_mode_ = options_.edit_mode;
+  ctx.naming_ = options_.naming_template;
   ctx.step_ = p.step;
   ctx.root_ = root();
   if (comp) {
@@ -229,6 +230,7 @@ Status Build::construct(int index) {
       if (status) status = set(*r, "version", Value(definition_.version));
       if (status) status = set(*r, "definitionPath", Value(definition_.source));
       if (status && options_.edit_mode) status = set(*r, "editMode", Value(true));
+      if (status && !options_.naming_template.empty()) status = set(*r, "namingTemplate", Value(options_.naming_template));
       if (status) {
         NodeId mgr = meta_manager(g);
         status = g.connect(Plug{mgr, g.node(mgr)->type().attr_find("metaRoots"), -1},

@@ -107,6 +107,7 @@ Status register_rig_types(graph::Registry& registry) {
                 string_attr("definition"),
                 graph::input_attr("buildPosition", kInt, Value(std::int64_t{0})),
                 graph::input_attr("editMode", kBool, Value(false)),
+                string_attr("namingTemplate"),
                 string_attr("buildRecord"),
                 message_attr("metaChildren"),
                 message_attr("members")};

@@ -26,6 +26,11 @@ namespace rigel::cli::testing {
 using rigel::io::testing::read_text;
 using rigel::io::testing::TempDir;
 
+// Every run reads the settings of a folder that does not exist, so a user's
+// own settings (~/.config/rigel/config.json) never reach the tests; a test
+// of settings sets RIGEL_CONFIG_HOME itself.
+inline const bool kNoUserSettings = (setenv("RIGEL_CONFIG_HOME", "/nonexistent/rigel-tests-config", 1), true);
+
 // What one run of the binary did.
 struct CliRun {
   bool exited = false;  // false: killed by a signal (a crash)

@@ -26,6 +26,9 @@ struct BuildFileOptions {
   fs::path character;
   int steps = -1;  // stop after this many steps (seed 003's VCR); -1: all
   bool edit_mode = false;
+  // How built nodes are named (rig::BuildOptions::naming_template; empty:
+  // the default).
+  std::string naming_template;
   // Called before each step with the step's number (from 1) and the total.
   std::function<void(int, int)> progress;
 };

@@ -59,7 +59,18 @@ struct BuildOptions {
   // definition (Build::edits). Kept on the metaRoot (`editMode`), so a
   // later Build of the same rig follows what the scene says.
   bool edit_mode = false;
+  // How built nodes are named (the setting naming.template): {rig},
+  // {component} ("arm_L"), {name} ("arm"), {side} ("L"), {role} and
+  // {index}; a token that comes out empty (no component, no index) takes
+  // one '_' beside it with it. Empty: "{rig}_{component}_{role}{index}".
+  // Kept on the metaRoot (`namingTemplate`), so later steps, rebuilds and
+  // updates name alike.
+  std::string naming_template;
 };
+
+// A node's name under `naming_template` (BuildOptions; empty: the default).
+std::string built_node_name(const std::string& naming_template, const std::string& rig, const std::string& component,
+                            const std::string& name, const std::string& side, const std::string& role, int index);
 
 // What moving controls in rig edit mode does to the definition.
 struct Edits {

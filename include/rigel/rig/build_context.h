@@ -119,6 +119,7 @@ class BuildContext {
   NodeId meta_, root_, attach_;
   std::string step_;
   bool edit_mode_ = false;
+  std::string naming_;  // BuildOptions::naming_template
 };
 
 }  // namespace rigel::rig

@@ -1,0 +1,265 @@
+// `rigel project`, `rigel asset`, `rigel config` and the log level (see
+// pipeline_commands.h).
+
+#include "pipeline_commands.h"
+
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "rigel/base/log.h"
+#include "rigel/tools/config.h"
+#include "rigel/tools/project.h"
+
+namespace rigel::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+struct ProjectArgs {
+  std::string dir, name;
+  bool json = false;
+};
+
+struct AssetArgs {
+  std::string name, type = "character", skeleton, project;
+  bool json = false;
+};
+
+struct ConfigArgs {
+  std::string key, value;
+  bool user = false, project = false, json = false;
+};
+
+Json asset_json(const tools::Asset& a) {
+  const std::vector<int> versions = tools::published_versions(a);
+  return Json{{"name", a.name},
+              {"type", a.type},
+              {"dir", a.dir.string()},
+              {"skeleton", a.skeleton},
+              {"published", versions},
+              {"latest", versions.empty() ? Json() : Json(versions.back())},
+              {"created", a.created},
+              {"modified", a.modified}};
+}
+
+// The project given, or the one the current folder is in.
+Result<tools::Project> project_of(const std::string& dir) {
+  return dir.empty() ? tools::find_project(fs::current_path()) : tools::open_project(dir);
+}
+
+int run_project_new(const ProjectArgs& a) {
+  auto p = tools::create_project(a.dir, a.name);
+  if (!p) return fail(p.status());
+  if (a.json) std::cout << Json{{"name", p->name}, {"dir", p->dir.string()}, {"format", p->format}}.dump() << "\n";
+  std::cerr << "rigel: created project " << p->name << " in " << p->dir.string() << "\n";
+  return 0;
+}
+
+int run_project_info(const ProjectArgs& a) {
+  auto p = project_of(a.dir);
+  if (!p) return fail(p.status());
+  auto assets = tools::list_assets(*p);
+  if (!assets) return fail(assets.status());
+  if (a.json) {
+    Json list = Json::array();
+    for (const tools::Asset& x : *assets) list.push_back(asset_json(x));
+    std::cout << Json{{"name", p->name}, {"dir", p->dir.string()}, {"format", p->format}, {"created", p->created}, {"assets", list}}.dump()
+              << "\n";
+    return 0;
+  }
+  std::cout << p->name << " (" << p->dir.string() << ", format " << p->format << ")\n";
+  for (const tools::Asset& x : *assets) {
+    const std::vector<int> v = tools::published_versions(x);
+    std::cout << "  " << x.type << " " << x.name << (v.empty() ? "  unpublished" : "  published v" + std::to_string(v.back()))
+              << "\n";
+  }
+  return 0;
+}
+
+int run_asset_new(const AssetArgs& a) {
+  auto p = project_of(a.project);
+  if (!p) return fail(p.status());
+  auto asset = tools::create_asset(*p, a.name, a.type, a.skeleton);
+  if (!asset) return fail(asset.status().with_context(p->dir.string()));
+  if (a.json) std::cout << asset_json(*asset).dump() << "\n";
+  std::cerr << "rigel: created " << asset->type << " " << asset->name << " in " << asset->dir.string() << "\n";
+  return 0;
+}
+
+int run_asset_info(const AssetArgs& a) {
+  Result<tools::Asset> asset = Status::ok();
+  if (a.name.empty()) {
+    asset = tools::find_asset(fs::current_path());
+  } else {
+    auto p = project_of(a.project);
+    if (!p) return fail(p.status());
+    asset = tools::open_asset(*p, a.name);
+  }
+  if (!asset) return fail(asset.status());
+  if (a.json) {
+    std::cout << asset_json(*asset).dump() << "\n";
+  } else {
+    const Json j = asset_json(*asset);
+    std::cout << asset->type << " " << asset->name << " (" << asset->dir.string() << ")\n  skeleton: "
+              << (asset->skeleton.empty() ? "none" : asset->skeleton) << "\n  published: " << j["published"].dump() << "\n";
+  }
+  return 0;
+}
+
+// The project's settings file (the current folder's project), or empty.
+fs::path project_config() {
+  auto p = tools::find_project(fs::current_path());
+  return p ? p->dir / tools::kProjectConfigFile : fs::path();
+}
+
+int run_config(const std::string& op, const ConfigArgs& a) {
+  if (a.user && a.project) return usage_error("give --user or --project, not both");
+  if (op == "set" || op == "unset") {
+    fs::path file;
+    if (a.user) {
+      file = tools::user_config_path();
+    } else {
+      file = project_config();
+      if (file.empty() && a.project) return fail(tools::find_project(fs::current_path()).status());
+      if (file.empty()) file = tools::user_config_path();
+    }
+    std::optional<std::string_view> value;
+    if (op == "set") value = a.value;
+    if (Status s = tools::Config::set(file, a.key, value); !s) return fail(s);
+    std::cerr << "rigel: " << (op == "set" ? "set " + a.key + " = " + a.value : "unset " + a.key) << " in " << file.string() << "\n";
+    return 0;
+  }
+  auto config = tools::Config::load(tools::user_config_path(), project_config());
+  if (!config) return fail(config.status());
+  auto entry_json = [](const tools::Config::Entry& e) {
+    Json value;
+    std::visit([&](const auto& x) { value = x; }, e.value);
+    return Json{{"key", e.spec->key}, {"value", value}, {"source", tools::config_source_name(e.source)}, {"help", e.spec->help}};
+  };
+  if (op == "get") {
+    auto e = config->get(a.key);
+    if (!e) return fail(e.status());
+    if (a.json) std::cout << entry_json(*e).dump() << "\n";
+    else std::cout << tools::setting_text(e->value) << "\n";
+    return 0;
+  }
+  Json list = Json::array();
+  for (const tools::Config::Entry& e : config->list()) {
+    list.push_back(entry_json(e));
+    if (!a.json) std::cout << e.spec->key << " = " << tools::setting_text(e.value) << "  (" << tools::config_source_name(e.source) << ")\n";
+  }
+  if (a.json) std::cout << Json{{"settings", list}, {"user", tools::user_config_path().string()}, {"project", project_config().string()}}.dump() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+struct PipelineCommands::State {
+  CLI::App *project_new = nullptr, *project_info = nullptr, *asset_new = nullptr, *asset_info = nullptr;
+  CLI::App *config_get = nullptr, *config_set = nullptr, *config_unset = nullptr, *config_list = nullptr;
+  ProjectArgs project;
+  AssetArgs asset;
+  ConfigArgs config;
+};
+
+PipelineCommands::PipelineCommands() : state_(std::make_unique<State>()) {}
+PipelineCommands::~PipelineCommands() = default;
+
+void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
+  PipelineCommands::State& s = commands.state();
+  CLI::App* project = app.add_subcommand("project", "Rigging projects: make one, or show it and its assets");
+  project->require_subcommand(1);
+  s.project_new = project->add_subcommand("new", "Make a folder a rigging project");
+  s.project_new->footer("Examples:\n  rigel project new ~/rigs/show\n  rigel project new show --name the_show --json");
+  s.project_new->add_option("DIR", s.project.dir, "The project's folder (made as needed; empty)")->required();
+  s.project_new->add_option("--name", s.project.name, "Its name (default: the folder's)");
+  s.project_new->add_flag("--json", s.project.json, "Print a JSON report on stdout");
+  s.project_info = project->add_subcommand("info", "The project (the current folder's, or DIR) and its assets");
+  s.project_info->add_option("DIR", s.project.dir, "The project's folder (default: the one the current folder is in)");
+  s.project_info->add_flag("--json", s.project.json, "Print the project as JSON on stdout");
+
+  CLI::App* asset = app.add_subcommand("asset", "Assets of a rigging project: make one, or show one");
+  asset->require_subcommand(1);
+  s.asset_new = asset->add_subcommand("new", "Make an asset in the current project (its build, skeleton, data, poses and rig folders)");
+  s.asset_new->footer("Examples:\n  rigel asset new hero --skeleton body.glb\n  rigel asset new sword --type prop --project ~/rigs/show");
+  s.asset_new->add_option("NAME", s.asset.name, "The asset's name")->required();
+  s.asset_new->add_option("--type", s.asset.type, "character (default) or prop");
+  s.asset_new->add_option("--skeleton", s.asset.skeleton, "A character file to copy into its skeleton/ folder");
+  s.asset_new->add_option("--project", s.asset.project, "The project (default: the one the current folder is in)");
+  s.asset_new->add_flag("--json", s.asset.json, "Print the asset as JSON on stdout");
+  s.asset_info = asset->add_subcommand("info", "An asset (NAME, or the one the current folder is in)");
+  s.asset_info->add_option("NAME", s.asset.name, "The asset's name");
+  s.asset_info->add_option("--project", s.asset.project, "The project (default: the one the current folder is in)");
+  s.asset_info->add_flag("--json", s.asset.json, "Print the asset as JSON on stdout");
+
+  CLI::App* config = app.add_subcommand("config", "Settings: the current project's over the user's over the defaults");
+  config->require_subcommand(1);
+  config->footer("Examples:\n  rigel config list\n  rigel config set log.level info --user\n  rigel config get naming.template --json");
+  s.config_get = config->add_subcommand("get", "A setting's value");
+  s.config_get->add_option("KEY", s.config.key, "The setting (rigel config list shows them)")->required();
+  s.config_get->add_flag("--json", s.config.json, "Print the value, its source and help as JSON");
+  s.config_set = config->add_subcommand("set", "Set a setting in the project's file (in a project) or the user's");
+  s.config_set->add_option("KEY", s.config.key, "The setting")->required();
+  s.config_set->add_option("VALUE", s.config.value, "Its value")->required();
+  s.config_unset = config->add_subcommand("unset", "Remove a setting from the project's file (in a project) or the user's");
+  s.config_unset->add_option("KEY", s.config.key, "The setting")->required();
+  for (CLI::App* c : {s.config_set, s.config_unset}) {
+    c->add_flag("--user", s.config.user, "The user's settings file");
+    c->add_flag("--project", s.config.project, "The current project's settings file");
+  }
+  s.config_list = config->add_subcommand("list", "Every setting with its value and where it comes from");
+  s.config_list->add_flag("--json", s.config.json, "Print the settings as JSON on stdout");
+}
+
+std::optional<int> run_pipeline_commands(const PipelineCommands& commands) {
+  const PipelineCommands::State& s = commands.state();
+  if (*s.project_new) return run_project_new(s.project);
+  if (*s.project_info) return run_project_info(s.project);
+  if (*s.asset_new) return run_asset_new(s.asset);
+  if (*s.asset_info) return run_asset_info(s.asset);
+  if (*s.config_get) return run_config("get", s.config);
+  if (*s.config_set) return run_config("set", s.config);
+  if (*s.config_unset) return run_config("unset", s.config);
+  if (*s.config_list) return run_config("list", s.config);
+  return std::nullopt;
+}
+
+void add_log_level_option(CLI::App& app, std::string& level) {
+  app.add_option("--log-level", level, std::string("What to print on stderr: ") + log::level_names() +
+                                           " (default: the settings' log.level, warn)");
+  app.fallthrough();
+}
+
+namespace {
+tools::Config& loaded_settings() {
+  static tools::Config c;
+  return c;
+}
+}  // namespace
+
+const tools::Config& settings() { return loaded_settings(); }
+
+std::optional<int> apply_log_level(const std::string& given) {
+  std::optional<log::Level> level;
+  if (!given.empty()) {
+    level = log::level_from_name(given);
+    if (!level) return usage_error("--log-level '" + given + "': expected one of " + log::level_names());
+    log::set_level(*level);
+  }
+  auto config = tools::Config::load(tools::user_config_path(), project_config());
+  if (!config) {
+    log::warn("settings left out: " + config.status().message());
+    return std::nullopt;
+  }
+  loaded_settings() = std::move(*config);
+  if (!level)
+    if (const auto from = log::level_from_name(loaded_settings().string("log.level"))) log::set_level(*from);
+  return std::nullopt;
+}
+
+}  // namespace rigel::cli

@@ -1,0 +1,115 @@
+// `rigel project`, `rigel asset`, `rigel config` and `--log-level`: a
+// project made with two assets and listed; settings set in the user's and
+// the project's files, the project's winning inside the project; a build
+// inside the project naming its nodes by the project's naming.template;
+// the log level from the settings and from --log-level (which wins); bad
+// input refused with exit codes and nothing written.
+#include <cstdlib>
+#include <filesystem>
+
+#include "cli_test_util.h"
+
+namespace rigel::cli::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+class CliPipeline : public ::testing::Test {
+ protected:
+  void SetUp() override { setenv("RIGEL_CONFIG_HOME", (dir_.path() / "user").c_str(), 1); }
+  void TearDown() override { setenv("RIGEL_CONFIG_HOME", "/nonexistent/rigel-tests-config", 1); }
+  fs::path at(const std::string& name) { return dir_.path() / name; }
+  TempDir dir_;
+};
+
+TEST_F(CliPipeline, a_project_with_two_assets_listed) {
+  CliRun r = rigel({"project", "new", at("show").string(), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["name"], "show");
+  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
+  r = rigel({"asset", "new", "hero", "--skeleton", body}, at("show"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"asset", "new", "sword", "--type", "prop", "--project", at("show").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_TRUE(fs::exists(at("show/characters/hero/skeleton/rigify_human_body.glb")));
+  EXPECT_TRUE(fs::is_directory(at("show/props/sword/data/driven_poses")));
+  r = rigel({"project", "info", "--json"}, at("show/characters/hero/data"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const Json info = Json::parse(r.out);
+  ASSERT_EQ(info["assets"].size(), 2u) << info;
+  EXPECT_EQ(info["assets"][0]["name"], "hero");
+  EXPECT_EQ(info["assets"][1]["type"], "prop");
+  r = rigel({"asset", "info", "--json"}, at("show/characters/hero/build"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["skeleton"], "skeleton/rigify_human_body.glb");
+
+  for (const auto& [args, cwd] : {std::pair{std::vector<std::string>{"project", "new", at("show").string()}, fs::path()},
+                                  std::pair{std::vector<std::string>{"asset", "new", "hero"}, at("show")},
+                                  std::pair{std::vector<std::string>{"asset", "new", "lamp", "--type", "car"}, at("show")},
+                                  std::pair{std::vector<std::string>{"asset", "new", "lamp"}, dir_.path()},
+                                  std::pair{std::vector<std::string>{"project", "info"}, dir_.path()}}) {
+    const CliRun b = rigel(args, cwd);
+    EXPECT_TRUE(exited_with(b, 1)) << b;
+    EXPECT_FALSE(b.err.empty());
+  }
+  EXPECT_FALSE(fs::exists(at("show/characters/lamp")));
+  EXPECT_FALSE(fs::exists(at("lamp")));
+}
+
+TEST_F(CliPipeline, settings_layered_and_used_by_builds_and_the_log) {
+  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
+  CliRun r = rigel({"config", "set", "log.level", "error", "--user"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"config", "set", "naming.template", "{side}_{name}_{role}{index}"}, at("show"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_TRUE(fs::exists(at("show/rigel.config.json")));
+  r = rigel({"config", "get", "naming.template", "--json"}, at("show"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["source"], "project");
+  r = rigel({"config", "get", "naming.template", "--json"});
+  EXPECT_EQ(Json::parse(r.out)["source"], "default") << "outside the project";
+  r = rigel({"config", "list", "--json"}, at("show"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["settings"][0]["source"], "user");
+
+  // A build inside the project names its nodes by the project's template.
+  const std::string biped = (fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml").string();
+  r = rigel({"build", biped, "-o", at("show/hero.rigel").string()}, at("show"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"address", at("show/hero.rigel").string(), "hero:arm_L/ik", "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_NE(r.out.find("L_arm_ik"), std::string::npos) << r;
+
+  // The log: the project's level (debug) says where the settings came from;
+  // --log-level wins over it.
+  ASSERT_TRUE(exited_with(rigel({"config", "set", "log.level", "debug"}, at("show")), 0));
+  r = rigel({"config", "get", "log.level"}, at("show"));
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(r.out, "debug\n");
+  EXPECT_NE(r.err.find("debug: settings from"), std::string::npos) << r;
+  r = rigel({"config", "get", "log.level", "--log-level", "warn"}, at("show"));
+  EXPECT_EQ(r.err.find("debug:"), std::string::npos) << r;
+  r = rigel({"--log-level", "loud", "config", "list"});
+  EXPECT_TRUE(exited_with(r, 2)) << r;
+
+  // Bad values and files: refused, the file as it was.
+  const std::string before = io::testing::read_text(at("show/rigel.config.json"));
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"config", "set", "log.level", "loud"},
+                                              std::vector<std::string>{"config", "set", "no.such", "1"},
+                                              std::vector<std::string>{"config", "get", "no.such"}}) {
+    const CliRun b = rigel(bad, at("show"));
+    EXPECT_TRUE(exited_with(b, 1)) << b;
+  }
+  EXPECT_EQ(io::testing::read_text(at("show/rigel.config.json")), before);
+  io::testing::write_text(at("show/rigel.config.json"), "{\"rigelConfig\": 1,\n \"settings\": {\"log.level\": }}");
+  r = rigel({"config", "list"}, at("show"));
+  EXPECT_TRUE(exited_with(r, 1)) << r;
+  EXPECT_NE(r.err.find("rigel.config.json:2:"), std::string::npos) << r;
+  r = rigel({"project", "info"}, at("show"));
+  EXPECT_TRUE(exited_with(r, 0)) << "other commands go on, warning: " << r;
+  EXPECT_NE(r.err.find("settings left out"), std::string::npos) << r;
+}
+
+}  // namespace
+}  // namespace rigel::cli::testing
