@@ -11,6 +11,7 @@
 #include <string>
 
 #include "mirror_map.h"
+#include "roles.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/math/rotation.h"
 #include "rigel/math/transform.h"
@@ -45,23 +46,6 @@ bool poseable(const graph::Graph& g, NodeId id) {
   if (!meta.is_valid() || g.node(meta)->type().name() != rig::kMetaComponentType) return false;
   if (is_control(g, id)) return !ephemeral::control_of(g, id).is_valid();
   return !keyable_attrs(*g.node(id)).empty();
-}
-
-// The role a node is found by in its component and its index there, as
-// rig::get_meta_connection counts them (so that it gives the node back).
-std::optional<std::pair<std::string, int>> role_of(const graph::Graph& g, NodeId meta, NodeId id) {
-  const graph::Node& n = *g.node(id);
-  const std::string* role = n.tag_find(rig::kTagRole);
-  if (!role) role = n.tag_find(rig::kTagStep);
-  if (!role) return std::nullopt;
-  int tagged = 0;
-  if (const std::string* i = n.tag_find(rig::kTagIndex)) tagged = std::atoi(i->c_str());
-  if (auto at = rig::get_meta_connection(g, meta, *role, tagged); at && *at == id) return std::pair{*role, tagged};
-  for (int i = 0;; ++i) {
-    Result<NodeId> at = rig::get_meta_connection(g, meta, *role, i);
-    if (!at) return std::nullopt;
-    if (*at == id) return std::pair{*role, i};
-  }
 }
 
 // The whole-component set: what a bind pose resets (controls and the
@@ -128,7 +112,7 @@ Result<Pose> capture_pose(graph::Graph& g, const std::vector<NodeId>& nodes, con
   for (NodeId meta : rig::rig_components(g, rig)) {
     for (NodeId m : rig::meta_members(g, meta)) {
       if (!chosen.count(m.index)) continue;
-      auto role = role_of(g, meta, m);
+      auto role = internal::role_of(g, meta, m);
       if (!role) continue;  // nothing finds it again
       PoseEntry e;
       e.rig_id = rig::meta_string(g, meta, "rigId");
@@ -311,5 +295,26 @@ Result<ApplyPoseReport> apply_pose(graph::Graph& g, const Pose& pose, NodeId rig
   }
   return report;
 }
+
+namespace internal {
+
+// The role a node is found by in its component and its index there, as
+// rig::get_meta_connection counts them (so that it gives the node back).
+std::optional<std::pair<std::string, int>> role_of(const graph::Graph& g, NodeId meta, NodeId id) {
+  const graph::Node& n = *g.node(id);
+  const std::string* role = n.tag_find(rig::kTagRole);
+  if (!role) role = n.tag_find(rig::kTagStep);
+  if (!role) return std::nullopt;
+  int tagged = 0;
+  if (const std::string* i = n.tag_find(rig::kTagIndex)) tagged = std::atoi(i->c_str());
+  if (auto at = rig::get_meta_connection(g, meta, *role, tagged); at && *at == id) return std::pair{*role, tagged};
+  for (int i = 0;; ++i) {
+    Result<NodeId> at = rig::get_meta_connection(g, meta, *role, i);
+    if (!at) return std::nullopt;
+    if (*at == id) return std::pair{*role, i};
+  }
+}
+
+}  // namespace internal
 
 }  // namespace rigel::tools

@@ -47,6 +47,8 @@
 #include "rigel/tools/spaces.h"
 #include "rigel/tools/poses.h"
 #include "rigel/tools/rigging.h"
+#include "rigel/tools/shape_data.h"
+#include "rigel/tools/skin_weights.h"
 #include "rigel/tools/tween.h"
 
 namespace rigel::app {
@@ -509,6 +511,17 @@ class Workspace {
   // joint) has its channels set (keyed when auto-key is on). The selection
   // is kept. Errors name "nodes" or "target"; one undo step.
   Result<std::vector<NodeId>> align(const std::vector<NodeId>& nodes, NodeId target, bool position, bool rotation);
+  // ---- data managers (tools/skin_weights.h, tools/shape_data.h; src/app/data.cc)
+  // Files resolved as resolve_path does (errors name "file"); written
+  // atomically, their folder made. Imports are one undo step each.
+  // Every skinCluster's weights to a .weights.json file.
+  Result<fs::path> export_skin_weights(const std::string& file);
+  Result<tools::WeightsReport> import_skin_weights(const std::string& file, const tools::WeightsImport& options = {});
+  // A built rig's control shapes and colours (`rig` empty: the scene's only
+  // rig; errors name "rig") to a .shapes.json file, and back by rigId,
+  // role and index.
+  Result<fs::path> export_control_shapes(const std::string& rig, const std::string& file);
+  Result<tools::ShapesReport> import_control_shapes(const std::string& rig, const std::string& file);
   // ---- pose library (tools/poses.h; src/app/poses.cc) ------------------------
   // `library`: a folder, resolved as resolve_path does (inside root() when
   // there is one; errors name "library"); `name`: a pose name

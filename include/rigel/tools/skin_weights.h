@@ -1,0 +1,99 @@
+#pragma once
+// Skin weights as data (seed 004 §4.10's SkinManager): every skinCluster's
+// weights exported to diffable JSON and imported back, onto the same
+// skeleton, a copy with renamed joints (a name table) or another skeleton
+// (the nearest joint by bind position), or mirrored across the
+// character's plane, so a rebuild from scratch gets the painted weights
+// back. A file:
+//
+//   {
+//     "rigelWeights": 1,
+//     "skins": [
+//       {
+//         "skin": "body_skinCluster",
+//         "mesh": "body",
+//         "vertexCount": 10037,
+//         "influences": [
+//           {"joint": "spine", "uuid": "...", "bind": [x, y, z]},
+//           ...
+//         ],
+//         "vertices": [
+//           [0, 0.75, 3, 0.25],          one line per vertex: influence, weight, ...
+//           ...
+//         ]
+//       }
+//     ]
+//   }
+//
+// `bind` is the joint's world position at bind (its inverse bind matrix's
+// inverse); influences are the skin's joint list in order (a skin's extra
+// entry for unweighted vertices, the mesh node itself, is listed with its
+// name too). Numbers are written shortest round-trip, so export after
+// import gives the same file byte for byte.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/math/types.h"
+#include "rigel/scene/scene.h"
+
+namespace rigel::tools {
+
+inline constexpr int kWeightsFormat = 1;
+
+struct SkinInfluence {
+  std::string joint, uuid;
+  math::Vec3 bind = math::Vec3::Zero();
+};
+
+struct SkinWeights {
+  std::string skin, mesh;
+  std::vector<SkinInfluence> influences;
+  // Per vertex v: influences offsets[v] .. offsets[v + 1] - 1 of joints and weights.
+  std::vector<std::int64_t> offsets, joints;
+  std::vector<double> weights;
+  std::size_t vertex_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+};
+
+// Every skinCluster of the scene (in creation order), as evaluated now.
+// kInvalidArgument when it has none.
+Result<std::vector<SkinWeights>> capture_skin_weights(scene::Scene& scene);
+
+std::string skin_weights_to_json(const std::vector<SkinWeights>& skins);
+// kParseError naming `source` and the place (line:column, or the member:
+// "skins[0].vertices[12]") for text that is not a weights file.
+Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, const std::string& source);
+
+struct WeightsImport {
+  // File joint name -> scene joint name, for joints the scene names otherwise.
+  std::map<std::string, std::string> rename;
+  // A joint found neither by uuid nor by name (after `rename`): the
+  // target skin's joint nearest its bind position.
+  bool nearest = false;
+  // Each vertex takes the weights of the file's vertex nearest its mirror
+  // image (x -> -x, by bind points), each joint swapped for the joint of
+  // the other side's name (rig::mirror_name; a centre joint stays).
+  bool mirror = false;
+};
+
+struct WeightsReport {
+  std::size_t skins = 0, vertices = 0;
+  std::vector<std::string> remapped;  // "file joint -> scene joint" for those not matched by uuid
+};
+
+// Sets the weights of each file skin onto the scene's skin of the same
+// name (else the skin of the mesh of the same name), its influences
+// matched to the skin's joints by uuid, else name (after `rename`), else
+// (with `nearest`) position. One undo step; on failure nothing changes.
+// kInvalidArgument naming the skin for one the scene lacks or a vertex
+// count that differs, naming the joint for one it cannot match.
+Result<WeightsReport> apply_skin_weights(scene::Scene& scene, const std::vector<SkinWeights>& skins,
+                                         const WeightsImport& options = {});
+
+}  // namespace rigel::tools

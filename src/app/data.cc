@@ -1,0 +1,99 @@
+// The workspace's data managers (workspace.h): skin weights and control
+// shapes exported to files and imported back (tools/skin_weights.h,
+// tools/shape_data.h), the files confined to the root when there is one.
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "internal.h"
+#include "rigel/app/workspace.h"
+#include "rigel/io/scene_file.h"
+#include "rigel/rig/meta.h"
+
+namespace rigel::app {
+
+using internal::conflict;
+
+namespace {
+
+Result<std::string> read_text(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return Status(ErrorCode::kNotFound, "file: " + path.string() + ": no such file").with_field("file");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) return Status(ErrorCode::kIoError, "file: " + path.string() + ": cannot be read").with_field("file");
+  return text.str();
+}
+
+Status write_text(const fs::path& path, const std::string& text) {
+  if (Status s = internal::make_parent(path, "file"); !s) return s;
+  return internal::saved(io::write_file_atomic(path, text), "file");
+}
+
+// The rig a data call names, or the scene's only one.
+Result<NodeId> data_rig(const graph::Graph& g, const std::string& name) {
+  if (!name.empty()) {
+    const NodeId r = rig::find_rig(g, name);
+    if (!r.is_valid()) return Status(ErrorCode::kNotFound, "rig: no built rig '" + name + "'").with_field("rig");
+    return r;
+  }
+  const std::vector<NodeId> rigs = rig::list_rigs(g);
+  if (rigs.size() == 1) return rigs[0];
+  return Status(ErrorCode::kInvalidArgument, rigs.empty() ? std::string("rig: the scene holds no built rig")
+                                                          : "rig: the scene holds " + std::to_string(rigs.size()) + " rigs; name one")
+      .with_field("rig");
+}
+
+}  // namespace
+
+Result<fs::path> Workspace::export_skin_weights(const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  auto skins = tools::capture_skin_weights(*scene_);
+  if (!skins) return conflict(skins.status());
+  if (Status s = write_text(*path, tools::skin_weights_to_json(*skins)); !s) return s;
+  return path;
+}
+
+Result<tools::WeightsReport> Workspace::import_skin_weights(const std::string& file, const tools::WeightsImport& options) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  Result<std::string> text = read_text(*path);
+  if (!text) return text.status();
+  auto skins = tools::skin_weights_from_json(*text, path->string());
+  if (!skins) return Status(skins.status()).with_field("file");
+  auto report = tools::apply_skin_weights(*scene_, *skins, options);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  bump_revision();
+  return report;
+}
+
+Result<fs::path> Workspace::export_control_shapes(const std::string& rig, const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  Result<NodeId> r = data_rig(graph(), rig);
+  if (!r) return r.status();
+  auto shapes = tools::capture_control_shapes(graph(), *r);
+  if (!shapes) return shapes.status();
+  if (Status s = write_text(*path, tools::control_shapes_to_json(*shapes)); !s) return s;
+  return path;
+}
+
+Result<tools::ShapesReport> Workspace::import_control_shapes(const std::string& rig, const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  Result<std::string> text = read_text(*path);
+  if (!text) return text.status();
+  auto shapes = tools::control_shapes_from_json(*text, path->string());
+  if (!shapes) return Status(shapes.status()).with_field("file");
+  Result<NodeId> r = data_rig(graph(), rig.empty() ? shapes->rig : rig);
+  if (!r) return r.status();
+  auto report = tools::apply_control_shapes(graph(), *r, *shapes);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  bump_revision();
+  return report;
+}
+
+}  // namespace rigel::app
