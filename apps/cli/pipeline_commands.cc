@@ -1,15 +1,20 @@
-// `rigel project`, `rigel asset`, `rigel config` and the log level (see
-// pipeline_commands.h).
+// `rigel project`, `rigel asset`, `rigel config`, `rigel data` and the log
+// level (see pipeline_commands.h).
 
 #include "pipeline_commands.h"
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <map>
+#include <sstream>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "rigel/app/workspace.h"
+#include "rigel/ephemeral/component.h"
 #include "rigel/base/log.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/project.h"
@@ -157,6 +162,77 @@ int run_config(const std::string& op, const ConfigArgs& a) {
   return 0;
 }
 
+struct DataArgs {
+  std::string kind, scene, file, output, rig, rename;
+  bool nearest = false, mirror = false, json = false;
+};
+
+// A bare data file name inside an asset goes to its data folder (with the
+// kind's extension when it has none); anything else is a path as given.
+std::string data_path(const std::string& kind, const std::string& given) {
+  if (given.find('/') != std::string::npos) return given;
+  auto asset = tools::find_asset(fs::current_path());
+  if (!asset) return given;
+  const std::string ext = kind == "weights" ? ".weights.json" : ".shapes.json";
+  const std::string name = given.size() > 5 && given.ends_with(".json") ? given : given + ext;
+  return (asset->dir / "data" / kind / name).string();
+}
+
+Result<std::map<std::string, std::string>> read_rename(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Status(ErrorCode::kNotFound, "--rename: " + path + ": cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  const Json j = Json::parse(text.str(), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return Status(ErrorCode::kParseError, "--rename: " + path + ": expected a JSON object {\"old name\": \"new name\", ...}");
+  std::map<std::string, std::string> out;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (!it.value().is_string()) return Status(ErrorCode::kParseError, "--rename: " + path + ": " + it.key() + ": expected a name");
+    out[it.key()] = it.value().get<std::string>();
+  }
+  return out;
+}
+
+int run_data(bool exporting, const DataArgs& a) {
+  if (a.kind != "weights" && a.kind != "shapes") return usage_error("KIND '" + a.kind + "': expected weights or shapes");
+  if (a.kind == "shapes" && (a.nearest || a.mirror || !a.rename.empty()))
+    return usage_error("--rename, --nearest and --mirror are for weights");
+  auto scene = load(a.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  const std::string file = data_path(a.kind, exporting ? a.output : a.file);
+  if (exporting) {
+    auto path = a.kind == "weights" ? ws.export_skin_weights(file) : ws.export_control_shapes(a.rig, file);
+    if (!path) return fail(path.status().with_context(a.scene));
+    if (a.json) std::cout << Json{{"kind", a.kind}, {"file", path->string()}}.dump() << "\n";
+    std::cerr << "rigel: wrote " << a.kind << " to " << path->string() << "\n";
+    return 0;
+  }
+  Json report;
+  if (a.kind == "weights") {
+    tools::WeightsImport options;
+    options.nearest = a.nearest;
+    options.mirror = a.mirror;
+    if (!a.rename.empty()) {
+      auto table = read_rename(a.rename);
+      if (!table) return fail(table.status());
+      options.rename = std::move(*table);
+    }
+    auto r = ws.import_skin_weights(file, options);
+    if (!r) return fail(r.status().with_context(a.scene));
+    report = Json{{"skins", r->skins}, {"vertices", r->vertices}, {"remapped", r->remapped}};
+  } else {
+    auto r = ws.import_control_shapes(a.rig, file);
+    if (!r) return fail(r.status().with_context(a.scene));
+    report = Json{{"set", r->set}, {"missing", r->missing}};
+    for (const std::string& m : r->missing) log::warn(file + ": the rig has no " + m + " (left out)");
+  }
+  if (auto saved = ws.save(a.output); !saved) return fail(saved.status());
+  if (a.json) std::cout << report.dump() << "\n";
+  std::cerr << "rigel: imported " << a.kind << " from " << file << "; wrote " << a.output << "\n";
+  return 0;
+}
+
 }  // namespace
 
 struct PipelineCommands::State {
@@ -165,6 +241,8 @@ struct PipelineCommands::State {
   ProjectArgs project;
   AssetArgs asset;
   ConfigArgs config;
+  CLI::App *data_export = nullptr, *data_import = nullptr;
+  DataArgs data;
 };
 
 PipelineCommands::PipelineCommands() : state_(std::make_unique<State>()) {}
@@ -214,6 +292,29 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
   }
   s.config_list = config->add_subcommand("list", "Every setting with its value and where it comes from");
   s.config_list->add_flag("--json", s.config.json, "Print the settings as JSON on stdout");
+
+  CLI::App* data = app.add_subcommand("data", "Hand-made rig data kept across rebuilds: skin weights, control shapes");
+  data->require_subcommand(1);
+  data->footer("Examples:\n  rigel data export weights hero.rigel -o hero.weights.json\n"
+               "  rigel data import weights copy.rigel hero.weights.json --rename names.json -o copy.rigel\n"
+               "  rigel data import weights hero.rigel hero.weights.json --mirror -o hero.rigel\n"
+               "  rigel data export shapes hero.rigel -o hero   (in an asset: data/shapes/hero.shapes.json)");
+  s.data_export = data->add_subcommand("export", "Write a scene's data of one kind to a diffable JSON file");
+  s.data_export->add_option("KIND", s.data.kind, "weights or shapes")->required();
+  s.data_export->add_option("SCENE", s.data.scene, "Scene file (.rigel)")->required();
+  s.data_export->add_option("-o,--output", s.data.output, "The data file (a bare name in an asset: its data folder)")->required();
+  s.data_import = data->add_subcommand("import", "Set a scene's data of one kind from a file and write the scene");
+  s.data_import->add_option("KIND", s.data.kind, "weights or shapes")->required();
+  s.data_import->add_option("SCENE", s.data.scene, "Scene file (.rigel)")->required();
+  s.data_import->add_option("FILE", s.data.file, "The data file (a bare name in an asset: its data folder)")->required();
+  s.data_import->add_option("-o,--output", s.data.output, "Scene file to write (.rigel)")->required();
+  s.data_import->add_option("--rename", s.data.rename, "Weights: a JSON object of file joint name -> scene joint name");
+  s.data_import->add_flag("--nearest", s.data.nearest, "Weights: joints found by neither uuid nor name go to the nearest joint");
+  s.data_import->add_flag("--mirror", s.data.mirror, "Weights: mirrored across the character's plane (x -> -x), sides swapped");
+  for (CLI::App* c : {s.data_export, s.data_import}) {
+    c->add_option("--rig", s.data.rig, "Shapes: the built rig (default: the scene's only one)");
+    c->add_flag("--json", s.data.json, "Print a JSON report on stdout");
+  }
 }
 
 std::optional<int> run_pipeline_commands(const PipelineCommands& commands) {
@@ -226,6 +327,8 @@ std::optional<int> run_pipeline_commands(const PipelineCommands& commands) {
   if (*s.config_set) return run_config("set", s.config);
   if (*s.config_unset) return run_config("unset", s.config);
   if (*s.config_list) return run_config("list", s.config);
+  if (*s.data_export) return run_data(true, s.data);
+  if (*s.data_import) return run_data(false, s.data);
   return std::nullopt;
 }
 

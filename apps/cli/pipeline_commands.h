@@ -1,7 +1,9 @@
 #pragma once
-// `rigel project new|info`, `rigel asset new|info` and `rigel config
-// get|set|unset|list`: the rigging pipeline's projects, assets and settings
-// (tools/project.h, tools/config.h); and the log level every command takes
+// `rigel project new|info`, `rigel asset new|info`, `rigel config
+// get|set|unset|list` and `rigel data export|import weights|shapes`: the
+// rigging pipeline's projects, assets, settings and data managers
+// (tools/project.h, tools/config.h, tools/skin_weights.h,
+// tools/shape_data.h); and the log level every command takes
 // (`--log-level`, else the settings' log.level).
 
 #include <memory>

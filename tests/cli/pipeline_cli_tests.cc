@@ -111,5 +111,51 @@ TEST_F(CliPipeline, settings_layered_and_used_by_builds_and_the_log) {
   EXPECT_NE(r.err.find("settings left out"), std::string::npos) << r;
 }
 
+TEST_F(CliPipeline, weights_and_shapes_exported_into_the_asset_and_imported_back) {
+  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
+  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
+  ASSERT_TRUE(exited_with(rigel({"asset", "new", "hero", "--skeleton", body}, at("show")), 0));
+  const fs::path asset = at("show/characters/hero");
+  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", (asset / "body.rigel").string()}), 0));
+  // A bare name goes to the asset's data folder.
+  CliRun r = rigel({"data", "export", "weights", "body.rigel", "-o", "body", "--json"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const fs::path file = asset / "data/weights/body.weights.json";
+  EXPECT_EQ(Json::parse(r.out)["file"], file.string());
+  const std::string exported = io::testing::read_text(file);
+  // Onto a fresh import (other uuids): by name; mirrored; each written.
+  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", at("fresh.rigel").string()}), 0));
+  r = rigel({"data", "import", "weights", at("fresh.rigel").string(), file.string(), "-o", at("fresh2.rigel").string(), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["vertices"], 10027);
+  r = rigel({"data", "import", "weights", (asset / "body.rigel").string(), file.string(), "-o", at("same.rigel").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"data", "export", "weights", at("same.rigel").string(), "-o", at("again.weights.json").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(io::testing::read_text(at("again.weights.json")), exported) << "export after import: the same bytes";
+  r = rigel({"data", "import", "weights", at("fresh.rigel").string(), file.string(), "--mirror", "-o", at("mirrored.rigel").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+
+  // Shapes of the biped, exported and imported back.
+  const std::string biped = (fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml").string();
+  ASSERT_TRUE(exited_with(rigel({"build", biped, "-o", at("hero.rigel").string()}), 0));
+  r = rigel({"data", "export", "shapes", at("hero.rigel").string(), "-o", at("hero.shapes.json").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"data", "import", "shapes", at("hero.rigel").string(), at("hero.shapes.json").string(), "-o", at("hero2.rigel").string(), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_GT(Json::parse(r.out)["set"].get<int>(), 50);
+
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"data", "import", "weights", at("hero.rigel").string(), at("hero.shapes.json").string(), "-o", at("x.rigel").string()},
+        std::vector<std::string>{"data", "import", "shapes", at("hero.rigel").string(), at("none.json").string(), "-o", at("x.rigel").string()},
+        std::vector<std::string>{"data", "export", "weights", at("hero.rigel").string(), "-o", at("show").string()},
+        std::vector<std::string>{"data", "import", "weights", at("fresh.rigel").string(), file.string(), "--rename", at("none.json").string(), "-o", at("x.rigel").string()}}) {
+    const CliRun b = rigel(bad);
+    EXPECT_TRUE(exited_with(b, 1)) << b;
+  }
+  EXPECT_TRUE(exited_with(rigel({"data", "export", "colours", at("hero.rigel").string(), "-o", at("x.json").string()}), 2));
+  EXPECT_FALSE(fs::exists(at("x.rigel")));
+}
+
 }  // namespace
 }  // namespace rigel::cli::testing
