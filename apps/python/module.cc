@@ -127,4 +127,5 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_keys(m);
   wrap_session(m);
   wrap_workspace(m);
+  wrap_pipeline(m);
 }

@@ -61,5 +61,8 @@ void def_scene_settings(WorkspaceClass& cls);
 // flip_control_shape, mirror_shape_to_opposite, create_locators, align,
 // mirror_joints.
 void def_rigging(WorkspaceClass& cls);
+// Workspace.export_skin_weights, import_skin_weights, export_control_shapes,
+// import_control_shapes (wrap_pipeline.cc).
+void def_data(WorkspaceClass& cls);
 
 }  // namespace rigel::python

@@ -116,4 +116,49 @@ Json mirror_joints(app::Workspace& ws, const Json& body) {
               {"updated", refs_json(ws, report.updated)}};
 }
 
+namespace {
+
+std::string data_kind(const Json& body) {
+  const std::string kind = as_string(need(body, "kind"), "kind");
+  if (kind != "weights" && kind != "shapes") refuse(400, "kind: expected \"weights\" or \"shapes\", got \"" + kind + "\"", "kind");
+  return kind;
+}
+
+std::string rig_of(const Json& body) {
+  const Json* r = opt(body, "rig");
+  return r ? as_string(*r, "rig") : std::string();
+}
+
+}  // namespace
+
+Json data_export(app::Workspace& ws, const Json& body) {
+  const std::string kind = data_kind(body);
+  const std::string file = as_string(need(body, "file"), "file");
+  const std::filesystem::path path =
+      take(kind == "weights" ? ws.export_skin_weights(file) : ws.export_control_shapes(rig_of(body), file));
+  // Where it went, as the request names files: inside the served root.
+  const std::string shown = ws.root().empty() ? path.string() : path.lexically_relative(ws.root()).generic_string();
+  return Json{{"revision", ws.revision()}, {"kind", kind}, {"file", shown}};
+}
+
+Json data_import(app::Workspace& ws, const Json& body) {
+  const std::string kind = data_kind(body);
+  const std::string file = as_string(need(body, "file"), "file");
+  if (kind == "shapes") {
+    for (const char* k : {"rename", "nearest", "mirror"})
+      if (opt(body, k)) refuse(400, std::string(k) + ": only weights take it", k);
+    const tools::ShapesReport r = take(ws.import_control_shapes(rig_of(body), file));
+    return Json{{"revision", ws.revision()}, {"set", r.set}, {"missing", r.missing}};
+  }
+  tools::WeightsImport o;
+  o.nearest = flag(body, "nearest", false);
+  o.mirror = flag(body, "mirror", false);
+  if (const Json* table = opt(body, "rename")) {
+    if (!table->is_object()) refuse(400, "rename: expected an object {\"old name\": \"new name\"}", "rename");
+    for (auto it = table->begin(); it != table->end(); ++it) o.rename[it.key()] = as_string(it.value(), "rename." + it.key());
+  }
+  const tools::WeightsReport r = take(ws.import_skin_weights(file, o));
+  return Json{{"revision", ws.revision()}, {"skins", r.skins}, {"vertices", r.vertices}, {"remapped", r.remapped}};
+}
+
 }  // namespace rigel::server::routes

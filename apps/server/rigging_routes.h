@@ -25,5 +25,10 @@ Json align(app::Workspace& ws, const Json& body);
 Json locators(app::Workspace& ws, const Json& body);
 // POST /api/mirror-joints {"joints"? (the selection), "update"?}.
 Json mirror_joints(app::Workspace& ws, const Json& body);
+// The data managers: POST /api/data/export {"kind": "weights"|"shapes",
+// "file", "rig"?} and POST /api/data/import {"kind", "file", "rig"?,
+// "rename"? {old: new}, "nearest"?, "mirror"?}, files inside the root.
+Json data_export(app::Workspace& ws, const Json& body);
+Json data_import(app::Workspace& ws, const Json& body);
 
 }  // namespace rigel::server::routes

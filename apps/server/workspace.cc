@@ -465,6 +465,8 @@ struct Workspace::Impl {
   Json post_align(const Request&, const Json& body) { return routes::align(ws, body); }
   Json post_locators(const Request&, const Json& body) { return routes::locators(ws, body); }
   Json post_mirror_joints(const Request&, const Json& body) { return routes::mirror_joints(ws, body); }
+  Json post_data_export(const Request&, const Json& body) { return routes::data_export(ws, body); }
+  Json post_data_import(const Request&, const Json& body) { return routes::data_import(ws, body); }
 
   // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
@@ -728,6 +730,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/align", &Impl::post_align},
       {"POST", "/api/locators", &Impl::post_locators},
       {"POST", "/api/mirror-joints", &Impl::post_mirror_joints},
+      {"POST", "/api/data/export", &Impl::post_data_export},
+      {"POST", "/api/data/import", &Impl::post_data_import},
       {"GET", "/api/poses", &Impl::get_poses},
       {"GET", "/api/poses/thumbnail", nullptr},
       {"POST", "/api/poses/save", &Impl::post_poses_save},

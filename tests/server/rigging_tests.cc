@@ -99,5 +99,36 @@ TEST(ServerApi, LocatorsAlignAndMirrorJoints) {
   EXPECT_EQ(Json::parse(s.request("POST", "/api/locators", R"({"nodes":["hand.L"],"size":-1})").body)["field"], "size");
 }
 
+TEST(ServerApi, DataExportedAndImportedInsideTheRoot) {
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
+  Json r = s.post("/api/data/export", {{"kind", "shapes"}, {"file", "data/hero.shapes.json"}});
+  EXPECT_EQ(r["file"], "data/hero.shapes.json");
+  ASSERT_TRUE(fs::exists(s.root / "data" / "hero.shapes.json"));
+  s.post("/api/shape", {{"op", "mirror"}, {"controls", {"hero_arm_L_ik"}}});
+  const Json mirrored = s.get("/api/shape?control=hero_arm_L_ik");
+  r = s.post("/api/data/import", {{"kind", "shapes"}, {"file", "data/hero.shapes.json"}});
+  EXPECT_GT(r["set"].get<int>(), 50);
+  EXPECT_NE(s.get("/api/shape?control=hero_arm_L_ik")["points"], mirrored["points"]) << "the file's shape back";
+  s.post("/api/undo", Json::object());
+  EXPECT_EQ(s.get("/api/shape?control=hero_arm_L_ik")["points"], mirrored["points"]);
+  r = s.post("/api/data/export", {{"kind", "weights"}, {"file", "data/w.weights.json"}});
+  r = s.post("/api/data/import", {{"kind", "weights"}, {"file", "data/w.weights.json"}, {"mirror", true}});
+  EXPECT_GE(r["skins"].get<int>(), 1);
+  EXPECT_FALSE(r["remapped"].empty()) << "the left joints onto the right";
+  for (auto [body, status, field] :
+       {std::tuple{R"({"kind":"colours","file":"x.json"})", 400, "kind"},
+        std::tuple{R"({"kind":"shapes","file":"../outside.json"})", 400, "file"},
+        std::tuple{R"({"kind":"shapes","file":"data/none.json"})", 404, "file"},
+        std::tuple{R"({"kind":"shapes","file":"data/w.weights.json"})", 400, "file"},
+        std::tuple{R"({"kind":"shapes","file":"data/hero.shapes.json","mirror":true})", 400, "mirror"},
+        std::tuple{R"({"kind":"weights","file":"data/w.weights.json","rename":[1]})", 400, "rename"}}) {
+    Response resp = s.request("POST", "/api/data/import", body);
+    EXPECT_EQ(resp.status, status) << body << ": " << resp.body;
+    EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
+  }
+  EXPECT_FALSE(fs::exists(s.dir->path() / "outside.json"));
+}
+
 }  // namespace
 }  // namespace rigel::server

@@ -1,0 +1,164 @@
+// rigel's pipeline in Python (tools/project.h, tools/config.h, base/log.h):
+// module functions for projects, assets and settings, and the log level;
+// Workspace's data managers (export and import of skin weights and control
+// shapes). Python values in, library calls, records out.
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include "rigel/base/log.h"
+#include "rigel/tools/config.h"
+#include "rigel/tools/project.h"
+#include "wrap_workspace.h"
+
+namespace rigel::python {
+
+namespace {
+
+py::object project_record(const tools::Project& p) {
+  py::dict d;
+  d["dir"] = p.dir.string();
+  d["name"] = p.name;
+  d["format"] = p.format;
+  d["created"] = p.created;
+  return record(d);
+}
+
+py::object asset_record(const tools::Asset& a) {
+  py::dict d;
+  d["dir"] = a.dir.string();
+  d["name"] = a.name;
+  d["type"] = a.type;
+  d["skeleton"] = a.skeleton;
+  d["published"] = tools::published_versions(a);
+  d["created"] = a.created;
+  d["modified"] = a.modified;
+  return record(d);
+}
+
+py::object setting_value(const tools::SettingValue& v) {
+  return std::visit([](const auto& x) { return py::cast(x); }, v);
+}
+
+tools::Project project_at(const std::string& dir) {
+  return unwrap(dir.empty() ? tools::find_project(std::filesystem::current_path()) : tools::open_project(dir));
+}
+
+}  // namespace
+
+void wrap_pipeline(py::module_& m) {
+  m.def(
+       "create_project", [](const std::string& dir, const std::string& name) { return project_record(unwrap(tools::create_project(dir, name))); },
+       py::arg("dir"), py::arg("name") = "", "Makes DIR (empty or new) a rigging project; returns record(dir, name, format, created).")
+      .def(
+          "open_project", [](const std::string& dir) { return project_record(project_at(dir)); }, py::arg("dir") = "",
+          "The project in DIR, or (DIR empty) the one the current folder is in.")
+      .def(
+          "create_asset",
+          [](const std::string& name, const std::string& type, const std::string& skeleton, const std::string& project) {
+            return asset_record(unwrap(tools::create_asset(project_at(project), name, type, skeleton)));
+          },
+          py::arg("name"), py::arg("type") = "character", py::arg("skeleton") = "", py::arg("project") = "",
+          "Makes an asset (character or prop) in the project (default: the current folder's), copying a skeleton file "
+          "into it; returns record(dir, name, type, skeleton, published, created, modified).")
+      .def(
+          "assets",
+          [](const std::string& project) {
+            py::list out;
+            for (const tools::Asset& a : unwrap(tools::list_assets(project_at(project)))) out.append(asset_record(a));
+            return out;
+          },
+          py::arg("project") = "", "The project's assets, by category then name.")
+      .def(
+          "open_asset",
+          [](const std::string& name, const std::string& project) {
+            if (name.empty()) return asset_record(unwrap(tools::find_asset(std::filesystem::current_path())));
+            return asset_record(unwrap(tools::open_asset(project_at(project), name)));
+          },
+          py::arg("name") = "", py::arg("project") = "", "An asset by name, or (no name) the one the current folder is in.")
+      .def(
+          "settings",
+          [](const std::string& project) {
+            std::filesystem::path file;
+            if (project.empty()) {
+              if (auto p = tools::find_project(std::filesystem::current_path())) file = p->dir / tools::kProjectConfigFile;
+            } else {
+              file = std::filesystem::path(project) / tools::kProjectConfigFile;
+            }
+            py::dict out;
+            for (const tools::Config::Entry& e : unwrap(tools::Config::load(tools::user_config_path(), file)).list()) {
+              py::dict d;
+              d["value"] = setting_value(e.value);
+              d["source"] = tools::config_source_name(e.source);
+              d["help"] = e.spec->help;
+              out[py::str(e.spec->key)] = record(d);
+            }
+            return out;
+          },
+          py::arg("project") = "",
+          "Every setting: {key: record(value, source: default|user|project, help)}, the project's (the current "
+          "folder's by default) over the user's over the defaults.")
+      .def(
+          "set_setting",
+          [](const std::string& key, const std::optional<std::string>& value, const std::string& file) {
+            std::optional<std::string_view> v;
+            if (value) v = *value;
+            check(tools::Config::set(file.empty() ? tools::user_config_path() : std::filesystem::path(file), key, v));
+          },
+          py::arg("key"), py::arg("value"), py::arg("file") = "",
+          "Sets (value None: removes) a setting in a settings file (default: the user's), checked against its spec.")
+      .def(
+          "set_log_level",
+          [](const std::string& level) {
+            const auto l = log::level_from_name(level);
+            if (!l) raise(Status(ErrorCode::kInvalidArgument, std::string("level: expected one of ") + log::level_names()).with_field("level"));
+            log::set_level(*l);
+          },
+          py::arg("level"), "What rigel logs on stderr: trace, debug, info, warn, error or off.");
+}
+
+void def_data(WorkspaceClass& cls) {
+  cls.def(
+         "export_skin_weights",
+         [](const WorkspaceRef& w, const std::string& file) { return unwrap(w.ws->export_skin_weights(file)).string(); },
+         py::arg("file"), "Writes every skinCluster's weights to FILE (.weights.json); returns its path.")
+      .def(
+          "import_skin_weights",
+          [](const WorkspaceRef& w, const std::string& file, const std::map<std::string, std::string>& rename, bool nearest,
+             bool mirror) {
+            tools::WeightsImport o;
+            o.rename = rename;
+            o.nearest = nearest;
+            o.mirror = mirror;
+            const tools::WeightsReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_skin_weights(file, o)); });
+            py::dict d;
+            d["skins"] = r.skins;
+            d["vertices"] = r.vertices;
+            d["remapped"] = r.remapped;
+            return record(d);
+          },
+          py::arg("file"), py::arg("rename") = std::map<std::string, std::string>{}, py::arg("nearest") = false,
+          py::arg("mirror") = false,
+          "Sets skin weights from FILE: joints by uuid, name (after `rename`), or the nearest; mirrored with `mirror`. "
+          "One undo step; returns record(skins, vertices, remapped).")
+      .def(
+          "export_control_shapes",
+          [](const WorkspaceRef& w, const std::string& file, const std::string& rig) {
+            return unwrap(w.ws->export_control_shapes(rig, file)).string();
+          },
+          py::arg("file"), py::arg("rig") = "", "Writes a built rig's control shapes and colours to FILE (.shapes.json).")
+      .def(
+          "import_control_shapes",
+          [](const WorkspaceRef& w, const std::string& file, const std::string& rig) {
+            const tools::ShapesReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_control_shapes(rig, file)); });
+            py::dict d;
+            d["set"] = r.set;
+            d["missing"] = r.missing;
+            return record(d);
+          },
+          py::arg("file"), py::arg("rig") = "",
+          "Sets control shapes and colours from FILE by rigId, role and index (one undo step); returns record(set, missing).");
+}
+
+}  // namespace rigel::python

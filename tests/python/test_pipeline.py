@@ -1,0 +1,68 @@
+"""The pipeline from Python: a project with an asset, settings layered
+project over user over defaults, and the data managers (skin weights and
+control shapes exported and imported back): the same library calls as
+`rigel project`, `rigel asset`, `rigel config` and `rigel data`."""
+
+import pytest
+
+import rigel
+from conftest import BIPED, DATA
+
+
+@pytest.fixture
+def user_settings(tmp_path, monkeypatch):
+    home = tmp_path / "user"
+    monkeypatch.setenv("RIGEL_CONFIG_HOME", str(home))
+    return home / "config.json"
+
+
+def test_project_assets_and_settings(tmp_path, user_settings, monkeypatch):
+    project = rigel.create_project(str(tmp_path / "show"))
+    assert project.name == "show" and project.format == 1
+    monkeypatch.chdir(tmp_path / "show")
+    hero = rigel.create_asset("hero", skeleton=str(DATA / "gltf" / "rigify_human_metarig.glb"))
+    assert hero.skeleton == "skeleton/rigify_human_metarig.glb" and hero.published == []
+    rigel.create_asset("sword", type="prop")
+    assert [a.name for a in rigel.assets()] == ["hero", "sword"]
+    monkeypatch.chdir(tmp_path / "show" / "characters" / "hero" / "data")
+    assert rigel.open_asset().name == "hero"
+    assert rigel.open_project().name == "show"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        rigel.create_asset("hero")
+    assert info.value.field == "name"
+
+    rigel.set_setting("log.level", "info")
+    rigel.set_setting("log.level", "error", file=str(tmp_path / "show" / "rigel.config.json"))
+    settings = rigel.settings()
+    assert settings["log.level"].value == "error" and settings["log.level"].source == "project"
+    assert settings["batch.jobs"].value == 0 and settings["batch.jobs"].source == "default"
+    rigel.set_setting("log.level", None, file=str(tmp_path / "show" / "rigel.config.json"))
+    assert rigel.settings()["log.level"].source == "user"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        rigel.set_setting("log.level", "loud")
+    assert info.value.field == "value"
+    with pytest.raises(rigel.InvalidArgumentError):
+        rigel.set_log_level("loud")
+
+
+def test_weights_and_shapes_round_trip(tmp_path):
+    w = rigel.Workspace(str(DATA / "gltf" / "rigify_human_body.glb"))
+    path = w.export_skin_weights(str(tmp_path / "body.weights.json"))
+    text = open(path).read()
+    report = w.import_skin_weights(path)
+    assert report.skins == 1 and report.vertices > 10000 and report.remapped == []
+    again = w.export_skin_weights(str(tmp_path / "again.weights.json"))
+    assert open(again).read() == text
+    mirrored = w.import_skin_weights(path, mirror=True)
+    assert mirrored.remapped  # the left joints onto the right
+    w.undo()
+    assert open(w.export_skin_weights(str(tmp_path / "back.weights.json"))).read() == text
+
+    hero = rigel.Workspace(str(DATA / "gltf" / "rigify_human_metarig.glb"))
+    hero.add_rig(str(BIPED))
+    shapes = hero.export_control_shapes(str(tmp_path / "hero.shapes.json"))
+    r = hero.import_control_shapes(shapes)
+    assert r.set > 50 and r.missing == []
+    with pytest.raises(rigel.NotFoundError) as info:
+        hero.import_control_shapes(str(tmp_path / "none.json"))
+    assert info.value.field == "file"
