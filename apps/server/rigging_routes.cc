@@ -49,8 +49,22 @@ tools::ControlLook look_of(const Json& j) {
 
 }  // namespace
 
-Json shape(const app::Workspace& ws, const std::string& control) {
-  const graph::NodeId id = take(ws.node(control, "control"));
+namespace {
+
+const std::string& query_field(const std::map<std::string, std::string>& query, const char* key) {
+  auto it = query.find(key);
+  if (it == query.end()) refuse(400, std::string("missing query '") + key + "'", key);
+  return it->second;
+}
+
+}  // namespace
+
+std::string pose_thumbnail(const app::Workspace& ws, const std::map<std::string, std::string>& query) {
+  return take(ws.pose_thumbnail(query_field(query, "library"), query_field(query, "name")));
+}
+
+Json shape(const app::Workspace& ws, const std::map<std::string, std::string>& query) {
+  const graph::NodeId id = take(ws.node(query_field(query, "control"), "control"));
   auto look = ws.control_look(id);
   if (!look) refuse(400, "control: " + look.status().message(), "control");
   Json points = Json::array();

@@ -3,6 +3,9 @@
 // transform and joint actions, app::Workspace's rigger actions): each reads
 // its request's fields, calls the app layer and answers with JSON.
 
+#include <map>
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include "rigel/app/workspace.h"
@@ -13,7 +16,9 @@ using Json = nlohmann::ordered_json;
 
 // GET /api/shape?control=C: the control's look {"control", "name",
 // "points", "closed", "color"} (what the page copies).
-Json shape(const app::Workspace& ws, const std::string& control);
+Json shape(const app::Workspace& ws, const std::map<std::string, std::string>& query);
+// GET /api/poses/thumbnail?library=L&name=N: the SVG text.
+std::string pose_thumbnail(const app::Workspace& ws, const std::map<std::string, std::string>& query);
 // POST /api/shape {"op": "paste"|"mirror"|"flip"|"opposite", "controls"?
 // (the selection by default), "shape"? (paste: {"points", "closed",
 // "color"}), "parts"? (paste: ["shape", "color"] by default)}.

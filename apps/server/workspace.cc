@@ -149,13 +149,7 @@ struct Workspace::Impl {
   // The scene as binary glTF: exported beside nothing, to a private file.
   // GET /api/poses/thumbnail?library=L&name=N: the pose's SVG thumbnail.
   Response get_pose_thumbnail(const Request& req) {
-    auto field = [&](const char* key) {
-      auto it = req.query.find(key);
-      if (it == req.query.end()) refuse(400, std::string("missing query '") + key + "'", key);
-      return it->second;
-    };
-    const std::string library = field("library"), name = field("name");
-    return Response{200, take(ws.pose_thumbnail(library, name)), "image/svg+xml"};
+    return Response{200, routes::pose_thumbnail(ws, req.query), "image/svg+xml"};
   }
 
   Response get_character() {
@@ -456,11 +450,7 @@ struct Workspace::Impl {
   }
 
   // ---- routes: rigger actions (rigging_routes.cc) --------------------------------
-  Json get_shape(const Request& req, const Json&) {
-    auto it = req.query.find("control");
-    if (it == req.query.end()) refuse(400, "missing query 'control'", "control");
-    return routes::shape(ws, it->second);
-  }
+  Json get_shape(const Request& req, const Json&) { return routes::shape(ws, req.query); }
   Json post_shape(const Request&, const Json& body) { return routes::shape_edit(ws, body); }
   Json post_align(const Request&, const Json& body) { return routes::align(ws, body); }
   Json post_locators(const Request&, const Json& body) { return routes::locators(ws, body); }
