@@ -18,6 +18,7 @@
 #include "rigel/base/log.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/project.h"
+#include "rigel/tools/publish.h"
 
 namespace rigel::cli {
 namespace {
@@ -233,6 +234,39 @@ int run_data(bool exporting, const DataArgs& a) {
   return 0;
 }
 
+struct PublishArgs {
+  std::string asset, project;
+  bool json = false;
+};
+
+int run_publish(const PublishArgs& a) {
+  Result<tools::Asset> asset = Status::ok();
+  if (a.asset.empty()) {
+    asset = tools::find_asset(fs::current_path());
+  } else {
+    auto p = project_of(a.project);
+    if (!p) return fail(p.status());
+    asset = tools::open_asset(*p, a.asset);
+  }
+  if (!asset) return fail(asset.status());
+  tools::PublishOptions options;
+  options.naming_template = settings().string("naming.template");
+  options.checks = settings().flag("publish.checks");
+  options.rigel_version = RIGEL_VERSION;
+  auto r = tools::publish_asset(*asset, ephemeral::components(), options);
+  if (!r) return fail(r.status());
+  if (a.json) {
+    std::cout << Json{{"asset", asset->name}, {"version", r->version}, {"dir", r->dir.string()}, {"scene", r->scene.string()},
+                      {"manifest", r->manifest.string()}, {"rigs", r->rigs}, {"warnings", r->warnings},
+                      {"weightsVertices", r->weights_vertices}, {"shapesSet", r->shapes_set}, {"restError", r->rest_error}}
+                     .dump()
+              << "\n";
+  }
+  for (const std::string& w : r->warnings) std::cerr << "rigel: " << w << "\n";
+  std::cerr << "rigel: published " << asset->name << " v" << r->version << " to " << r->dir.string() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 struct PipelineCommands::State {
@@ -243,6 +277,8 @@ struct PipelineCommands::State {
   ConfigArgs config;
   CLI::App *data_export = nullptr, *data_import = nullptr;
   DataArgs data;
+  CLI::App* publish = nullptr;
+  PublishArgs publish_args;
 };
 
 PipelineCommands::PipelineCommands() : state_(std::make_unique<State>()) {}
@@ -311,6 +347,12 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
   s.data_import->add_option("--rename", s.data.rename, "Weights: a JSON object of file joint name -> scene joint name");
   s.data_import->add_flag("--nearest", s.data.nearest, "Weights: joints found by neither uuid nor name go to the nearest joint");
   s.data_import->add_flag("--mirror", s.data.mirror, "Weights: mirrored across the character's plane (x -> -x), sides swapped");
+  s.publish = app.add_subcommand("publish", "Build an asset from scratch, put its data back, check it, and write the next rig version");
+  s.publish->footer("Examples:\n  rigel publish            (in an asset's folder)\n  rigel publish hero --project ~/rigs/show --json");
+  s.publish->add_option("ASSET", s.publish_args.asset, "The asset (default: the one the current folder is in)");
+  s.publish->add_option("--project", s.publish_args.project, "The project (default: the one the current folder is in)");
+  s.publish->add_flag("--json", s.publish_args.json, "Print a JSON report on stdout");
+
   for (CLI::App* c : {s.data_export, s.data_import}) {
     c->add_option("--rig", s.data.rig, "Shapes: the built rig (default: the scene's only one)");
     c->add_flag("--json", s.data.json, "Print a JSON report on stdout");
@@ -327,6 +369,7 @@ std::optional<int> run_pipeline_commands(const PipelineCommands& commands) {
   if (*s.config_set) return run_config("set", s.config);
   if (*s.config_unset) return run_config("unset", s.config);
   if (*s.config_list) return run_config("list", s.config);
+  if (*s.publish) return run_publish(s.publish_args);
   if (*s.data_export) return run_data(true, s.data);
   if (*s.data_import) return run_data(false, s.data);
   return std::nullopt;

@@ -25,6 +25,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
+#include "rigel/tools/publish.h"
 
 namespace rigel::cli {
 namespace {
@@ -177,22 +178,41 @@ int run_update(const UpdateArgs& args) {
 // ---- rigs ----------------------------------------------------------------
 
 struct RigsArgs {
-  std::string scene;
+  std::vector<std::string> scenes;
   bool json = false;
 };
 
-int run_rigs(const RigsArgs& args) {
-  auto scene = load(args.scene);
+// The rigs report with where each published rig came from (tools/publish.h).
+Json rigs_with_published(const graph::Graph& g) {
+  Json list = rig::rigs_report(g);
+  for (const tools::PublishedRig& p : tools::published_rigs(g))
+    for (Json& r : list)
+      if (r["name"] == p.rig)
+        r["published"] = Json{{"asset", p.asset}, {"version", p.version}, {"newest", p.newest}, {"outOfDate", p.out_of_date()}};
+  return list;
+}
+
+int run_rigs_of(const std::string& path, bool json, Json* all) {
+  auto scene = load(path);
   if (!scene) return fail(scene.status());
-  const Json list = rig::rigs_report((*scene)->graph());
-  if (args.json) {
-    print_json(Json{{"rigs", list}});
+  const Json list = rigs_with_published((*scene)->graph());
+  if (json) {
+    if (all) all->push_back(Json{{"scene", path}, {"rigs", list}});
+    else print_json(Json{{"rigs", list}});
     return 0;
   }
+  if (all) std::cout << path << ":\n";
   if (list.empty()) std::cout << "no rigs\n";
   for (const Json& r : list) {
     std::cout << r["name"].get<std::string>() << " " << r["version"].get<std::string>() << "  "
               << r["definition"].get<std::string>();
+    if (r.contains("published")) {
+      const Json& p = r["published"];
+      std::cout << "  (published " << p["asset"].get<std::string>() << " v" << p["version"].get<int>();
+      if (p["outOfDate"].get<bool>()) std::cout << "; out of date: the newest is v" << p["newest"].get<int>();
+      if (p["newest"].get<int>() == 0) std::cout << "; its asset is not where the scene says";
+      std::cout << ")";
+    }
     if (!r["definitionFound"].get<bool>())
       std::cout << "  (definition missing: " << r["definitionProblem"].get<std::string>() << ")";
     else if (r["outOfDate"].get<bool>())
@@ -213,6 +233,17 @@ int run_rigs(const RigsArgs& args) {
                 << "  out of date: in the definition, not built\n";
   }
   return 0;
+}
+
+// Several scenes (shots): each one's rigs, and which are older than their
+// asset's newest published version.
+int run_rigs(const RigsArgs& args) {
+  if (args.scenes.size() == 1) return run_rigs_of(args.scenes[0], args.json, nullptr);
+  Json all = Json::array();
+  int code = 0;
+  for (const std::string& s : args.scenes) code = std::max(code, run_rigs_of(s, args.json, &all));
+  if (args.json) print_json(Json{{"scenes", all}});
+  return code;
 }
 
 // ---- remove --------------------------------------------------------------
@@ -483,7 +514,7 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
 
   s.rigs_cmd = app.add_subcommand("rigs", "List the rigs in a scene: definition, version, components (the Rig Manager)");
   s.rigs_cmd->footer("Example:\n  rigel rigs shot.rigel --json");
-  s.rigs_cmd->add_option("SCENE", s.rigs.scene, "Scene file (.rigel)")->required();
+  s.rigs_cmd->add_option("SCENE", s.rigs.scenes, "Scene files (.rigel): each one's rigs, published ones checked against their asset's newest version")->required();
   s.rigs_cmd->add_flag("--json", s.rigs.json, "Print JSON on stdout");
 
   s.remove_cmd = app.add_subcommand("remove", "Remove a rig: exactly what its metadata network links to");

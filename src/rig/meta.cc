@@ -108,12 +108,18 @@ Status register_rig_types(graph::Registry& registry) {
                 graph::input_attr("buildPosition", kInt, Value(std::int64_t{0})),
                 graph::input_attr("editMode", kBool, Value(false)),
                 string_attr("namingTemplate"),
+                // Where a published rig came from (tools/publish.h): the
+                // asset, its version and the version's folder.
+                string_attr("publishedAsset"),
+                graph::input_attr("publishedVersion", kInt, Value(std::int64_t{0})),
+                string_attr("publishedFrom"),
                 string_attr("buildRecord"),
                 message_attr("metaChildren"),
                 message_attr("members")};
   if (Status s = registry.add(std::move(root)); !s) return s;
   // The definition's path is kept relative to the scene file (io/scene_file.h).
   io::declare_path_attribute(kMetaRootType, "definitionPath");
+  io::declare_path_attribute(kMetaRootType, "publishedFrom");
 
   graph::NodeTypeSpec component;
   component.name = kMetaComponentType;

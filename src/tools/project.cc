@@ -227,7 +227,7 @@ std::vector<int> published_versions(const Asset& asset) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(asset.dir / "rig", ec)) {
     const std::string n = e.path().filename().string();
-    if (n.size() == 4 && n[0] == 'v' && std::all_of(n.begin() + 1, n.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    if (n.size() >= 4 && n[0] == 'v' && std::all_of(n.begin() + 1, n.end(), [](char c) { return c >= '0' && c <= '9'; }))
       out.push_back(std::stoi(n.substr(1)));
   }
   std::sort(out.begin(), out.end());

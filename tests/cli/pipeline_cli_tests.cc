@@ -157,5 +157,42 @@ TEST_F(CliPipeline, weights_and_shapes_exported_into_the_asset_and_imported_back
   EXPECT_FALSE(fs::exists(at("x.rigel")));
 }
 
+TEST_F(CliPipeline, publish_twice_and_a_shot_of_version_1_is_out_of_date) {
+  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
+  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
+  ASSERT_TRUE(exited_with(rigel({"asset", "new", "hero", "--skeleton", body}, at("show")), 0));
+  const fs::path asset = at("show/characters/hero");
+  CliRun r = rigel({"publish"}, asset);
+  EXPECT_TRUE(exited_with(r, 1)) << "no definition yet: " << r;
+  fs::copy_file(fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml", asset / "build/biped.rig.xml");
+  r = rigel({"publish", "--json"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["version"], 1);
+  // A shot made from version 1 (written by rigel, so its paths follow it).
+  r = rigel({"playback", (asset / "rig/v001/rig.rigel").string(), "--range", "1:24", "-o", at("shots/s01.rigel").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  // A hand edit kept as data, then version 2.
+  r = rigel({"shape", (asset / "rig/v001/rig.rigel").string(), "--control", "hero_arm_L_ik", "--flip", "-o", at("edit.rigel").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"data", "export", "shapes", at("edit.rigel").string(), "-o", "hero"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"publish", "hero", "--project", at("show").string(), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["version"], 2);
+  EXPECT_GT(Json::parse(r.out)["shapesSet"].get<int>(), 50);
+  r = rigel({"shape", (asset / "rig/v002/rig.rigel").string(), "--control", "hero_arm_L_ik", "--json"});
+  const CliRun edited = rigel({"shape", at("edit.rigel").string(), "--control", "hero_arm_L_ik", "--json"});
+  EXPECT_EQ(Json::parse(r.out)["controls"][0]["shape"], Json::parse(edited.out)["controls"][0]["shape"]);
+  r = rigel({"rigs", at("shots/s01.rigel").string(), (asset / "rig/v002/rig.rigel").string(), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const Json scenes = Json::parse(r.out)["scenes"];
+  EXPECT_EQ(scenes[0]["rigs"][0]["published"]["version"], 1);
+  EXPECT_EQ(scenes[0]["rigs"][0]["published"]["newest"], 2);
+  EXPECT_EQ(scenes[0]["rigs"][0]["published"]["outOfDate"], true);
+  EXPECT_EQ(scenes[1]["rigs"][0]["published"]["outOfDate"], false);
+  r = rigel({"rigs", at("shots/s01.rigel").string()});
+  EXPECT_NE(r.out.find("out of date: the newest is v2"), std::string::npos) << r;
+}
+
 }  // namespace
 }  // namespace rigel::cli::testing

@@ -1,0 +1,127 @@
+// Publishing (tools/publish.h): an asset with the biped's definition on the
+// body, published twice: each version a new folder (never overwritten) with
+// the built scene, a manifest of checksums and checks, and the log; hand
+// edits exported as data (a control's shape, a painted weight) come back in
+// the rebuilt version exactly; a scene from a version reports its asset's
+// newer one; a broken definition publishes nothing.
+
+#include "rigel/tools/publish.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "rigel/io/scene_file.h"
+#include "rigel/ops/deform/nodes.h"
+#include "rigel/rig/meta.h"
+#include "rigel/tools/shape_data.h"
+#include "rigel/tools/skin_weights.h"
+#include "../io/io_test_util.h"
+#include "tools_test_util.h"
+
+namespace rigel::tools {
+namespace {
+
+namespace fs = std::filesystem;
+using io::testing::read_text;
+using io::testing::write_text;
+
+struct Published {
+  io::testing::TempDir dir;
+  Asset asset;
+};
+
+std::unique_ptr<Published> asset_with_biped() {
+  auto p = std::make_unique<Published>();
+  auto project = create_project(p->dir.path() / "show");
+  EXPECT_TRUE(project.is_ok());
+  auto a = create_asset(*project, "hero", "character", testing::source("tests/data/gltf/rigify_human_body.glb"));
+  EXPECT_TRUE(a.is_ok()) << a.status().message();
+  p->asset = *a;
+  fs::copy_file(testing::source("examples/biped.rig.xml"), a->dir / "build" / "biped.rig.xml");
+  return p;
+}
+
+std::unique_ptr<scene::Scene> load(const fs::path& file) {
+  auto s = io::load_scene(file, ephemeral::default_registry());
+  EXPECT_TRUE(s.is_ok()) << s.status().message();
+  return s ? std::move(*s) : nullptr;
+}
+
+TEST(Publish, two_versions_with_hand_made_data_rebuilt_exactly) {
+  auto p = asset_with_biped();
+  auto v1 = publish_asset(p->asset, ephemeral::components(), {"", true, "test"});
+  ASSERT_TRUE(v1.is_ok()) << v1.status().message();
+  EXPECT_EQ(v1->version, 1);
+  EXPECT_EQ(v1->dir, p->asset.dir / "rig" / "v001");
+  EXPECT_LT(v1->rest_error, 1e-9);
+  const auto manifest = nlohmann::json::parse(read_text(v1->manifest));
+  EXPECT_EQ(manifest["version"], 1);
+  EXPECT_EQ(manifest["definitions"][0]["file"], "build/biped.rig.xml");
+  EXPECT_EQ(manifest["definitions"][0]["checksum"], *file_checksum(p->asset.dir / "build" / "biped.rig.xml"));
+  EXPECT_EQ(manifest["skeleton"]["checksum"], *file_checksum(p->asset.dir / "skeleton" / "rigify_human_body.glb"));
+  EXPECT_NE(read_text(v1->log).find("built hero"), std::string::npos);
+
+  // Hand edits on version 1: a control's shape, a painted weight; exported.
+  auto scene = load(v1->scene);
+  graph::Graph& g = scene->graph();
+  const graph::NodeId rig = rig::find_rig(g, "hero");
+  const graph::NodeId ik = testing::at(g, "hero:arm_L/ik");
+  const ControlLook drawn{{math::Vec3(0, 0, 0), math::Vec3(0.1, 0.1, 0)}, false, math::Vec3(1, 0.5, 0)};
+  ASSERT_TRUE(paste_control_look(g, {ik}, drawn).is_ok());
+  auto weights = *capture_skin_weights(*scene);
+  auto& body = weights.back();
+  for (std::int64_t k = body.offsets[42]; k < body.offsets[43]; ++k)
+    body.weights[static_cast<std::size_t>(k)] = k == body.offsets[42] ? 1.0 : 0.0;
+  ASSERT_TRUE(apply_skin_weights(*scene, weights).is_ok());
+  write_text(p->asset.dir / "data/shapes/hero.shapes.json", control_shapes_to_json(*capture_control_shapes(g, rig)));
+  write_text(p->asset.dir / "data/weights/body.weights.json", skin_weights_to_json(*capture_skin_weights(*scene)));
+
+  auto v2 = publish_asset(p->asset, ephemeral::components(), {"", true, "test"});
+  ASSERT_TRUE(v2.is_ok()) << v2.status().message();
+  EXPECT_EQ(v2->version, 2);
+  EXPECT_GT(v2->shapes_set, 50u);
+  EXPECT_GT(v2->weights_vertices, 10000u);
+  EXPECT_TRUE(fs::exists(p->asset.dir / "rig/v001/rig.rigel")) << "version 1 kept";
+  EXPECT_EQ(published_versions(p->asset), (std::vector<int>{1, 2}));
+  auto rebuilt = load(v2->scene);
+  const ControlLook got = *control_look(rebuilt->graph(), testing::at(rebuilt->graph(), "hero:arm_L/ik"));
+  EXPECT_EQ(got.points, drawn.points);
+  EXPECT_EQ(got.color, drawn.color);
+  const auto back = *capture_skin_weights(*rebuilt);
+  ASSERT_EQ(back.back().weights.size(), weights.back().weights.size());
+  for (std::size_t k = 0; k < back.back().weights.size(); ++k) EXPECT_NEAR(back.back().weights[k], weights.back().weights[k], 1e-6);
+  EXPECT_EQ(nlohmann::json::parse(read_text(v2->manifest))["data"].size(), 2u);
+
+  // A scene of version 1 knows version 2 is newer.
+  auto old = load(v1->scene);
+  const std::vector<PublishedRig> published = published_rigs(old->graph());
+  ASSERT_EQ(published.size(), 1u);
+  EXPECT_EQ(published[0].asset, "hero");
+  EXPECT_EQ(published[0].version, 1);
+  EXPECT_EQ(published[0].newest, 2);
+  EXPECT_TRUE(published[0].out_of_date());
+  EXPECT_FALSE(published_rigs(rebuilt->graph())[0].out_of_date());
+}
+
+TEST(Publish, a_broken_definition_or_a_missing_skeleton_publishes_nothing) {
+  auto p = asset_with_biped();
+  write_text(p->asset.dir / "build" / "biped.rig.xml", "<Rig name=\"hero\" version=\"1.0\">\n  <Component type=\"nosuch\"/>\n</Rig>\n");
+  auto r = publish_asset(p->asset, ephemeral::components());
+  ASSERT_FALSE(r.is_ok());
+  EXPECT_NE(r.status().message().find("biped.rig.xml:"), std::string::npos) << r.status().message();
+  EXPECT_TRUE(published_versions(p->asset).empty());
+  std::size_t left = 0;
+  for (const auto& e : fs::directory_iterator(p->asset.dir / "rig")) left += !e.path().empty();
+  EXPECT_EQ(left, 0u) << "nothing staged is left";
+  Asset bare = p->asset;
+  bare.skeleton.clear();
+  EXPECT_EQ(publish_asset(bare, ephemeral::components()).status().field(), "asset");
+  fs::remove(p->asset.dir / "build" / "biped.rig.xml");
+  EXPECT_EQ(publish_asset(p->asset, ephemeral::components()).status().field(), "asset");
+}
+
+}  // namespace
+}  // namespace rigel::tools
