@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "pipeline_commands.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/diff.h"
 #include "rigel/rig/manager.h"
@@ -30,7 +31,8 @@ struct ValidateArgs {
 int run_validate(const ValidateArgs& args) {
   Json files = Json::array();
   bool all_valid = true;
-  for (const std::string& file : args.files) {
+  for (const std::string& given : args.files) {
+    const std::string file = in_current_asset(given, tools::AssetFile::kDefinition);
     const std::vector<rig::Diagnostic> errors = rig::check_definition(file);
     all_valid &= errors.empty();
     if (args.json) {

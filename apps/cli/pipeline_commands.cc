@@ -390,6 +390,21 @@ tools::Config& loaded_settings() {
 
 const tools::Config& settings() { return loaded_settings(); }
 
+std::string in_current_asset(const std::string& given, tools::AssetFile kind) {
+  std::error_code ec;
+  if (given.empty() || fs::exists(given, ec)) return given;
+  auto asset = tools::find_asset(fs::current_path());
+  if (!asset) return given;
+  auto found = tools::resolve_in_asset(*asset, given, kind, "file");
+  if (found) log::debug(given + " is " + found->string() + " in asset " + asset->name);
+  return found ? found->string() : given;
+}
+
+std::string current_asset_skeleton() {
+  auto asset = tools::find_asset(fs::current_path());
+  return asset && !asset->skeleton.empty() ? (asset->dir / asset->skeleton).string() : std::string();
+}
+
 std::optional<int> apply_log_level(const std::string& given) {
   std::optional<log::Level> level;
   if (!given.empty()) {

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include "rigel/tools/config.h"
+#include "rigel/tools/project.h"
 
 namespace rigel::cli {
 
@@ -42,6 +43,14 @@ void add_log_level_option(CLI::App& app, std::string& level);
 // project's; a malformed settings file is reported as a warning and left
 // out). nullopt when fine, else the exit code.
 std::optional<int> apply_log_level(const std::string& given);
+// A file a command was given, resolved against the asset the current
+// folder is in (tools::resolve_in_asset: a bare name looked up in the
+// asset's folder for that kind); as given outside an asset or when nothing
+// there matches (the command then reports it missing).
+std::string in_current_asset(const std::string& given, tools::AssetFile kind);
+// The skeleton of the asset the current folder is in ("" outside one).
+std::string current_asset_skeleton();
+
 // The settings apply_log_level read (the user's and the current project's;
 // the defaults before it ran or when a file was malformed).
 const tools::Config& settings();

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "pipeline_commands.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 
@@ -212,10 +213,15 @@ void add_poses_command(CLI::App& app, PosesCommand& command) {
 std::optional<int> run_poses_command(const PosesCommand& command) {
   const PosesCommand::State& s = command.state();
   if (!*s.poses) return std::nullopt;
-  if (*s.save) return run_save(s.save_args);
-  if (*s.apply) return run_apply(s.apply_args);
-  if (*s.list) return run_list(s.list_args);
-  if (*s.remove) return run_remove(s.remove_args);
+  // Inside an asset, "poses" (or a bare name) is its pose library.
+  auto in_asset = [](PoseArgs a) {
+    a.library = in_current_asset(a.library, tools::AssetFile::kPoseLibrary);
+    return a;
+  };
+  if (*s.save) return run_save(in_asset(s.save_args));
+  if (*s.apply) return run_apply(in_asset(s.apply_args));
+  if (*s.list) return run_list(in_asset(s.list_args));
+  if (*s.remove) return run_remove(in_asset(s.remove_args));
   return std::nullopt;
 }
 

@@ -70,7 +70,12 @@ struct BuildArgs {
   bool json = false;
 };
 
-int run_build(const BuildArgs& args) {
+int run_build(const BuildArgs& given) {
+  // Inside an asset: bare names are its definitions and skeletons, and its
+  // skeleton is the default character.
+  BuildArgs args = given;
+  args.definition = in_current_asset(args.definition, tools::AssetFile::kDefinition);
+  args.character = args.character.empty() ? current_asset_skeleton() : in_current_asset(args.character, tools::AssetFile::kCharacter);
   std::optional<rig::Definition> def = read_definition(args.definition);
   if (!def) return kExitInvalidInput;
   app::BuildFileOptions options;

@@ -168,6 +168,12 @@ TEST_F(CliPipeline, publish_twice_and_a_shot_of_version_1_is_out_of_date) {
   r = rigel({"publish", "--json"}, asset);
   ASSERT_TRUE(exited_with(r, 0)) << r;
   EXPECT_EQ(Json::parse(r.out)["version"], 1);
+  // Inside the asset, bare names are its files and its skeleton the default character.
+  r = rigel({"validate", "biped"}, asset);
+  EXPECT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"build", "biped", "-o", at("inasset.rigel").string()}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_NE(r.err.find(" on " + (asset / "skeleton/rigify_human_body.glb").string()), std::string::npos) << r;
   // A shot made from version 1 (written by rigel, so its paths follow it).
   r = rigel({"playback", (asset / "rig/v001/rig.rigel").string(), "--range", "1:24", "-o", at("shots/s01.rigel").string()});
   ASSERT_TRUE(exited_with(r, 0)) << r;
