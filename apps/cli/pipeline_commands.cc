@@ -3,6 +3,8 @@
 
 #include "pipeline_commands.h"
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -17,6 +19,8 @@
 #include "rigel/ephemeral/component.h"
 #include "rigel/base/log.h"
 #include "rigel/tools/config.h"
+#include "rigel/tools/batch.h"
+#include "rigel/io/scene_file.h"
 #include "rigel/tools/project.h"
 #include "rigel/tools/publish.h"
 
@@ -234,6 +238,91 @@ int run_data(bool exporting, const DataArgs& a) {
   return 0;
 }
 
+struct BatchArgs {
+  std::string operation, output, report, retry, frames;
+  std::vector<std::string> shots;
+  int jobs = -1;  // -1: the setting batch.jobs
+  bool json = false;
+};
+
+std::string self_exe() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("rigel") : p.string();
+}
+
+int run_batch(const BatchArgs& a) {
+  const std::string op = a.operation;
+  if (op != "update" && op != "bake" && op != "export" && op != "validate")
+    return usage_error("OPERATION '" + op + "': expected update, bake, export or validate");
+  if (op != "validate" && a.output.empty()) return usage_error("batch " + op + " writes a file per shot: give -o OUTDIR");
+  if (op == "bake" && a.frames.empty()) return usage_error("batch bake: give --frames FIRST:LAST");
+  if (!a.frames.empty() && !parse_frames(a.frames)) return usage_error("--frames '" + a.frames + "': " + kFramesExpected);
+  std::vector<std::string> shots = a.shots;
+  std::optional<tools::BatchReport> earlier;
+  if (!a.retry.empty()) {
+    std::ifstream in(a.retry, std::ios::binary);
+    if (!in) return fail(Status(ErrorCode::kNotFound, "--retry-failed: " + a.retry + ": cannot be read"));
+    std::stringstream text;
+    text << in.rdbuf();
+    auto r = tools::batch_report_from_json(text.str(), a.retry);
+    if (!r) return fail(r.status());
+    if (r->operation != op) return usage_error("--retry-failed: " + a.retry + " is a report of batch " + r->operation + ", not " + op);
+    if (!shots.empty()) return usage_error("--retry-failed reruns the report's failed shots: give no SHOTS");
+    shots = tools::failed_shots(*r);
+    earlier = std::move(*r);
+  }
+  if (shots.empty() && !earlier) return usage_error("give the shots (SHOTS...) or --retry-failed REPORT");
+  const fs::path out_dir = a.output;
+  const fs::path report_path = !a.report.empty() ? fs::path(a.report)
+                               : !a.retry.empty() ? fs::path(a.retry)
+                               : out_dir.empty()  ? fs::path("batch-report.json")
+                                                  : out_dir / "batch-report.json";
+  std::error_code ec;
+  if (!out_dir.empty()) {
+    fs::create_directories(out_dir, ec);
+    if (ec || !fs::is_directory(out_dir)) return fail(Status(ErrorCode::kInvalidArgument, "-o: " + out_dir.string() + ": not a folder"));
+  }
+  const fs::path logs = out_dir.empty() ? report_path.parent_path() / "batch-logs" : out_dir / "logs";
+  const std::string exe = self_exe();
+  std::vector<tools::BatchJob> jobs;
+  std::map<std::string, std::string> taken;  // output name -> shot, so two shots never write one file
+  for (const std::string& shot : shots) {
+    const std::string stem = fs::path(shot).stem().string();
+    if (auto [it, fresh] = taken.emplace(stem, shot); !fresh)
+      return usage_error("shots " + it->second + " and " + shot + " would write the same " + stem + " output");
+    tools::BatchJob j;
+    j.shot = shot;
+    j.log = logs / (stem + ".log");
+    if (op == "update") j.output = out_dir / (stem + ".rigel"), j.argv = {exe, "update", shot, "-o", j.output.string()};
+    if (op == "bake") j.output = out_dir / (stem + ".rigel"), j.argv = {exe, "bake", shot, "--frames", a.frames, "-o", j.output.string()};
+    if (op == "export") {
+      j.output = out_dir / (stem + ".glb");
+      j.argv = {exe, "export", shot, "-o", j.output.string()};
+      if (!a.frames.empty()) j.argv.insert(j.argv.end(), {"--frames", a.frames});
+    }
+    if (op == "validate") j.argv = {exe, "rigs", shot, "--check"};
+    j.argv.insert(j.argv.end(), {"--log-level", "info"});
+    jobs.push_back(std::move(j));
+  }
+  const std::size_t parallel = static_cast<std::size_t>(a.jobs >= 0 ? a.jobs : settings().integer("batch.jobs"));
+  const bool tty = isatty(2);
+  auto report = tools::run_batch_local(op, jobs, parallel, [&](const tools::BatchProgress& p) {
+    if (tty) std::cerr << "\rrigel: batch " << op << ": " << tools::progress_line(p) << "   " << std::flush;
+    else if (p.running == 0 || p.done == p.total) log::info("batch " + op + ": " + tools::progress_line(p));
+  });
+  if (tty) std::cerr << "\n";
+  const tools::BatchReport final_report = earlier ? tools::merge_reports(*earlier, report) : report;
+  if (report_path.has_parent_path()) fs::create_directories(report_path.parent_path(), ec);
+  if (Status s = io::write_file_atomic(report_path, tools::batch_report_to_json(final_report)); !s) return fail(s);
+  if (a.json) std::cout << tools::batch_report_to_json(final_report);
+  for (const tools::BatchResult& r : report.shots)
+    if (r.status != "ok") std::cerr << "rigel: " << r.shot << ": " << r.status << "; its log: " << r.log.string() << "\n";
+  std::cerr << "rigel: batch " << op << ": " << report.shots.size() - report.failed() << " of " << report.shots.size()
+            << " shots ok in " << number_text(report.seconds) << " s; report " << report_path.string() << "\n";
+  return final_report.failed() == 0 ? 0 : kExitInvalidInput;
+}
+
 struct PublishArgs {
   std::string asset, project;
   bool json = false;
@@ -279,6 +368,8 @@ struct PipelineCommands::State {
   DataArgs data;
   CLI::App* publish = nullptr;
   PublishArgs publish_args;
+  CLI::App* batch = nullptr;
+  BatchArgs batch_args;
 };
 
 PipelineCommands::PipelineCommands() : state_(std::make_unique<State>()) {}
@@ -353,6 +444,21 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
   s.publish->add_option("--project", s.publish_args.project, "The project (default: the one the current folder is in)");
   s.publish->add_flag("--json", s.publish_args.json, "Print a JSON report on stdout");
 
+  BatchArgs& b = s.batch_args;
+  s.batch = app.add_subcommand("batch", "Run update, bake, export or validate over many shots, one process per shot, with a report");
+  s.batch->footer("Examples:\n  rigel batch bake shots/*.rigel --frames 1:48 -o baked --jobs 2\n"
+                  "  rigel batch update shots/*.rigel -o updated --json\n"
+                  "  rigel batch bake --frames 1:48 -o baked --retry-failed baked/batch-report.json\n"
+                  "  rigel batch validate shots/*.rigel --report validate.json");
+  s.batch->add_option("OPERATION", b.operation, "update, bake, export or validate")->required();
+  s.batch->add_option("SHOTS", b.shots, "Scene files (.rigel)");
+  s.batch->add_option("-o,--output", b.output, "The folder each shot's output goes to (SHOT's name .rigel or .glb), and logs/");
+  s.batch->add_option("--frames", b.frames, "bake (required) and export: FIRST:LAST");
+  s.batch->add_option("--jobs", b.jobs, "Shots at once (default: the setting batch.jobs; 0: one per core)");
+  s.batch->add_option("--report", b.report, "The report file (default: OUTDIR/batch-report.json)");
+  s.batch->add_option("--retry-failed", b.retry, "Rerun the shots a report lists as failed, and update that report");
+  s.batch->add_flag("--json", b.json, "Print the report on stdout");
+
   for (CLI::App* c : {s.data_export, s.data_import}) {
     c->add_option("--rig", s.data.rig, "Shapes: the built rig (default: the scene's only one)");
     c->add_flag("--json", s.data.json, "Print a JSON report on stdout");
@@ -370,6 +476,7 @@ std::optional<int> run_pipeline_commands(const PipelineCommands& commands) {
   if (*s.config_unset) return run_config("unset", s.config);
   if (*s.config_list) return run_config("list", s.config);
   if (*s.publish) return run_publish(s.publish_args);
+  if (*s.batch) return run_batch(s.batch_args);
   if (*s.data_export) return run_data(true, s.data);
   if (*s.data_import) return run_data(false, s.data);
   return std::nullopt;

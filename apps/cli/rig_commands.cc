@@ -185,7 +185,18 @@ int run_update(const UpdateArgs& args) {
 struct RigsArgs {
   std::vector<std::string> scenes;
   bool json = false;
+  bool check = false;  // exit 1 when a rig is out of date (definition or published version)
 };
+
+// Whether every rig is up to date: its definition found and not newer, its
+// published version the newest.
+bool rigs_current(const Json& list) {
+  for (const Json& r : list) {
+    if (!r["definitionFound"].get<bool>() || r["outOfDate"].get<bool>()) return false;
+    if (r.contains("published") && r["published"]["outOfDate"].get<bool>()) return false;
+  }
+  return true;
+}
 
 // The rigs report with where each published rig came from (tools/publish.h).
 Json rigs_with_published(const graph::Graph& g) {
@@ -197,14 +208,16 @@ Json rigs_with_published(const graph::Graph& g) {
   return list;
 }
 
-int run_rigs_of(const std::string& path, bool json, Json* all) {
+int run_rigs_of(const std::string& path, bool json, Json* all, bool check) {
   auto scene = load(path);
   if (!scene) return fail(scene.status());
   const Json list = rigs_with_published((*scene)->graph());
+  const int code = check && !rigs_current(list) ? kExitInvalidInput : 0;
+  if (code) std::cerr << "rigel: " << path << ": a rig is out of date\n";
   if (json) {
-    if (all) all->push_back(Json{{"scene", path}, {"rigs", list}});
-    else print_json(Json{{"rigs", list}});
-    return 0;
+    if (all) all->push_back(Json{{"scene", path}, {"rigs", list}, {"current", rigs_current(list)}});
+    else print_json(Json{{"rigs", list}, {"current", rigs_current(list)}});
+    return code;
   }
   if (all) std::cout << path << ":\n";
   if (list.empty()) std::cout << "no rigs\n";
@@ -237,16 +250,16 @@ int run_rigs_of(const std::string& path, bool json, Json* all) {
                 << c["definitionVersion"].get<std::string>() << ")  " << c["rigId"].get<std::string>()
                 << "  out of date: in the definition, not built\n";
   }
-  return 0;
+  return code;
 }
 
 // Several scenes (shots): each one's rigs, and which are older than their
 // asset's newest published version.
 int run_rigs(const RigsArgs& args) {
-  if (args.scenes.size() == 1) return run_rigs_of(args.scenes[0], args.json, nullptr);
+  if (args.scenes.size() == 1) return run_rigs_of(args.scenes[0], args.json, nullptr, args.check);
   Json all = Json::array();
   int code = 0;
-  for (const std::string& s : args.scenes) code = std::max(code, run_rigs_of(s, args.json, &all));
+  for (const std::string& s : args.scenes) code = std::max(code, run_rigs_of(s, args.json, &all, args.check));
   if (args.json) print_json(Json{{"scenes", all}});
   return code;
 }
@@ -521,6 +534,7 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
   s.rigs_cmd->footer("Example:\n  rigel rigs shot.rigel --json");
   s.rigs_cmd->add_option("SCENE", s.rigs.scenes, "Scene files (.rigel): each one's rigs, published ones checked against their asset's newest version")->required();
   s.rigs_cmd->add_flag("--json", s.rigs.json, "Print JSON on stdout");
+  s.rigs_cmd->add_flag("--check", s.rigs.check, "Exit 1 when a rig is out of date (its definition, or a newer published version)");
 
   s.remove_cmd = app.add_subcommand("remove", "Remove a rig: exactly what its metadata network links to");
   s.remove_cmd->footer("Example:\n  rigel remove shot.rigel --rig hero -o clean.rigel");
