@@ -114,6 +114,16 @@ inline Quat as_quat(const Json& j, const std::string& field) {
 
 inline Json vec_json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
+// Nodes as [{"uuid", "name"}, ...].
+inline Json node_refs_json(const app::Workspace& ws, const std::vector<graph::NodeId>& ids) {
+  Json out = Json::array();
+  for (graph::NodeId id : ids) {
+    const graph::Node* n = ws.graph().node(id);
+    out.push_back(Json{{"uuid", n->uuid().str()}, {"name", n->name()}});
+  }
+  return out;
+}
+
 inline Json names_json(const std::vector<std::string>& names) {
   Json list = Json::array();
   for (const std::string& n : names) list.push_back(n);

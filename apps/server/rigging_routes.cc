@@ -13,15 +13,6 @@ using namespace api;
 
 namespace {
 
-Json refs_json(const app::Workspace& ws, const std::vector<graph::NodeId>& ids) {
-  Json out = Json::array();
-  for (graph::NodeId id : ids) {
-    const graph::Node* n = ws.graph().node(id);
-    out.push_back(Json{{"uuid", n->uuid().str()}, {"name", n->name()}});
-  }
-  return out;
-}
-
 // The request's node list (names, uuids or rig addresses), or the selection.
 std::vector<graph::NodeId> nodes_or_selection(const app::Workspace& ws, const Json& body, const char* key) {
   auto nodes = nodes_field(body, key, [&](const std::string& ref, const std::string& field) { return ws.node(ref, field); });
@@ -79,7 +70,7 @@ Json shape(const app::Workspace& ws, const std::map<std::string, std::string>& q
 Json shape_edit(app::Workspace& ws, const Json& body) {
   const std::string op = as_string(need(body, "op"), "op");
   const std::vector<graph::NodeId> controls = nodes_or_selection(ws, body, "controls");
-  Json out{{"controls", refs_json(ws, controls)}};
+  Json out{{"controls", node_refs_json(ws, controls)}};
   if (op == "paste") {
     tools::LookParts parts{false, false};
     if (const Json* p = opt(body, "parts")) {
@@ -112,13 +103,13 @@ Json align(app::Workspace& ws, const Json& body) {
   const graph::NodeId target = take(ws.node(as_string(need(body, "target"), "target"), "target"));
   std::vector<graph::NodeId> nodes = nodes_or_selection(ws, body, "nodes");
   const auto moved = take(ws.align(nodes, target, flag(body, "position", true), flag(body, "rotation", true)));
-  return Json{{"revision", ws.revision()}, {"moved", refs_json(ws, moved)}};
+  return Json{{"revision", ws.revision()}, {"moved", node_refs_json(ws, moved)}};
 }
 
 Json locators(app::Workspace& ws, const Json& body) {
   const Json* size = opt(body, "size");
   const auto made = take(ws.create_locators(nodes_or_selection(ws, body, "nodes"), size ? as_number(*size, "size") : 0.1));
-  return Json{{"revision", ws.revision()}, {"locators", refs_json(ws, made)}};
+  return Json{{"revision", ws.revision()}, {"locators", node_refs_json(ws, made)}};
 }
 
 Json mirror_joints(app::Workspace& ws, const Json& body) {
@@ -126,8 +117,8 @@ Json mirror_joints(app::Workspace& ws, const Json& body) {
   options.update_existing = flag(body, "update", false);
   const auto report = take(ws.mirror_joints(nodes_or_selection(ws, body, "joints"), options));
   return Json{{"revision", ws.revision()},
-              {"created", refs_json(ws, report.created)},
-              {"updated", refs_json(ws, report.updated)}};
+              {"created", node_refs_json(ws, report.created)},
+              {"updated", node_refs_json(ws, report.updated)}};
 }
 
 namespace {

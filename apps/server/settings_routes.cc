@@ -12,18 +12,6 @@ namespace rigel::server::routes {
 
 using namespace api;
 
-namespace {
-
-Json members_json(const app::Workspace& ws, const std::vector<graph::NodeId>& ids) {
-  Json out = Json::array();
-  for (graph::NodeId id : ids) {
-    const graph::Node* n = ws.graph().node(id);
-    out.push_back(Json{{"uuid", n->uuid().str()}, {"name", n->name()}});
-  }
-  return out;
-}
-
-}  // namespace
 
 Json playback_range(app::Workspace& ws, const Json& body) {
   const double first = as_number(need(body, "first"), "first");
@@ -36,7 +24,7 @@ Json playback_range(app::Workspace& ws, const Json& body) {
 Json selection_sets(const app::Workspace& ws) {
   Json sets = Json::array();
   for (const scene::SelectionSet& s : ws.selection_sets())
-    sets.push_back(Json{{"name", s.name}, {"members", members_json(ws, s.members)}, {"missing", s.missing}});
+    sets.push_back(Json{{"name", s.name}, {"members", node_refs_json(ws, s.members)}, {"missing", s.missing}});
   return Json{{"revision", ws.revision()}, {"sets", sets}};
 }
 

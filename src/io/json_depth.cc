@@ -33,4 +33,15 @@ std::string line_column(std::string_view text, std::size_t byte) {
   return std::to_string(line) + ":" + std::to_string(column);
 }
 
+Result<nlohmann::ordered_json> parse_json(std::string_view text, const std::string& source, std::size_t max_depth) {
+  if (const std::size_t deep = json_too_deep(text, max_depth); deep != std::string_view::npos)
+    return Status(ErrorCode::kParseError, source + ":" + line_column(text, deep) + ": nested too deep");
+  try {
+    return nlohmann::ordered_json::parse(text);
+  } catch (const nlohmann::ordered_json::parse_error& e) {
+    return Status(ErrorCode::kParseError,
+                  source + ":" + line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": malformed JSON (" + e.what() + ")");
+  }
+}
+
 }  // namespace rigel::io

@@ -156,15 +156,9 @@ std::string batch_report_to_json(const BatchReport& report) {
 }
 
 Result<BatchReport> batch_report_from_json(std::string_view text, const std::string& source) {
-  if (const std::size_t deep = io::json_too_deep(text, 8); deep != std::string_view::npos)
-    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, deep) + ": nested too deep");
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    return Status(ErrorCode::kParseError,
-                  source + ":" + io::line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": malformed JSON (" + e.what() + ")");
-  }
+  Result<Json> parsed = io::parse_json(text, source, 8);
+  if (!parsed) return parsed.status();
+  Json j = std::move(*parsed);
   auto bad = [&](const std::string& where, const std::string& what) {
     return Status(ErrorCode::kParseError, source + ": " + where + ": " + what);
   };

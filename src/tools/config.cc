@@ -121,15 +121,9 @@ Result<Json> read_file(const fs::path& file) {
   text << in.rdbuf();
   if (!in && !in.eof()) return Status(ErrorCode::kIoError, file.string() + ": cannot be read");
   const std::string s = text.str();
-  if (io::json_too_deep(s, 16) != std::string::npos)
-    return Status(ErrorCode::kParseError, file.string() + ":" + io::line_column(s, io::json_too_deep(s, 16)) + ": nested too deep");
-  Json j;
-  try {
-    j = Json::parse(s);
-  } catch (const Json::parse_error& e) {
-    return Status(ErrorCode::kParseError, file.string() + ":" + io::line_column(s, e.byte == 0 ? 0 : e.byte - 1) +
-                                              ": malformed JSON (" + e.what() + ")");
-  }
+  Result<Json> parsed = io::parse_json(s, file.string(), 16);
+  if (!parsed) return parsed.status();
+  Json j = std::move(*parsed);
   const std::string where = file.string();
   if (!j.is_object() || !j.contains("rigelConfig"))
     return Status(ErrorCode::kParseError, where + ": not a rigel settings file (expected {\"rigelConfig\": 1, \"settings\": {...}})");

@@ -24,30 +24,15 @@ namespace {
 
 const char* kCategories[][2] = {{"character", "characters"}, {"prop", "props"}};
 
-std::string now_iso() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
-
 Result<Json> read_json(const fs::path& file, const char* tag, int format, const char* what) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return Status(ErrorCode::kNotFound, file.string() + ": cannot be read");
   std::ostringstream text;
   text << in.rdbuf();
   const std::string s = text.str();
-  if (const std::size_t deep = io::json_too_deep(s, 16); deep != std::string::npos)
-    return Status(ErrorCode::kParseError, file.string() + ":" + io::line_column(s, deep) + ": nested too deep");
-  Json j;
-  try {
-    j = Json::parse(s);
-  } catch (const Json::parse_error& e) {
-    return Status(ErrorCode::kParseError,
-                  file.string() + ":" + io::line_column(s, e.byte == 0 ? 0 : e.byte - 1) + ": malformed JSON (" + e.what() + ")");
-  }
+  Result<Json> parsed = io::parse_json(s, file.string(), 16);
+  if (!parsed) return parsed.status();
+  Json j = std::move(*parsed);
   if (!j.is_object() || !j.contains(tag) || !j[tag].is_number_integer() || j[tag].get<std::int64_t>() < 1)
     return Status(ErrorCode::kParseError, file.string() + ": not a rigel " + what + " file (no \"" + tag + "\": FORMAT)");
   if (j[tag].get<std::int64_t>() > format)
@@ -91,6 +76,15 @@ Status write_asset(const Asset& a) {
 
 }  // namespace
 
+std::string utc_now_iso() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
 Status check_name(const std::string& name, const std::string& field) {
   const bool ok = !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
@@ -116,7 +110,7 @@ Result<Project> create_project(const fs::path& dir, const std::string& name) {
   }
   fs::create_directories(dir, ec);
   if (ec) return Status(ErrorCode::kIoError, dir.string() + ": " + ec.message()).with_field("dir");
-  Project p{dir, n, kProjectFormat, now_iso()};
+  Project p{dir, n, kProjectFormat, utc_now_iso()};
   if (Status s = io::write_file_atomic(dir / kProjectFile,
                                        io::diffable_json(Json{{"rigelProject", kProjectFormat}, {"name", p.name}, {"created", p.created}}));
       !s)
@@ -163,7 +157,7 @@ Result<Asset> create_asset(const Project& project, const std::string& name, cons
   a.dir = project.dir / category / name;
   a.name = name;
   a.type = type;
-  a.created = a.modified = now_iso();
+  a.created = a.modified = utc_now_iso();
   for (const char* sub : {"build", "skeleton", "poses", "rig"}) fs::create_directories(a.dir / sub, ec);
   for (const char* kind : kDataKinds) fs::create_directories(a.dir / "data" / kind, ec);
   if (ec) return Status(ErrorCode::kIoError, a.dir.string() + ": " + ec.message());

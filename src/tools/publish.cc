@@ -34,15 +34,6 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-std::string now_iso() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
-
 Result<std::string> read_all(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return Status(ErrorCode::kIoError, file.string() + ": cannot be read");
@@ -206,7 +197,7 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
                       {"type", asset.type},
                       {"version", report.version},
                       {"rigel", options.rigel_version},
-                      {"created", now_iso()},
+                      {"created", utc_now_iso()},
                       {"skeleton", Json{{"file", asset.skeleton}, {"checksum", *skeleton_sum}}},
                       {"definitions", defs},
                       {"data", data},

@@ -74,15 +74,9 @@ std::string control_shapes_to_json(const ShapeSet& shapes) {
 }
 
 Result<ShapeSet> control_shapes_from_json(std::string_view text, const std::string& source) {
-  if (const std::size_t deep = io::json_too_deep(text, 16); deep != std::string_view::npos)
-    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, deep) + ": nested too deep");
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    return Status(ErrorCode::kParseError,
-                  source + ":" + io::line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": malformed JSON (" + e.what() + ")");
-  }
+  Result<Json> parsed = io::parse_json(text, source, 16);
+  if (!parsed) return parsed.status();
+  Json j = std::move(*parsed);
   if (!j.is_object() || !j.contains("rigelShapes") || !j["rigelShapes"].is_number_integer())
     return bad(source, "rigelShapes", "not a rigel control shapes file");
   if (j["rigelShapes"].get<std::int64_t>() > kShapesFormat)

@@ -174,15 +174,9 @@ std::string skin_weights_to_json(const std::vector<SkinWeights>& skins) {
 }
 
 Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, const std::string& source) {
-  if (const std::size_t deep = io::json_too_deep(text, 16); deep != std::string_view::npos)
-    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, deep) + ": nested too deep");
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    return Status(ErrorCode::kParseError,
-                  source + ":" + io::line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": malformed JSON (" + e.what() + ")");
-  }
+  Result<Json> parsed = io::parse_json(text, source, 16);
+  if (!parsed) return parsed.status();
+  Json j = std::move(*parsed);
   if (!j.is_object() || !j.contains("rigelWeights") || !j["rigelWeights"].is_number_integer())
     return bad(source, "rigelWeights", "not a rigel weights file");
   if (j["rigelWeights"].get<std::int64_t>() > kWeightsFormat)

@@ -45,6 +45,10 @@ struct Asset {
 // The folder of each kind of asset data (under data/).
 inline constexpr const char* kDataKinds[] = {"weights", "shapes", "blendshapes", "driven_poses", "correctives"};
 
+// The time now as ISO 8601 in UTC ("2026-12-04T03:57:39Z"): what the
+// pipeline's files record.
+std::string utc_now_iso();
+
 // kInvalidArgument naming `field` unless `name` is a safe project or asset name.
 Status check_name(const std::string& name, const std::string& field);
 
