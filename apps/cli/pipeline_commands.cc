@@ -20,6 +20,7 @@
 #include "rigel/base/log.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/batch.h"
+#include "rigel/tools/batch_slurm.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/tools/project.h"
 #include "rigel/tools/publish.h"
@@ -243,6 +244,8 @@ struct BatchArgs {
   std::vector<std::string> shots;
   int jobs = -1;  // -1: the setting batch.jobs
   bool json = false;
+  bool slurm = false;
+  std::string partition;
 };
 
 std::string self_exe() {
@@ -307,10 +310,24 @@ int run_batch(const BatchArgs& a) {
   }
   const std::size_t parallel = static_cast<std::size_t>(a.jobs >= 0 ? a.jobs : settings().integer("batch.jobs"));
   const bool tty = isatty(2);
-  auto report = tools::run_batch_local(op, jobs, parallel, [&](const tools::BatchProgress& p) {
+  std::size_t last_done = static_cast<std::size_t>(-1);
+  auto show = [&](const tools::BatchProgress& p) {
     if (tty) std::cerr << "\rrigel: batch " << op << ": " << tools::progress_line(p) << "   " << std::flush;
-    else if (p.running == 0 || p.done == p.total) log::info("batch " + op + ": " + tools::progress_line(p));
-  });
+    else if (p.done != last_done && (p.running == 0 || p.done == p.total)) log::info("batch " + op + ": " + tools::progress_line(p));
+    last_done = p.done;
+  };
+  tools::BatchReport report;
+  if (a.slurm) {
+    tools::SlurmOptions so;
+    so.partition = !a.partition.empty() ? a.partition : settings().string("batch.partition");
+    so.work = (out_dir.empty() ? report_path.parent_path() : out_dir) / "slurm";
+    auto r = tools::run_batch_slurm(op, jobs, so, show);
+    if (!r) return fail(r.status());
+    report = std::move(*r);
+  } else {
+    if (!a.partition.empty()) return usage_error("--partition goes with --slurm");
+    report = tools::run_batch_local(op, jobs, parallel, show);
+  }
   if (tty) std::cerr << "\n";
   const tools::BatchReport final_report = earlier ? tools::merge_reports(*earlier, report) : report;
   if (report_path.has_parent_path()) fs::create_directories(report_path.parent_path(), ec);
@@ -457,6 +474,8 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
   s.batch->add_option("--jobs", b.jobs, "Shots at once (default: the setting batch.jobs; 0: one per core)");
   s.batch->add_option("--report", b.report, "The report file (default: OUTDIR/batch-report.json)");
   s.batch->add_option("--retry-failed", b.retry, "Rerun the shots a report lists as failed, and update that report");
+  s.batch->add_flag("--slurm", b.slurm, "Run the shots as one Slurm job array (sbatch) instead of local processes");
+  s.batch->add_option("--partition", b.partition, "With --slurm: the partition (default: the setting batch.partition)");
   s.batch->add_flag("--json", b.json, "Print the report on stdout");
 
   for (CLI::App* c : {s.data_export, s.data_import}) {

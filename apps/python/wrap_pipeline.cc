@@ -10,6 +10,8 @@
 #include "rigel/base/log.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/project.h"
+#include "rigel/tools/publish.h"
+#include "rigel/ephemeral/component.h"
 #include "wrap_workspace.h"
 
 namespace rigel::python {
@@ -108,6 +110,34 @@ void wrap_pipeline(py::module_& m) {
           },
           py::arg("key"), py::arg("value"), py::arg("file") = "",
           "Sets (value None: removes) a setting in a settings file (default: the user's), checked against its spec.")
+      .def(
+          "publish",
+          [](const std::string& name, const std::string& project) {
+            const tools::Asset asset = name.empty() ? unwrap(tools::find_asset(std::filesystem::current_path()))
+                                                    : unwrap(tools::open_asset(project_at(project), name));
+            auto config = tools::Config::load(tools::user_config_path(), asset.dir.parent_path().parent_path() / tools::kProjectConfigFile);
+            const tools::Config settings = config ? std::move(*config) : tools::Config();
+            tools::PublishOptions o;
+            o.naming_template = settings.string("naming.template");
+            o.checks = settings.flag("publish.checks");
+            o.rigel_version = "python";
+            const tools::PublishReport r = unwrap(tools::publish_asset(asset, ephemeral::components(), o));
+            py::dict d;
+            d["version"] = r.version;
+            d["dir"] = r.dir.string();
+            d["scene"] = r.scene.string();
+            d["manifest"] = r.manifest.string();
+            d["rigs"] = r.rigs;
+            d["warnings"] = r.warnings;
+            d["weights_vertices"] = r.weights_vertices;
+            d["shapes_set"] = r.shapes_set;
+            d["rest_error"] = r.rest_error;
+            return record(d);
+          },
+          py::arg("name") = "", py::arg("project") = "",
+          "Publishes an asset (NAME in the project, or the one the current folder is in): built from scratch, its "
+          "data imported, checked, written as rig/vNNN; returns record(version, dir, scene, manifest, rigs, "
+          "warnings, weights_vertices, shapes_set, rest_error).")
       .def(
           "set_log_level",
           [](const std::string& level) {

@@ -626,12 +626,15 @@ void def_rigs(WorkspaceClass& cls) {
          "version, definition, definition_version, edit_mode.")
       .def(
           "add_rig",
-          [](const WorkspaceRef& w, const std::string& definition, bool edit_mode) {
+          [](const WorkspaceRef& w, const std::string& definition, bool edit_mode, const std::string& naming_template) {
             const fs::path p = unwrap(w.ws->resolve_path(definition, "definition"));
-            return added_record(edit(w, [&](app::Workspace& ws) { return unwrap(ws.add_rig(p, rig::BuildOptions{edit_mode})); }));
+            rig::BuildOptions options;
+            options.edit_mode = edit_mode;
+            options.naming_template = naming_template;
+            return added_record(edit(w, [&](app::Workspace& ws) { return unwrap(ws.add_rig(p, options)); }));
           },
-          py::arg("definition"), py::arg("edit_mode") = false,
-          "Builds a definition file (`rigel build`): name, version, steps, components.")
+          py::arg("definition"), py::arg("edit_mode") = false, py::arg("naming_template") = "",
+          "Builds a definition file (`rigel build`), its nodes named by `naming_template` (the setting naming.template; \"\": the default): name, version, steps, components.")
       .def(
           "update_rig",
           [](const WorkspaceRef& w, const std::string& name, const std::optional<std::string>& definition, bool force,

@@ -8,6 +8,7 @@ RIGEL_PACKAGES=(
   libtinygltf-dev libpugixml-dev libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-pytest
   pkg-config libcpp-httplib-dev libspdlog-dev ccache
+  slurm-wlm munge
 )
 
 rigel_log() { printf '\033[1m==> %s\033[0m\n' "$*" >&2; }

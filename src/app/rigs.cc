@@ -196,7 +196,7 @@ Result<StepReport> Workspace::step_rig(const std::string& name, std::optional<in
   }
   const int position = b.position();
   if (position == 0 && was_built)
-    unbuilt_[name] = Unbuilt{b.definition(), rig::BuildOptions{b.edit_mode()}, graph().undo_count(), ++unbuilt_serial_};
+    unbuilt_[name] = Unbuilt{b.definition(), b.options(), graph().undo_count(), ++unbuilt_serial_};
   bump_revision();
   return StepReport{name, position, steps, position > 0 ? b.plan()[static_cast<std::size_t>(position - 1)].label() : ""};
 }

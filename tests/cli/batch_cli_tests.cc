@@ -52,7 +52,9 @@ TEST_F(CliBatch, bake_on_two_jobs_equals_by_hand_and_a_broken_shot_is_retried_al
     const bool broken = s["shot"].get<std::string>().find("broken") != std::string::npos;
     EXPECT_EQ(s["status"], broken ? "failed" : "ok") << s;
     EXPECT_TRUE(fs::exists(s["log"].get<std::string>())) << s;
-    if (broken) EXPECT_NE(io::testing::read_text(s["log"].get<std::string>()).find("broken.rigel:2:"), std::string::npos);
+    if (broken) {
+      EXPECT_NE(io::testing::read_text(s["log"].get<std::string>()).find("broken.rigel:2:"), std::string::npos);
+    }
   }
   EXPECT_FALSE(fs::exists(at("baked/broken.rigel"))) << "a failed shot writes nothing";
   EXPECT_EQ(io::testing::read_text(at("baked/batch-report.json")), r.out);

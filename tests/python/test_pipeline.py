@@ -66,3 +66,17 @@ def test_weights_and_shapes_round_trip(tmp_path):
     with pytest.raises(rigel.NotFoundError) as info:
         hero.import_control_shapes(str(tmp_path / "none.json"))
     assert info.value.field == "file"
+
+
+def test_publish_from_python(tmp_path, user_settings, monkeypatch):
+    rigel.create_project(str(tmp_path / "show"))
+    monkeypatch.chdir(tmp_path / "show")
+    hero = rigel.create_asset("hero", skeleton=str(DATA / "gltf" / "rigify_human_metarig.glb"))
+    (tmp_path / "show" / "characters" / "hero" / "build" / "biped.rig.xml").write_text(BIPED.read_text())
+    v1 = rigel.publish("hero")
+    assert v1.version == 1 and v1.rigs == ["hero"] and v1.rest_error < 1e-9
+    monkeypatch.chdir(hero.dir)
+    assert rigel.publish().version == 2
+    assert rigel.open_asset().published == [1, 2]
+    scene = rigel.Workspace(rigel.Scene.load(v1.scene))
+    assert scene.rigs()[0].name == "hero"

@@ -111,9 +111,10 @@ TEST(SkinWeightsData, painted_weights_come_back_on_a_fresh_copy_and_a_renamed_on
       EXPECT_NEAR(weight_of(got2[0], v, "jnt_" + inf.joint), weight_of(painted[0], v, inf.joint), 1e-6) << v << " " << inf.joint;
   // And by position on a skeleton named otherwise, without a table.
   auto nearest = body();
-  for (NodeId id : nearest->hierarchy())
-    if (nearest->graph().node(id)->type().name() == scene::kJointType)
-      ASSERT_TRUE(nearest->graph().rename(id, "j" + nearest->graph().node(id)->uuid().str().substr(0, 8)).is_ok());
+  for (NodeId id : nearest->hierarchy()) {
+    if (nearest->graph().node(id)->type().name() != scene::kJointType) continue;
+    ASSERT_TRUE(nearest->graph().rename(id, "j" + nearest->graph().node(id)->uuid().str().substr(0, 8)).is_ok());
+  }
   WeightsImport by_place;
   by_place.nearest = true;
   ASSERT_TRUE(apply_skin_weights(*nearest, *skin_weights_from_json(file, "f"), by_place).is_ok());

@@ -84,6 +84,7 @@ test('timeline: playback range, tick click, retime and copy by drag, previous an
   await goToFrame(page, server, 12);
   await page.getByTestId('prev-key').click();
   await expect.poll(async () => (await server.get('/api/scene')).frame).toBe(10);
+  await settle(page, server); // the page's own frame and keys are the server's again
   await page.getByTestId('next-key').click();
   await expect.poll(async () => (await server.get('/api/scene')).frame).toBe(30);
 

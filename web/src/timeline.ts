@@ -239,8 +239,9 @@ export class Timeline {
   }
 
   private jumpKey(dir: 1 | -1): void {
+    // From the frame last asked for (a move still in flight goes there).
     const frames = this.store.keys?.frames ?? [];
-    const cur = this.store.scene?.frame ?? 0;
+    const cur = this.scrubTarget ?? this.store.scene?.frame ?? 0;
     const target = dir > 0 ? frames.find((f) => f > cur + 1e-6) : [...frames].reverse().find((f) => f < cur - 1e-6);
     if (target === undefined) {
       this.app.status.info(dir > 0 ? 'No key after this frame' : 'No key before this frame');

@@ -146,6 +146,8 @@ class Build {
 
   // ---- rig edit mode (seed 002) ----
   bool edit_mode() const { return options_.edit_mode; }
+  // What it builds with (edit mode, naming template), as the metaRoot says.
+  const BuildOptions& options() const { return options_; }
   // Enters or leaves rig edit mode on a built rig: it is built again from
   // its first step in that mode (controls zeroed in edit mode). One undo
   // step; on failure nothing changes.
