@@ -8,7 +8,8 @@
 #   slurm_cluster.sh stop DIR    # stops what start started
 #
 # Exit 3 when it cannot run here (Slurm or munge not installed, not root:
-# slurmd runs as root).
+# slurmd runs as root; or the daemons do not come up on this machine, as in
+# a chroot without what they need: their logs are printed).
 set -euo pipefail
 
 cmd=${1:?start or stop}
@@ -46,9 +47,15 @@ case "$cmd" in
       exit 3
     fi
     mkdir -p "$dir/state" "$dir/spool"
-    mungekey -c -f -k "$dir/munge.key"
+    cannot() {
+      echo "slurm_cluster: $1" >&2
+      tail -n 5 "$dir"/*.log >&2 2>/dev/null || true
+      stop
+      exit 3
+    }
+    mungekey -c -f -k "$dir/munge.key" || cannot "mungekey failed"
     munged --force --key-file="$dir/munge.key" --socket="$dir/munge.socket" --pid-file="$dir/munged.pid" \
-      --log-file="$dir/munged.log" --seed-file="$dir/munged.seed"
+      --log-file="$dir/munged.log" --seed-file="$dir/munged.seed" || cannot "munged did not start"
     read -r ctld_port slurmd_port < <(python3 -c '
 import socket
 ports = []
@@ -88,8 +95,8 @@ NodeName=$host CPUs=$cpus State=UNKNOWN
 PartitionName=batch Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
     export SLURM_CONF="$dir/slurm.conf"
-    slurmctld -f "$SLURM_CONF"
-    slurmd -f "$SLURM_CONF"
+    slurmctld -f "$SLURM_CONF" || cannot "slurmctld did not start"
+    slurmd -f "$SLURM_CONF" || cannot "slurmd did not start"
     for _ in $(seq 1 300); do
       if [ "$(sinfo -h -o %T 2>/dev/null | head -1)" = idle ]; then
         echo "$SLURM_CONF"
@@ -97,9 +104,7 @@ CONF
       fi
       sleep 0.1
     done
-    echo "slurm_cluster: the node did not become idle (logs in $dir)" >&2
-    stop
-    exit 1
+    cannot "the node did not become idle in 30 s"
     ;;
   *)
     echo "slurm_cluster: start DIR or stop DIR" >&2
