@@ -63,6 +63,14 @@ Result<tools::Project> project_of(const std::string& dir) {
   return dir.empty() ? tools::find_project(fs::current_path()) : tools::open_project(dir);
 }
 
+// The asset `name` of the project, or (no name) the one the current folder is in.
+Result<tools::Asset> asset_named(const std::string& name, const std::string& project) {
+  if (name.empty()) return tools::find_asset(fs::current_path());
+  auto p = project_of(project);
+  if (!p) return p.status();
+  return tools::open_asset(*p, name);
+}
+
 int run_project_new(const ProjectArgs& a) {
   auto p = tools::create_project(a.dir, a.name);
   if (!p) return fail(p.status());
@@ -103,14 +111,7 @@ int run_asset_new(const AssetArgs& a) {
 }
 
 int run_asset_info(const AssetArgs& a) {
-  Result<tools::Asset> asset = Status::ok();
-  if (a.name.empty()) {
-    asset = tools::find_asset(fs::current_path());
-  } else {
-    auto p = project_of(a.project);
-    if (!p) return fail(p.status());
-    asset = tools::open_asset(*p, a.name);
-  }
+  Result<tools::Asset> asset = asset_named(a.name, a.project);
   if (!asset) return fail(asset.status());
   if (a.json) {
     std::cout << asset_json(*asset).dump() << "\n";
@@ -346,14 +347,7 @@ struct PublishArgs {
 };
 
 int run_publish(const PublishArgs& a) {
-  Result<tools::Asset> asset = Status::ok();
-  if (a.asset.empty()) {
-    asset = tools::find_asset(fs::current_path());
-  } else {
-    auto p = project_of(a.project);
-    if (!p) return fail(p.status());
-    asset = tools::open_asset(*p, a.asset);
-  }
+  Result<tools::Asset> asset = asset_named(a.asset, a.project);
   if (!asset) return fail(asset.status());
   tools::PublishOptions options;
   options.naming_template = settings().string("naming.template");

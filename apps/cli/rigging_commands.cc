@@ -129,14 +129,11 @@ int run_shape(const ShapeArgs& a) {
   const std::string where = a.scene + ": ";
   Json report = Json::object();
   if (!a.like.empty() || !a.from.empty()) {
-    Result<tools::ControlLook> look = Status::ok();
     if (!a.like.empty()) {
-      auto from = ws.node(a.like, "like");
-      if (!from) return fail(Status(from.status().code(), where + "--like: " + from.status().message()));
-      look = ws.control_look(*from);
-    } else {
-      look = read_look(a.from);
+      if (auto from = ws.node(a.like, "like"); !from)
+        return fail(Status(from.status().code(), where + "--like: " + from.status().message()));
     }
+    Result<tools::ControlLook> look = !a.like.empty() ? ws.control_look(*ws.node(a.like, "like")) : read_look(a.from);
     if (!look) return fail(look.status().with_context(!a.like.empty() ? where + "--like" : "--from"));
     if (Status s = ws.paste_control_look(*controls, *look, {!a.color_only, !a.shape_only}); !s) return fail(s.with_context(where));
   } else if (a.mirror || a.flip) {
