@@ -32,20 +32,6 @@ Status write_text(const fs::path& path, const std::string& text) {
   return internal::saved(io::write_file_atomic(path, text), "file");
 }
 
-// The rig a data call names, or the scene's only one.
-Result<NodeId> data_rig(const graph::Graph& g, const std::string& name) {
-  if (!name.empty()) {
-    const NodeId r = rig::find_rig(g, name);
-    if (!r.is_valid()) return Status(ErrorCode::kNotFound, "rig: no built rig '" + name + "'").with_field("rig");
-    return r;
-  }
-  const std::vector<NodeId> rigs = rig::list_rigs(g);
-  if (rigs.size() == 1) return rigs[0];
-  return Status(ErrorCode::kInvalidArgument, rigs.empty() ? std::string("rig: the scene holds no built rig")
-                                                          : "rig: the scene holds " + std::to_string(rigs.size()) + " rigs; name one")
-      .with_field("rig");
-}
-
 }  // namespace
 
 Result<fs::path> Workspace::export_skin_weights(const std::string& file) {
@@ -73,7 +59,7 @@ Result<tools::WeightsReport> Workspace::import_skin_weights(const std::string& f
 Result<fs::path> Workspace::export_control_shapes(const std::string& rig, const std::string& file) {
   Result<fs::path> path = resolve_path(file, "file");
   if (!path) return path.status();
-  Result<NodeId> r = data_rig(graph(), rig);
+  Result<NodeId> r = internal::rig_named(graph(), rig);
   if (!r) return r.status();
   auto shapes = tools::capture_control_shapes(graph(), *r);
   if (!shapes) return shapes.status();
@@ -88,7 +74,7 @@ Result<tools::ShapesReport> Workspace::import_control_shapes(const std::string& 
   if (!text) return text.status();
   auto shapes = tools::control_shapes_from_json(*text, path->string());
   if (!shapes) return Status(shapes.status()).with_field("file");
-  Result<NodeId> r = data_rig(graph(), rig.empty() ? shapes->rig : rig);
+  Result<NodeId> r = internal::rig_named(graph(), rig.empty() ? shapes->rig : rig);
   if (!r) return r.status();
   auto report = tools::apply_control_shapes(graph(), *r, *shapes);
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();

@@ -1,5 +1,7 @@
 #include "internal.h"
 
+#include "rigel/rig/meta.h"
+
 namespace rigel::app::internal {
 
 namespace fs = std::filesystem;
@@ -36,6 +38,23 @@ Status saved(const Status& s, const std::string& field) {
   if (s) return s;
   const bool keep = s.code() == ErrorCode::kNotFound || s.code() == ErrorCode::kParseError;
   return Status(keep ? s.code() : ErrorCode::kFailedPrecondition, s.message()).with_field(field);
+}
+
+// The rig a pose call names: `name`, or the scene's only rig when empty.
+Result<graph::NodeId> rig_named(const graph::Graph& g, const std::string& name, const std::string& fallback) {
+  if (!name.empty()) {
+    const graph::NodeId r = rig::find_rig(g, name);
+    if (!r.is_valid()) return Status(ErrorCode::kNotFound, "rig: no built rig '" + name + "' in the scene").with_field("rig");
+    return r;
+  }
+  if (!fallback.empty())
+    if (const graph::NodeId r = rig::find_rig(g, fallback); r.is_valid()) return r;
+  const std::vector<graph::NodeId> rigs = rig::list_rigs(g);
+  if (rigs.size() == 1) return rigs[0];
+  return Status(ErrorCode::kInvalidArgument, rigs.empty() ? std::string("rig: the scene holds no built rig")
+                                                          : "rig: the scene holds " + std::to_string(rigs.size()) +
+                                                                " rigs; name one")
+      .with_field("rig");
 }
 
 }  // namespace rigel::app::internal

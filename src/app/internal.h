@@ -24,6 +24,11 @@ Status make_parent(const std::filesystem::path& file, const std::string& field);
 // (kFailedPrecondition naming `field`).
 Status saved(const Status& s, const std::string& field);
 
+// The built rig a call names (errors name "rig"): `name`, else the rig
+// named `fallback` when there is one, else the scene's only rig (poses.cc,
+// data.cc).
+Result<graph::NodeId> rig_named(const graph::Graph& g, const std::string& name, const std::string& fallback = {});
+
 }  // namespace rigel::app::internal
 
 namespace rigel::app {

@@ -13,23 +13,6 @@ namespace {
 
 using internal::conflict;
 
-// The rig a pose call names: `name`, or the scene's only rig when empty.
-Result<NodeId> rig_named(const graph::Graph& g, const std::string& name, const std::string& fallback = {}) {
-  if (!name.empty()) {
-    const NodeId r = rig::find_rig(g, name);
-    if (!r.is_valid()) return Status(ErrorCode::kNotFound, "rig: no built rig '" + name + "' in the scene").with_field("rig");
-    return r;
-  }
-  if (!fallback.empty())
-    if (const NodeId r = rig::find_rig(g, fallback); r.is_valid()) return r;
-  const std::vector<NodeId> rigs = rig::list_rigs(g);
-  if (rigs.size() == 1) return rigs[0];
-  return Status(ErrorCode::kInvalidArgument, rigs.empty() ? std::string("rig: the scene holds no built rig")
-                                                          : "rig: the scene holds " + std::to_string(rigs.size()) +
-                                                                " rigs; name one")
-      .with_field("rig");
-}
-
 }  // namespace
 
 Result<tools::SavedPose> Workspace::save_pose(const std::string& library, const std::string& name,
@@ -39,7 +22,7 @@ Result<tools::SavedPose> Workspace::save_pose(const std::string& library, const 
   if (!folder) return folder.status();
   std::vector<NodeId> nodes = controls;
   if (nodes.empty() || !rig.empty()) {
-    Result<NodeId> r = rig_named(graph(), rig);
+    Result<NodeId> r = internal::rig_named(graph(), rig);
     if (!r) return r.status();
     for (NodeId c : nodes)
       if (rig::rig_of(graph(), c) != *r)
@@ -60,7 +43,7 @@ Result<tools::ApplyPoseReport> Workspace::apply_pose(const std::string& library,
   if (!folder) return folder.status();
   Result<tools::Pose> pose = tools::load_pose(*folder, name);
   if (!pose) return pose.status();
-  Result<NodeId> target = rig_named(graph(), rig, pose->rig);
+  Result<NodeId> target = internal::rig_named(graph(), rig, pose->rig);
   if (!target) return target.status();
   Result<tools::ApplyPoseReport> report = tools::apply_pose(graph(), *pose, *target, options);
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
