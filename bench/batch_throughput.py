@@ -46,6 +46,7 @@ def main():
                  "--frame", str(2 + i % 40), "--value", str((i % 10) / 10), "-o", str(shot)], env=env)
             shots.append(str(shot))
         results = {}
+        (tmp / "loop").mkdir()
         t = time.perf_counter()
         for s in shots:
             run([rigel, "bake", s, "--frames", a.frames, "-o", str(tmp / "loop" / pathlib.Path(s).name)], env=env)
