@@ -1,9 +1,11 @@
-// `rigel shape`, `rigel align`, `rigel locator`, `rigel mirror-joints` (see
-// rigging_commands.h).
+// `rigel shape`, `rigel align`, `rigel locator`, `rigel mirror-joints`,
+// `rigel driven-key` (see rigging_commands.h).
 
 #include "rigging_commands.h"
 
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -14,6 +16,7 @@
 #include "cli_util.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/ops/anim/channel_keys.h"
 
 namespace rigel::cli {
 namespace {
@@ -43,6 +46,14 @@ struct MirrorJointsArgs {
   std::string scene, output;
   std::vector<std::string> joints;
   bool update = false, json = false;
+};
+
+struct DrivenKeyArgs {
+  std::string scene, driver, output, tangent, pose_reader;
+  std::vector<double> axis;
+  std::vector<std::string> set, remove;
+  std::optional<double> at;
+  bool list = false, json = false;
 };
 
 Json vec(const math::Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
@@ -211,6 +222,88 @@ int run_mirror_joints(const MirrorJointsArgs& a) {
                                  std::to_string(report->updated.size()) + " updated");
 }
 
+// "CHANNEL=VALUE" or "CHANNEL" (its value now).
+Result<std::pair<std::string, std::optional<double>>> driven_entry(const std::string& text) {
+  const std::size_t eq = text.rfind('=');
+  if (eq == std::string::npos) return std::pair<std::string, std::optional<double>>{text, std::nullopt};
+  const std::string value = text.substr(eq + 1);
+  char* end = nullptr;
+  const double v = std::strtod(value.c_str(), &end);
+  if (value.empty() || end != value.c_str() + value.size())
+    return Status(ErrorCode::kInvalidArgument, "--set " + text + ": expected CHANNEL=NUMBER or CHANNEL");
+  return std::pair<std::string, std::optional<double>>{text.substr(0, eq), v};
+}
+
+Json driven_json(const tools::DrivenPoseSet& set) {
+  Json drivers = Json::array();
+  for (const tools::DrivenDriver& d : set.drivers) {
+    Json curves = Json::array();
+    for (const tools::DrivenCurve& c : d.curves) curves.push_back(Json{{"node", c.node}, {"driven", c.driven}, {"at", c.times}, {"values", c.values}});
+    drivers.push_back(Json{{"driver", d.driver}, {"curves", curves}});
+  }
+  return Json{{"kind", std::string(tools::driven_data_name(set.kind))}, {"drivers", drivers}};
+}
+
+int run_driven_key(const DrivenKeyArgs& a) {
+  const int modes = (a.list ? 1 : 0) + (a.remove.empty() ? 0 : 1) + (a.set.empty() ? 0 : 1) + (a.pose_reader.empty() ? 0 : 1);
+  if (modes != 1)
+    return usage_error("driven-key: give --set CHANNEL[=VALUE]... with --driver, --remove CHANNEL..., --pose-reader JOINT, or --list");
+  if (!a.axis.empty() && (a.pose_reader.empty() || a.axis.size() != 3)) return usage_error("--axis X,Y,Z goes with --pose-reader");
+  if (!a.set.empty() && a.driver.empty()) return usage_error("driven-key --set: give --driver NODE.ATTR");
+  if (!a.list && a.output.empty()) return usage_error("driven-key: give -o SCENE to write");
+  auto scene = load(a.scene);
+  if (!scene) return fail(scene.status());
+  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  if (a.list) {
+    Json all = Json::array();
+    for (tools::DrivenData kind : {tools::DrivenData::kPoses, tools::DrivenData::kCorrectives}) {
+      auto set = ws.driven_poses(kind);
+      if (!set) return fail(set.status().with_context(a.scene));
+      all.push_back(driven_json(*set));
+      if (a.json) continue;
+      for (const tools::DrivenDriver& d : set->drivers)
+        for (const tools::DrivenCurve& c : d.curves)
+          std::cout << d.driver << " -> " << c.driven << "  (" << c.times.size() << " keys, " << tools::driven_data_name(kind) << ")\n";
+    }
+    if (a.json) std::cout << Json{{"drivenPoses", all[0]}, {"correctives", all[1]}}.dump() << "\n";
+    return 0;
+  }
+  if (!a.pose_reader.empty()) {
+    auto joint = ws.node(a.pose_reader, "pose-reader");
+    if (!joint) return fail(joint.status().with_context(a.scene));
+    const math::Vec3 axis = a.axis.empty() ? math::Vec3(1, 0, 0) : math::Vec3(a.axis[0], a.axis[1], a.axis[2]);
+    auto reader = ws.create_pose_reader(*joint, axis);
+    if (!reader) return fail(reader.status().with_context(a.scene + ": --pose-reader"));
+    const std::string name = ws.graph().node(*reader)->name();
+    if (a.json) std::cout << Json{{"reader", name}, {"angle", name + ".angle"}, {"rotate", name + ".rotate"}}.dump() << "\n";
+    else std::cout << name << "\n";
+    return write(ws, a.output, "a pose reader on " + a.pose_reader + " (drive with " + name + ".angle or .rotateX/Y/Z)");
+  }
+  if (!a.remove.empty()) {
+    if (Status s = ws.remove_driven_keys(a.remove); !s) return fail(s.with_context(a.scene));
+    if (a.json) std::cout << Json{{"removed", a.remove}}.dump() << "\n";
+    return write(ws, a.output, std::to_string(a.remove.size()) + " driven keys removed");
+  }
+  tools::DrivenKeyRequest request;
+  request.driver = a.driver;
+  request.at = a.at;
+  if (!a.tangent.empty()) {
+    auto t = ops::anim::tangent_type_from_name(a.tangent);
+    if (!t) return usage_error("--tangent '" + a.tangent + "': expected auto, linear, flat, spline, clamped, plateau, step or stepNext");
+    request.tangent = *t;
+  }
+  for (const std::string& e : a.set) {
+    auto entry = driven_entry(e);
+    if (!entry) return usage_error(entry.status().message());
+    request.driven.push_back(*entry);
+  }
+  auto report = ws.set_driven_key(request);
+  if (!report) return fail(report.status().with_context(a.scene));
+  if (a.json) std::cout << Json{{"at", report->at}, {"curves", report->curves}, {"created", report->created}}.dump() << "\n";
+  return write(ws, a.output, "keyed " + std::to_string(report->curves.size()) + " driven channels at " + a.driver + " = " +
+                                 Json(report->at).dump());
+}
+
 }  // namespace
 
 struct RiggingCommands::State {
@@ -218,10 +311,12 @@ struct RiggingCommands::State {
   CLI::App* align = nullptr;
   CLI::App* locator = nullptr;
   CLI::App* mirror_joints = nullptr;
+  CLI::App* driven_key = nullptr;
   ShapeArgs shape_args;
   AlignArgs align_args;
   LocatorArgs locator_args;
   MirrorJointsArgs mirror_joints_args;
+  DrivenKeyArgs driven_key_args;
 };
 
 RiggingCommands::RiggingCommands() : state_(std::make_unique<State>()) {}
@@ -279,6 +374,28 @@ void add_rigging_commands(CLI::App& app, RiggingCommands& commands) {
   s.mirror_joints->add_flag("--update", mj.update, "Move joints that exist on the other side onto the mirror");
   s.mirror_joints->add_option("-o,--output", mj.output, "Scene file to write (.rigel)")->required();
   s.mirror_joints->add_flag("--json", mj.json, "Print a JSON report on stdout");
+
+  DrivenKeyArgs& dk = s.driven_key_args;
+  s.driven_key = app.add_subcommand("driven-key", "Set-driven keys: key a pose of driven channels at a driver's value, remove them, list them");
+  s.driven_key->footer(
+      "Examples:\n  rigel driven-key hero.rigel --driver hero_hand_L_ctrl.curl --at 10 --set hero_index_L_fk0.rotateZ=-60 "
+      "--set hero_index_L_fk1.rotateZ=-70 -o hero.rigel\n"
+      "  rigel driven-key hero.rigel --driver upper_arm.L.rotateX --at 90 --set body_blendShape.weights[0]=1 -o hero.rigel\n"
+      "  rigel driven-key hero.rigel --pose-reader forearm.L --axis 0,1,0 -o hero.rigel\n"
+      "  rigel driven-key hero.rigel --driver forearm.L_poseReader.angle --at 90 --set body_blendShape.weights[1]=1 -o hero.rigel\n"
+      "  rigel driven-key hero.rigel --remove hero_index_L_fk0.rotateZ -o hero.rigel\n"
+      "  rigel driven-key hero.rigel --list --json");
+  s.driven_key->add_option("SCENE", dk.scene, "Scene file (.rigel)")->required();
+  s.driven_key->add_option("--driver", dk.driver, "The driving channel (NODE.ATTR: a number, or one component as rotateX)");
+  s.driven_key->add_option("--at", dk.at, "The driver's value of the pose (default: its value now)");
+  s.driven_key->add_option("--set", dk.set, "A driven channel and its value at the pose (CHANNEL=VALUE; CHANNEL alone: its value now)");
+  s.driven_key->add_option("--tangent", dk.tangent, "Tangent type of new keys (default auto)");
+  s.driven_key->add_option("--remove", dk.remove, "Remove the driven keys of these channels (each keeps its value now)");
+  s.driven_key->add_flag("--list", dk.list, "List the driven keys (driven poses and correctives)");
+  s.driven_key->add_option("--pose-reader", dk.pose_reader, "Make a pose reader on this joint (a corrective's driver: READER.angle, READER.rotateX)");
+  s.driven_key->add_option("--axis", dk.axis, "With --pose-reader: the axis whose swing .angle measures (default 1,0,0)")->delimiter(',');
+  s.driven_key->add_option("-o,--output", dk.output, "Scene file to write (.rigel)");
+  s.driven_key->add_flag("--json", dk.json, "Print a JSON report on stdout");
 }
 
 std::optional<int> run_rigging_commands(const RiggingCommands& commands) {
@@ -287,6 +404,7 @@ std::optional<int> run_rigging_commands(const RiggingCommands& commands) {
   if (*s.align) return run_align(s.align_args);
   if (*s.locator) return run_locator(s.locator_args);
   if (*s.mirror_joints) return run_mirror_joints(s.mirror_joints_args);
+  if (*s.driven_key) return run_driven_key(s.driven_key_args);
   return std::nullopt;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
-// `rigel shape`, `rigel align`, `rigel locator` and `rigel mirror-joints`:
-// the rigger actions (tools/rigging.h, app::Workspace's rigger actions) on
-// a scene file, each writing the scene (-o) and reporting with --json.
+// `rigel shape`, `rigel align`, `rigel locator`, `rigel mirror-joints` and
+// `rigel driven-key`: the rigger actions (tools/rigging.h,
+// tools/driven_poses.h, app::Workspace's rigger actions) on a scene file,
+// each writing the scene (-o) and reporting with --json.
 
 #include <memory>
 #include <optional>

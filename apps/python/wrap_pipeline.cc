@@ -1,13 +1,15 @@
 // rigel's pipeline in Python (tools/project.h, tools/config.h, base/log.h):
 // module functions for projects, assets and settings, and the log level;
-// Workspace's data managers (export and import of skin weights and control
-// shapes). Python values in, library calls, records out.
+// Workspace's data managers (export and import of skin weights, control
+// shapes, driven poses and correctives) and set-driven keys. Python values
+// in, library calls, records out.
 
 #include <map>
 #include <optional>
 #include <string>
 
 #include "rigel/base/log.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/project.h"
 #include "rigel/tools/publish.h"
@@ -17,6 +19,10 @@
 namespace rigel::python {
 
 namespace {
+
+tools::DrivenData driven_kind(bool correctives) {
+  return correctives ? tools::DrivenData::kCorrectives : tools::DrivenData::kPoses;
+}
 
 py::object project_record(const tools::Project& p) {
   py::dict d;
@@ -131,13 +137,14 @@ void wrap_pipeline(py::module_& m) {
             d["warnings"] = r.warnings;
             d["weights_vertices"] = r.weights_vertices;
             d["shapes_set"] = r.shapes_set;
+            d["driven_curves"] = r.driven_curves;
             d["rest_error"] = r.rest_error;
             return record(d);
           },
           py::arg("name") = "", py::arg("project") = "",
           "Publishes an asset (NAME in the project, or the one the current folder is in): built from scratch, its "
           "data imported, checked, written as rig/vNNN; returns record(version, dir, scene, manifest, rigs, "
-          "warnings, weights_vertices, shapes_set, rest_error).")
+          "warnings, weights_vertices, shapes_set, driven_curves, rest_error).")
       .def(
           "set_log_level",
           [](const std::string& level) {
@@ -188,7 +195,92 @@ void def_data(WorkspaceClass& cls) {
             return record(d);
           },
           py::arg("file"), py::arg("rig") = "",
-          "Sets control shapes and colours from FILE by rigId, role and index (one undo step); returns record(set, missing).");
+          "Sets control shapes and colours from FILE by rigId, role and index (one undo step); returns record(set, missing).")
+      .def(
+          "export_driven_poses",
+          [](const WorkspaceRef& w, const std::string& file, bool correctives) {
+            return unwrap(w.ws->export_driven_poses(driven_kind(correctives), file)).string();
+          },
+          py::arg("file"), py::arg("correctives") = false,
+          "Writes every driven key of the kind (driven poses, or with `correctives` those driving blend shape weights "
+          "and joints) to FILE (.drivenposes.json / .correctives.json); returns its path.")
+      .def(
+          "import_driven_poses",
+          [](const WorkspaceRef& w, const std::string& file, bool correctives) {
+            const tools::DrivenPosesReport r =
+                edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_driven_poses(driven_kind(correctives), file)); });
+            py::dict d;
+            d["curves"] = r.curves;
+            d["created"] = r.created;
+            d["keys"] = r.keys;
+            return record(d);
+          },
+          py::arg("file"), py::arg("correctives") = false,
+          "Recreates the driven keys of FILE (one undo step); returns record(curves, created, keys).")
+      .def(
+          "driven_poses",
+          [](const WorkspaceRef& w, bool correctives) {
+            const tools::DrivenPoseSet set = unwrap(w.ws->driven_poses(driven_kind(correctives)));
+            py::list out;
+            for (const tools::DrivenDriver& d : set.drivers)
+              for (const tools::DrivenCurve& c : d.curves) {
+                py::dict e;
+                e["driver"] = d.driver;
+                e["driven"] = c.driven;
+                e["node"] = c.node;
+                e["at"] = c.times;
+                e["values"] = c.values;
+                out.append(record(e));
+              }
+            return out;
+          },
+          py::arg("correctives") = false,
+          "The driven keys of the kind: a list of record(driver, driven, node, at, values).")
+      .def(
+          "set_driven_key",
+          [](const WorkspaceRef& w, const std::string& driver, const py::dict& driven, std::optional<double> at,
+             const std::string& tangent) {
+            tools::DrivenKeyRequest request;
+            request.driver = driver;
+            request.at = at;
+            if (!tangent.empty()) {
+              auto t = ops::anim::tangent_type_from_name(tangent);
+              if (!t) raise(Status(ErrorCode::kInvalidArgument, "tangent: unknown tangent type '" + tangent + "'").with_field("tangent"));
+              request.tangent = *t;
+            }
+            for (const auto& [k, v] : driven) {
+              std::optional<double> value;
+              if (!v.is_none()) value = v.cast<double>();
+              request.driven.emplace_back(k.cast<std::string>(), value);
+            }
+            const tools::DrivenKeyReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.set_driven_key(request)); });
+            py::dict d;
+            d["at"] = r.at;
+            d["curves"] = r.curves;
+            d["created"] = r.created;
+            return record(d);
+          },
+          py::arg("driver"), py::arg("driven"), py::arg("at") = py::none(), py::arg("tangent") = "",
+          "Keys a pose: at the driver's value (or `at`) each channel of `driven` ({channel: value or None for its "
+          "value now}) gets a driven key. One undo step; returns record(at, curves, created).")
+      .def(
+          "remove_driven_keys",
+          [](const WorkspaceRef& w, const std::vector<std::string>& driven) {
+            edit(w, [&](app::Workspace& ws) { check(ws.remove_driven_keys(driven)); });
+          },
+          py::arg("driven"), "Removes the driven keys of the channels (each keeps its value now). One undo step.")
+      .def(
+          "create_pose_reader",
+          [](const WorkspaceRef& w, const std::string& joint, py::handle axis) {
+            const math::Vec3 a = vec3_from_python(axis, "axis");
+            return edit(w, [&](app::Workspace& ws) {
+              const graph::NodeId j = unwrap(ws.node(joint, "joint"));
+              return ws.graph().node(unwrap(ws.create_pose_reader(j, a)))->name();
+            });
+          },
+          py::arg("joint"), py::arg("axis") = py::make_tuple(1.0, 0.0, 0.0),
+          "Makes a pose reader on JOINT (a corrective's driver): returns its name; drive with NAME.angle (the swing "
+          "of `axis` from rest, degrees) or NAME.rotateX/Y/Z. One undo step.");
 }
 
 }  // namespace rigel::python

@@ -2,10 +2,12 @@
 
 #include "rigging_routes.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "api_fields.h"
+#include "rigel/ops/anim/channel_keys.h"
 
 namespace rigel::server::routes {
 
@@ -125,8 +127,24 @@ namespace {
 
 std::string data_kind(const Json& body) {
   const std::string kind = as_string(need(body, "kind"), "kind");
-  if (kind != "weights" && kind != "shapes") refuse(400, "kind: expected \"weights\" or \"shapes\", got \"" + kind + "\"", "kind");
+  if (kind != "weights" && kind != "shapes" && kind != "driven_poses" && kind != "correctives")
+    refuse(400, "kind: expected \"weights\", \"shapes\", \"driven_poses\" or \"correctives\", got \"" + kind + "\"", "kind");
   return kind;
+}
+
+tools::DrivenData driven_of(const std::string& kind) {
+  return kind == "correctives" ? tools::DrivenData::kCorrectives : tools::DrivenData::kPoses;
+}
+
+Json driven_set_json(const tools::DrivenPoseSet& set) {
+  Json drivers = Json::array();
+  for (const tools::DrivenDriver& d : set.drivers) {
+    Json curves = Json::array();
+    for (const tools::DrivenCurve& c : d.curves)
+      curves.push_back(Json{{"node", c.node}, {"driven", c.driven}, {"at", c.times}, {"values", c.values}});
+    drivers.push_back(Json{{"driver", d.driver}, {"curves", std::move(curves)}});
+  }
+  return Json{{"drivers", std::move(drivers)}};
 }
 
 std::string rig_of(const Json& body) {
@@ -139,8 +157,9 @@ std::string rig_of(const Json& body) {
 Json data_export(app::Workspace& ws, const Json& body) {
   const std::string kind = data_kind(body);
   const std::string file = as_string(need(body, "file"), "file");
-  const std::filesystem::path path =
-      take(kind == "weights" ? ws.export_skin_weights(file) : ws.export_control_shapes(rig_of(body), file));
+  const std::filesystem::path path = take(kind == "weights"  ? ws.export_skin_weights(file)
+                                          : kind == "shapes" ? ws.export_control_shapes(rig_of(body), file)
+                                                             : ws.export_driven_poses(driven_of(kind), file));
   // Where it went, as the request names files: inside the served root.
   const std::string shown = ws.root().empty() ? path.string() : path.lexically_relative(ws.root()).generic_string();
   return Json{{"revision", ws.revision()}, {"kind", kind}, {"file", shown}};
@@ -149,9 +168,14 @@ Json data_export(app::Workspace& ws, const Json& body) {
 Json data_import(app::Workspace& ws, const Json& body) {
   const std::string kind = data_kind(body);
   const std::string file = as_string(need(body, "file"), "file");
-  if (kind == "shapes") {
+  if (kind != "weights")
     for (const char* k : {"rename", "nearest", "mirror"})
       if (opt(body, k)) refuse(400, std::string(k) + ": only weights take it", k);
+  if (kind == "driven_poses" || kind == "correctives") {
+    const tools::DrivenPosesReport r = take(ws.import_driven_poses(driven_of(kind), file));
+    return Json{{"revision", ws.revision()}, {"curves", r.curves}, {"created", r.created}, {"keys", r.keys}};
+  }
+  if (kind == "shapes") {
     const tools::ShapesReport r = take(ws.import_control_shapes(rig_of(body), file));
     return Json{{"revision", ws.revision()}, {"set", r.set}, {"missing", r.missing}};
   }
@@ -164,6 +188,50 @@ Json data_import(app::Workspace& ws, const Json& body) {
   }
   const tools::WeightsReport r = take(ws.import_skin_weights(file, o));
   return Json{{"revision", ws.revision()}, {"skins", r.skins}, {"vertices", r.vertices}, {"remapped", r.remapped}};
+}
+
+Json driven_keys(app::Workspace& ws) {
+  return Json{{"revision", ws.revision()},
+              {"drivenPoses", driven_set_json(take(ws.driven_poses(tools::DrivenData::kPoses)))},
+              {"correctives", driven_set_json(take(ws.driven_poses(tools::DrivenData::kCorrectives)))}};
+}
+
+Json driven_key_edit(app::Workspace& ws, const Json& body) {
+  const std::string op = as_string(need(body, "op"), "op");
+  if (op == "remove") {
+    const Json& driven = need(body, "driven");
+    if (!driven.is_array()) refuse(400, "driven: expected an array of channels", "driven");
+    std::vector<std::string> channels;
+    for (std::size_t i = 0; i < driven.size(); ++i) channels.push_back(as_string(driven[i], "driven[" + std::to_string(i) + "]"));
+    check(ws.remove_driven_keys(channels));
+    return Json{{"revision", ws.revision()}, {"removed", channels}};
+  }
+  if (op == "reader") {
+    const std::string joint = as_string(need(body, "joint"), "joint");
+    const graph::NodeId j = take(ws.node(joint, "joint"));
+    const Vec3 axis = opt(body, "axis") ? as_numbers<3>(*opt(body, "axis"), "axis") : Vec3(1, 0, 0);
+    const graph::NodeId reader = take(ws.create_pose_reader(j, axis));
+    const std::string name = ws.graph().node(reader)->name();
+    return Json{{"revision", ws.revision()}, {"reader", name}, {"angle", name + ".angle"}, {"rotate", name + ".rotate"}};
+  }
+  if (op != "set") refuse(400, "op: expected \"set\", \"remove\" or \"reader\", got \"" + op + "\"", "op");
+  tools::DrivenKeyRequest request;
+  request.driver = as_string(need(body, "driver"), "driver");
+  if (const Json* at = opt(body, "at")) request.at = as_number(*at, "at");
+  if (const Json* tangent = opt(body, "tangent")) {
+    auto t = ops::anim::tangent_type_from_name(as_string(*tangent, "tangent"));
+    if (!t) refuse(400, "tangent: unknown tangent type " + tangent->dump(), "tangent");
+    request.tangent = *t;
+  }
+  const Json& driven = need(body, "driven");
+  if (!driven.is_object()) refuse(400, "driven: expected an object {channel: value or null}", "driven");
+  for (auto it = driven.begin(); it != driven.end(); ++it) {
+    std::optional<double> value;
+    if (!it.value().is_null()) value = as_number(it.value(), "driven." + it.key());
+    request.driven.emplace_back(it.key(), value);
+  }
+  const tools::DrivenKeyReport r = take(ws.set_driven_key(request));
+  return Json{{"revision", ws.revision()}, {"at", r.at}, {"curves", r.curves}, {"created", r.created}};
 }
 
 }  // namespace rigel::server::routes

@@ -30,10 +30,19 @@ Json align(app::Workspace& ws, const Json& body);
 Json locators(app::Workspace& ws, const Json& body);
 // POST /api/mirror-joints {"joints"? (the selection), "update"?}.
 Json mirror_joints(app::Workspace& ws, const Json& body);
-// The data managers: POST /api/data/export {"kind": "weights"|"shapes",
+// The data managers: POST /api/data/export {"kind": "weights"|"shapes"|
+// "driven_poses"|"correctives",
 // "file", "rig"?} and POST /api/data/import {"kind", "file", "rig"?,
 // "rename"? {old: new}, "nearest"?, "mirror"?}, files inside the root.
 Json data_export(app::Workspace& ws, const Json& body);
 Json data_import(app::Workspace& ws, const Json& body);
+// Set-driven keys: GET /api/driven-keys {"drivenPoses": {"drivers":
+// [{"driver", "curves": [{"node", "driven", "at": [...], "values":
+// [...]}]}]}, "correctives": {...}}; POST /api/driven-keys {"op": "set",
+// "driver", "at"?, "driven": {channel: value or null}, "tangent"?} or
+// {"op": "remove", "driven": [channel, ...]}, or {"op": "reader", "joint",
+// "axis"?} (a pose reader: {"reader", "angle", "rotate"} plugs).
+Json driven_keys(app::Workspace& ws);
+Json driven_key_edit(app::Workspace& ws, const Json& body);
 
 }  // namespace rigel::server::routes

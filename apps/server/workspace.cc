@@ -457,6 +457,8 @@ struct Workspace::Impl {
   Json post_mirror_joints(const Request&, const Json& body) { return routes::mirror_joints(ws, body); }
   Json post_data_export(const Request&, const Json& body) { return routes::data_export(ws, body); }
   Json post_data_import(const Request&, const Json& body) { return routes::data_import(ws, body); }
+  Json get_driven_keys(const Request&, const Json&) { return routes::driven_keys(ws); }
+  Json post_driven_keys(const Request&, const Json& body) { return routes::driven_key_edit(ws, body); }
 
   // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
@@ -722,6 +724,8 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/mirror-joints", &Impl::post_mirror_joints},
       {"POST", "/api/data/export", &Impl::post_data_export},
       {"POST", "/api/data/import", &Impl::post_data_import},
+      {"GET", "/api/driven-keys", &Impl::get_driven_keys},
+      {"POST", "/api/driven-keys", &Impl::post_driven_keys},
       {"GET", "/api/poses", &Impl::get_poses},
       {"GET", "/api/poses/thumbnail", nullptr},
       {"POST", "/api/poses/save", &Impl::post_poses_save},

@@ -1,6 +1,7 @@
-// The workspace's data managers (workspace.h): skin weights and control
-// shapes exported to files and imported back (tools/skin_weights.h,
-// tools/shape_data.h), the files confined to the root when there is one.
+// The workspace's data managers (workspace.h): skin weights, control
+// shapes, driven poses and correctives exported to files and imported back
+// (tools/skin_weights.h, tools/shape_data.h, tools/driven_poses.h), the
+// files confined to the root when there is one; and set-driven keys.
 
 #include <fstream>
 #include <sstream>
@@ -80,6 +81,60 @@ Result<tools::ShapesReport> Workspace::import_control_shapes(const std::string& 
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
   bump_revision();
   return report;
+}
+
+Result<fs::path> Workspace::export_driven_poses(tools::DrivenData kind, const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  auto poses = tools::capture_driven_poses(graph(), kind);
+  if (!poses) return poses.status();
+  if (Status s = write_text(*path, tools::driven_poses_to_json(*poses)); !s) return s;
+  return path;
+}
+
+Result<tools::DrivenPosesReport> Workspace::import_driven_poses(tools::DrivenData kind, const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  Result<std::string> text = read_text(*path);
+  if (!text) return text.status();
+  auto poses = tools::driven_poses_from_json(*text, path->string(), kind);
+  if (!poses) return Status(poses.status()).with_field("file");
+  auto report = tools::apply_driven_poses(graph(), *poses);
+  if (!report) return conflict(report.status());
+  bump_revision();
+  return report;
+}
+
+Result<tools::DrivenPoseSet> Workspace::driven_poses(tools::DrivenData kind) { return tools::capture_driven_poses(graph(), kind); }
+
+namespace {
+// "driver ..." or "driven channel ...": the request's field the error is about.
+Status driven_key_error(const Status& s) {
+  if (s.message().rfind("driver", 0) == 0) return Status(s).with_field("driver");
+  if (s.message().rfind("driven channel", 0) == 0 || s.message().rfind("set driven key", 0) == 0)
+    return Status(s).with_field("driven");
+  return s;
+}
+}  // namespace
+
+Result<tools::DrivenKeyReport> Workspace::set_driven_key(const tools::DrivenKeyRequest& request) {
+  auto report = tools::set_driven_key(graph(), request);
+  if (!report) return driven_key_error(report.status());
+  bump_revision();
+  return report;
+}
+
+Result<NodeId> Workspace::create_pose_reader(NodeId joint, const math::Vec3& axis) {
+  auto reader = tools::create_pose_reader(graph(), joint, axis);
+  if (!reader) return reader.status();
+  bump_revision();
+  return reader;
+}
+
+Status Workspace::remove_driven_keys(const std::vector<std::string>& driven) {
+  if (Status s = tools::remove_driven_keys(graph(), driven); !s) return driven_key_error(s);
+  bump_revision();
+  return Status::ok();
 }
 
 }  // namespace rigel::app

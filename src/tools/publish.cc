@@ -23,6 +23,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
+#include "rigel/tools/driven_poses.h"
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
 
@@ -159,6 +160,21 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
     for (const std::string& m : r->missing) log::warn(in_asset(f, asset.dir) + ": the rig has no " + m + " (left out)");
     report.shapes_set += r->set;
     data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", "shapes"}, {"checksum", *file_checksum(f)}});
+  }
+  for (const DrivenData kind : {DrivenData::kPoses, DrivenData::kCorrectives}) {
+    const bool poses = kind == DrivenData::kPoses;
+    for (const fs::path& f : files_in(asset.dir / "data" / (poses ? "driven_poses" : "correctives"),
+                                      {poses ? ".drivenposes.json" : ".correctives.json"})) {
+      Result<std::string> text = read_all(f);
+      if (!text) return text.status();
+      auto set = driven_poses_from_json(*text, f.string(), kind);
+      if (!set) return set.status();
+      auto r = apply_driven_poses((*scene)->graph(), *set);
+      if (!r) return r.status().with_context(in_asset(f, asset.dir));
+      report.driven_curves += r->curves;
+      log::info(std::string(driven_data_name(kind)) + " from " + in_asset(f, asset.dir) + ": " + std::to_string(r->curves) + " curves");
+      data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", poses ? "driven_poses" : "correctives"}, {"checksum", *file_checksum(f)}});
+    }
   }
   // Checks.
   Json checks = Json::array();

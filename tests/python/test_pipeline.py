@@ -68,6 +68,38 @@ def test_weights_and_shapes_round_trip(tmp_path):
     assert info.value.field == "file"
 
 
+def test_driven_keys_and_driven_poses_round_trip(tmp_path):
+    hero = rigel.Workspace(str(DATA / "gltf" / "rigify_human_metarig.glb"))
+    hero.add_rig(str(BIPED))
+    driver = "hero_arm_L_fk0.rotateX"
+    r = hero.set_driven_key(driver, {"hero_arm_L_fk1.rotateZ": 0.0, "hero_arm_R_fk1.rotateZ": None}, at=0)
+    assert r.created == 2 and r.at == 0
+    r = hero.set_driven_key(driver, {"hero_arm_L_fk1.rotateZ": -45.0}, at=90, tangent="linear")
+    assert r.created == 0
+    curves = hero.driven_poses()
+    assert [c.driven for c in curves] == ["hero_arm_L_fk1.rotateZ", "hero_arm_R_fk1.rotateZ"]
+    assert curves[0].driver == driver and curves[0].at == [0, 90] and curves[0].values == [0, -45]
+    assert hero.driven_poses(correctives=True) == []
+    path = hero.export_driven_poses(str(tmp_path / "hero.drivenposes.json"))
+    text = open(path).read()
+    hero.remove_driven_keys(["hero_arm_L_fk1.rotateZ", "hero_arm_R_fk1.rotateZ"])
+    assert hero.driven_poses() == []
+    report = hero.import_driven_poses(path)
+    assert report.curves == 2 and report.created == 2 and report.keys == 3
+    assert open(hero.export_driven_poses(str(tmp_path / "again.json"))).read() == text
+    hero.undo()
+    assert hero.driven_poses() == []
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        hero.set_driven_key("nobody.rotateX", {"hero_arm_L_fk1.rotateZ": 1.0})
+    assert info.value.field == "driver"
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        hero.set_driven_key(driver, {"hero_arm_L_fk1.rotateZ": 1.0}, tangent="wobbly")
+    assert info.value.field == "tangent"
+    with pytest.raises(rigel.ParseError) as info:
+        hero.import_driven_poses(path, correctives=True)
+    assert info.value.field == "file"
+
+
 def test_publish_from_python(tmp_path, user_settings, monkeypatch):
     rigel.create_project(str(tmp_path / "show"))
     monkeypatch.chdir(tmp_path / "show")

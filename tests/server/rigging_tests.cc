@@ -1,5 +1,6 @@
 // The JSON API's rigger actions (GET/POST /api/shape, POST /api/align,
-// /api/locators, /api/mirror-joints; docs/SERVER.md) on the biped built on
+// /api/locators, /api/mirror-joints, GET/POST /api/driven-keys, the data
+// routes; docs/SERVER.md) on the biped built on
 // the bundled metarig: the same results as the library's calls, each one
 // undo step, refusals naming the field.
 
@@ -128,6 +129,50 @@ TEST(ServerApi, DataExportedAndImportedInsideTheRoot) {
     EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
   }
   EXPECT_FALSE(fs::exists(s.dir->path() / "outside.json"));
+}
+
+TEST(ServerApi, DrivenKeysSetListedRemovedExportedAndImported) {
+  Served s = served_biped();
+  ASSERT_TRUE(s.workspace);
+  Json r = s.post("/api/driven-keys", {{"op", "set"}, {"driver", "hero_arm_L_fk0.rotateX"}, {"at", 0},
+                                        {"driven", {{"hero_arm_L_fk1.rotateZ", 0}, {"hero_arm_R_fk1.rotateZ", nullptr}}}});
+  EXPECT_EQ(r["created"], 2);
+  r = s.post("/api/driven-keys", {{"op", "set"}, {"driver", "hero_arm_L_fk0.rotateX"}, {"at", 90}, {"tangent", "linear"},
+                                   {"driven", {{"hero_arm_L_fk1.rotateZ", -45}, {"hero_arm_R_fk1.rotateZ", 30}}}});
+  EXPECT_EQ(r["at"], 90);
+  EXPECT_EQ(r["curves"].size(), 2u);
+  Json listed = s.get("/api/driven-keys");
+  ASSERT_EQ(listed["drivenPoses"]["drivers"].size(), 1u);
+  EXPECT_EQ(listed["drivenPoses"]["drivers"][0]["curves"][0]["values"], Json::array({0, -45}));
+  EXPECT_TRUE(listed["correctives"]["drivers"].empty());
+  // Exported, removed, imported back; one undo step each.
+  r = s.post("/api/data/export", {{"kind", "driven_poses"}, {"file", "data/hero.drivenposes.json"}});
+  EXPECT_EQ(r["file"], "data/hero.drivenposes.json");
+  const std::string file = read_text(s.root / "data" / "hero.drivenposes.json");
+  s.post("/api/driven-keys", {{"op", "remove"}, {"driven", {"hero_arm_L_fk1.rotateZ", "hero_arm_R_fk1.rotateZ"}}});
+  EXPECT_TRUE(s.get("/api/driven-keys")["drivenPoses"]["drivers"].empty());
+  r = s.post("/api/data/import", {{"kind", "driven_poses"}, {"file", "data/hero.drivenposes.json"}});
+  EXPECT_EQ(r["curves"], 2);
+  EXPECT_EQ(r["created"], 2);
+  s.post("/api/data/export", {{"kind", "driven_poses"}, {"file", "data/again.json"}});
+  EXPECT_EQ(read_text(s.root / "data" / "again.json"), file);
+  s.post("/api/undo", Json::object());
+  EXPECT_TRUE(s.get("/api/driven-keys")["drivenPoses"]["drivers"].empty());
+  for (auto [body, status, field] :
+       {std::tuple{R"({"op":"set","driver":"nobody.rotateX","driven":{"hero_arm_L_fk1.rotateZ":1}})", 400, "driver"},
+        std::tuple{R"({"op":"set","driver":"hero_arm_L_fk0.rotateX","driven":{"forearm.L.translateX":1}})", 400, "driven"},
+        std::tuple{R"({"op":"set","driver":"hero_arm_L_fk0.rotateX","driven":[1]})", 400, "driven"},
+        std::tuple{R"({"op":"set","driver":"hero_arm_L_fk0.rotateX","driven":{"hero_arm_L_fk1.rotateZ":"x"}})", 400, "driven.hero_arm_L_fk1.rotateZ"},
+        std::tuple{R"({"op":"set","driver":"hero_arm_L_fk0.rotateX","tangent":"wobbly","driven":{"hero_arm_L_fk1.rotateZ":1}})", 400, "tangent"},
+        std::tuple{R"({"op":"dance"})", 400, "op"},
+        std::tuple{R"({"op":"remove","driven":["hero_arm_L_fk1.rotateZ"]})", 400, "driven"}}) {
+    Response resp = s.request("POST", "/api/driven-keys", body);
+    EXPECT_EQ(resp.status, status) << body << ": " << resp.body;
+    EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
+  }
+  Response resp = s.request("POST", "/api/data/import", R"({"kind":"correctives","file":"data/hero.drivenposes.json"})");
+  EXPECT_EQ(resp.status, 400) << resp.body;
+  EXPECT_EQ(Json::parse(resp.body)["field"], "file");
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
 // Publishing (tools/publish.h): an asset with the biped's definition on the
 // body, published twice: each version a new folder (never overwritten) with
 // the built scene, a manifest of checksums and checks, and the log; hand
-// edits exported as data (a control's shape, a painted weight) come back in
-// the rebuilt version exactly; a scene from a version reports its asset's
-// newer one; a broken definition publishes nothing.
+// edits exported as data (a control's shape, a painted weight, a driven
+// pose) come back in the rebuilt version exactly; a project of a character
+// and a prop, each published twice with its hand edits; a scene from a
+// version reports its asset's newer one; a broken definition publishes
+// nothing.
 
 #include "rigel/tools/publish.h"
 
@@ -16,6 +18,7 @@
 #include "rigel/io/scene_file.h"
 #include "rigel/ops/deform/nodes.h"
 #include "rigel/rig/meta.h"
+#include "rigel/tools/driven_poses.h"
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
 #include "../io/io_test_util.h"
@@ -121,6 +124,122 @@ TEST(Publish, a_broken_definition_or_a_missing_skeleton_publishes_nothing) {
   EXPECT_EQ(publish_asset(bare, ephemeral::components()).status().field(), "asset");
   fs::remove(p->asset.dir / "build" / "biped.rig.xml");
   EXPECT_EQ(publish_asset(p->asset, ephemeral::components()).status().field(), "asset");
+}
+
+// A prop: Khronos' RiggedSimple (a cylinder on two joints) with a global
+// control and an FK chain.
+constexpr const char* kCrate = R"(<?xml version="1.0" encoding="UTF-8"?>
+<rig name="crate" version="1.0">
+  <component type="global" name="global" side="C" version="1.0" rigId="6a1f3c2e-4b5d-4e6f-8a7b-9c0d1e2f3a4b">
+    <guide name="main"/>
+    <control role="main" shape="square" color="yellow" size="1"/>
+    <component type="fkChain" name="bend" side="C" version="1.0" rigId="7b2e4d3f-5c6e-4f70-9b8c-0d1e2f3a4b5c">
+      <guide joint="node_2"/>
+      <guide joint="node_3"/>
+      <control role="fk" shape="circle" color="yellow" size="0.5"/>
+    </component>
+  </component>
+</rig>
+)";
+
+std::string channel(const graph::Graph& g, const std::string& address, const std::string& attr) {
+  return g.node(testing::at(g, address))->name() + "." + attr;
+}
+
+double value_at(graph::Graph& g, const std::string& driver, double at, const std::string& driven) {
+  auto d = g.plug_find(driver);
+  EXPECT_TRUE(d.is_ok()) << driver;
+  EXPECT_TRUE(g.set_value(*d, graph::Value(at)).is_ok()) << driver;
+  auto p = g.plug_find(driven);
+  EXPECT_TRUE(p.is_ok()) << driven;
+  return std::get<double>(*g.evaluate(*p));
+}
+
+TEST(Publish, a_character_and_a_prop_published_twice_give_back_every_hand_edit) {
+  io::testing::TempDir dir;
+  auto project = create_project(dir.path() / "show");
+  ASSERT_TRUE(project.is_ok()) << project.status().message();
+  auto hero = create_asset(*project, "hero", "character", testing::source("tests/data/gltf/rigify_human_body.glb"));
+  ASSERT_TRUE(hero.is_ok()) << hero.status().message();
+  fs::copy_file(testing::source("examples/biped.rig.xml"), hero->dir / "build" / "biped.rig.xml");
+  auto crate = create_asset(*project, "crate", "prop", testing::source("tests/data/gltf/RiggedSimple.glb"));
+  ASSERT_TRUE(crate.is_ok()) << crate.status().message();
+  EXPECT_EQ(crate->dir, dir.path() / "show" / "props" / "crate");
+  write_text(crate->dir / "build" / "crate.rig.xml", kCrate);
+  for (const Asset* a : {&*hero, &*crate}) {
+    auto v1 = publish_asset(*a, ephemeral::components(), {"", true, "test"});
+    ASSERT_TRUE(v1.is_ok()) << a->name << ": " << v1.status().message();
+    EXPECT_EQ(v1->version, 1);
+  }
+
+  // Hand edits on version 1 of the character: a control's shape, a painted
+  // weight, a driven pose (the shoulder's turn bends both elbows).
+  auto h = load(hero->dir / "rig/v001/rig.rigel");
+  graph::Graph& hg = h->graph();
+  const ControlLook drawn{{math::Vec3(0, 0, 0), math::Vec3(0.1, 0.1, 0), math::Vec3(0, 0.2, 0.1)}, true, math::Vec3(0.3, 0.6, 0.9)};
+  ASSERT_TRUE(paste_control_look(hg, {testing::at(hg, "hero:arm_L/ik")}, drawn).is_ok());
+  auto weights = *capture_skin_weights(*h);
+  auto& skin = weights.back();
+  const std::int64_t first = skin.offsets[1234], end = skin.offsets[1235];
+  ASSERT_GT(end - first, 1);
+  for (std::int64_t k = first; k < end; ++k)  // a brush stroke: a quarter on the first influence, the rest shared
+    skin.weights[static_cast<std::size_t>(k)] = k == first ? 0.25 : 0.75 / static_cast<double>(end - first - 1);
+  ASSERT_TRUE(apply_skin_weights(*h, weights).is_ok());
+  const std::string driver = channel(hg, "hero:arm_L/fk[0]", "rotateX");
+  const std::string elbow_l = channel(hg, "hero:arm_L/fk[1]", "rotateZ"), elbow_r = channel(hg, "hero:arm_R/fk[1]", "rotateZ");
+  ASSERT_TRUE(set_driven_key(hg, {driver, 0.0, {{elbow_l, 0.0}, {elbow_r, 0.0}}}).is_ok());
+  ASSERT_TRUE(set_driven_key(hg, {driver, 80.0, {{elbow_l, -35.5}, {elbow_r, 12.25}}, ops::anim::TangentType::kSpline}).is_ok());
+  const std::string hero_shapes = control_shapes_to_json(*capture_control_shapes(hg, rig::find_rig(hg, "hero")));
+  const auto hero_weights = *capture_skin_weights(*h);
+  const std::string hero_poses = driven_poses_to_json(*capture_driven_poses(hg, DrivenData::kPoses));
+  write_text(hero->dir / "data/shapes/hero.shapes.json", hero_shapes);
+  write_text(hero->dir / "data/weights/body.weights.json", skin_weights_to_json(hero_weights));
+  write_text(hero->dir / "data/driven_poses/hero.drivenposes.json", hero_poses);
+
+  // ... and on the prop: its FK control's shape and a driven pose.
+  auto c = load(crate->dir / "rig/v001/rig.rigel");
+  graph::Graph& cg = c->graph();
+  ASSERT_TRUE(edit_control_shape(cg, {testing::at(cg, "crate:bend/fk[0]")}, ShapeEdit::kFlip).is_ok());
+  const std::string bend = channel(cg, "crate:bend/fk[0]", "rotateZ"), tip = channel(cg, "crate:bend/fk[1]", "rotateZ");
+  ASSERT_TRUE(set_driven_key(cg, {bend, 0.0, {{tip, 0.0}}}).is_ok());
+  ASSERT_TRUE(set_driven_key(cg, {bend, 45.0, {{tip, 30.0}}}).is_ok());
+  const std::string crate_shapes = control_shapes_to_json(*capture_control_shapes(cg, rig::find_rig(cg, "crate")));
+  const std::string crate_poses = driven_poses_to_json(*capture_driven_poses(cg, DrivenData::kPoses));
+  write_text(crate->dir / "data/shapes/crate.shapes.json", crate_shapes);
+  write_text(crate->dir / "data/driven_poses/crate.drivenposes.json", crate_poses);
+
+  // Version 2 of each, built from scratch: every edit back.
+  auto v2 = publish_asset(*hero, ephemeral::components(), {"", true, "test"});
+  ASSERT_TRUE(v2.is_ok()) << v2.status().message();
+  EXPECT_EQ(v2->version, 2);
+  EXPECT_EQ(v2->driven_curves, 2u);
+  EXPECT_EQ(nlohmann::json::parse(read_text(v2->manifest))["data"].size(), 3u);
+  auto h2 = load(v2->scene);
+  graph::Graph& hg2 = h2->graph();
+  EXPECT_EQ(control_shapes_to_json(*capture_control_shapes(hg2, rig::find_rig(hg2, "hero"))), hero_shapes) << "shapes exact";
+  EXPECT_EQ(driven_poses_to_json(*capture_driven_poses(hg2, DrivenData::kPoses)), hero_poses) << "driven poses exact";
+  const auto back = *capture_skin_weights(*h2);
+  ASSERT_EQ(back.back().weights.size(), hero_weights.back().weights.size());
+  double worst = 0;
+  for (std::size_t k = 0; k < back.back().weights.size(); ++k)
+    worst = std::max(worst, std::abs(back.back().weights[k] - hero_weights.back().weights[k]));
+  EXPECT_LE(worst, 1e-6) << "weights";
+  EXPECT_EQ(back.back().joints, hero_weights.back().joints);
+  for (double at : {-10.0, 20.0, 80.0, 100.0})
+    EXPECT_EQ(value_at(hg2, driver, at, elbow_r), value_at(hg, driver, at, elbow_r)) << at;
+
+  auto c2 = publish_asset(*crate, ephemeral::components(), {"", true, "test"});
+  ASSERT_TRUE(c2.is_ok()) << c2.status().message();
+  EXPECT_EQ(c2->version, 2);
+  auto crate2 = load(c2->scene);
+  graph::Graph& cg2 = crate2->graph();
+  EXPECT_EQ(control_shapes_to_json(*capture_control_shapes(cg2, rig::find_rig(cg2, "crate"))), crate_shapes);
+  EXPECT_EQ(driven_poses_to_json(*capture_driven_poses(cg2, DrivenData::kPoses)), crate_poses);
+  EXPECT_EQ(value_at(cg2, bend, 30.0, tip), value_at(cg, bend, 30.0, tip));
+  auto assets = list_assets(*project);
+  ASSERT_TRUE(assets.is_ok());
+  ASSERT_EQ(assets->size(), 2u);
+  for (const Asset& a : *assets) EXPECT_EQ(published_versions(a), (std::vector<int>{1, 2})) << a.name;
 }
 
 }  // namespace

@@ -39,6 +39,7 @@
 #include "rigel/scene/scene_options.h"
 #include "rigel/tools/bind_pose.h"
 #include "rigel/tools/curves.h"
+#include "rigel/tools/driven_poses.h"
 #include "rigel/tools/keys.h"
 #include "rigel/tools/match.h"
 #include "rigel/tools/trails.h"
@@ -522,6 +523,22 @@ class Workspace {
   // role and index.
   Result<fs::path> export_control_shapes(const std::string& rig, const std::string& file);
   Result<tools::ShapesReport> import_control_shapes(const std::string& rig, const std::string& file);
+  // Driven poses or correctives (tools/driven_poses.h): every driven key of
+  // that kind to a .drivenposes.json / .correctives.json file, and back.
+  Result<fs::path> export_driven_poses(tools::DrivenData kind, const std::string& file);
+  Result<tools::DrivenPosesReport> import_driven_poses(tools::DrivenData kind, const std::string& file);
+  // The driven keys of that kind now.
+  Result<tools::DrivenPoseSet> driven_poses(tools::DrivenData kind);
+  // ---- set-driven keys (tools/driven_poses.h; src/app/data.cc) ---------------
+  // Keys a pose: at the driver's value (or request.at) each driven channel
+  // takes its value (or the given one). Errors name "driver" or "driven";
+  // one undo step.
+  Result<tools::DrivenKeyReport> set_driven_key(const tools::DrivenKeyRequest& request);
+  // Removes the driven keys of the channels (each keeps its value now).
+  Status remove_driven_keys(const std::vector<std::string>& driven);
+  // A pose reader on a joint (a corrective's driver); errors name "joint"
+  // or "axis"; one undo step.
+  Result<NodeId> create_pose_reader(NodeId joint, const math::Vec3& axis);
   // ---- pose library (tools/poses.h; src/app/poses.cc) ------------------------
   // `library`: a folder, resolved as resolve_path does (inside root() when
   // there is one; errors name "library"); `name`: a pose name

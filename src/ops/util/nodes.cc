@@ -1,8 +1,11 @@
 #include "rigel/ops/util/nodes.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "rigel/graph/graph.h"
+#include "rigel/math/rotation.h"
+#include "rigel/math/transform.h"
 #include "rigel/math/types.h"
 #include "rigel/ops/util/blend.h"
 #include "rigel/ops/util/finger.h"
@@ -34,6 +37,25 @@ void compute_inverse(graph::ComputeContext& c) {
   c.set(kError, std::string());
 }
 
+// The rotation of `matrix` relative to `restMatrix` (their rotation parts,
+// scale and shear taken out): the swing of `axis` in degrees, and the
+// relative rotation as Euler XYZ degrees.
+void compute_pose_reader(graph::ComputeContext& c) {
+  namespace pr = pose_reader_attr;
+  const math::Quat now = math::decompose(c.get<Mat4>(pr::kMatrix)).rotation;
+  const math::Quat rest = math::decompose(c.get<Mat4>(pr::kRestMatrix)).rotation;
+  const math::Quat delta = (rest.conjugate() * now).normalized();
+  math::Vec3 axis = c.get<math::Vec3>(pr::kAxis);
+  double angle = 0.0;
+  if (axis.norm() > 0 && axis.allFinite()) {
+    axis.normalize();
+    const math::Vec3 turned = delta * axis;
+    angle = std::atan2(axis.cross(turned).norm(), axis.dot(turned)) * 180.0 / std::numbers::pi;
+  }
+  c.set(pr::kAngle, angle);
+  c.set(pr::kRotate, math::Vec3(math::quat_to_euler(delta, math::RotateOrder::kXYZ) * (180.0 / std::numbers::pi)));
+}
+
 }  // namespace
 
 Status register_util_types(graph::Registry& registry) {
@@ -46,6 +68,16 @@ Status register_util_types(graph::Registry& registry) {
                 graph::output_attr("error", {ValueType::kString, false}, graph::kHidden)};
   spec.compute = compute_inverse;
   if (Status s = registry.add(std::move(spec)); !s) return s;
+  graph::NodeTypeSpec reader;
+  reader.name = kPoseReaderType;
+  reader.description = "A joint's rotation from its rest: the swing angle of an axis and Euler XYZ angles (degrees)";
+  reader.attrs = {graph::input_attr("matrix", kMatrix, Mat4(Mat4::Identity()), {"angle", "rotate"}),
+                  graph::input_attr("restMatrix", kMatrix, Mat4(Mat4::Identity()), {"angle", "rotate"}),
+                  graph::input_attr("axis", {ValueType::kDouble3, false}, math::Vec3(1, 0, 0), {"angle"}),
+                  graph::output_attr("angle", {ValueType::kDouble, false}, graph::kAngle),
+                  graph::output_attr("rotate", {ValueType::kDouble3, false}, graph::kAngle)};
+  reader.compute = compute_pose_reader;
+  if (Status s = registry.add(std::move(reader)); !s) return s;
   if (Status s = register_blend_types(registry); !s) return s;
   if (Status s = register_finger_types(registry); !s) return s;
   if (Status s = register_foot_types(registry); !s) return s;

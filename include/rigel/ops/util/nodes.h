@@ -18,6 +18,13 @@
 //                  the parent-space inverse a constraint's parentInverseMatrix
 //                  needs, following the parent as it moves. A singular input
 //                  gives the identity and says so in `error`.
+//
+//   poseReader     matrix, restMatrix (matrix inputs), axis (double3,
+//                  default 1 0 0) -> angle (degrees: how far `axis` has
+//                  swung from rest, 0..180) and rotate (double3, degrees:
+//                  the rotation from rest as Euler XYZ). Connect a joint's
+//                  local matrix and set restMatrix to its rest: the driver
+//                  of corrective shapes and joints (tools/driven_poses.h).
 
 #include "rigel/base/status.h"
 #include "rigel/graph/node_type.h"
@@ -25,6 +32,10 @@
 namespace rigel::ops::util {
 
 inline constexpr const char* kInverseMatrixType = "inverseMatrix";
+inline constexpr const char* kPoseReaderType = "poseReader";
+namespace pose_reader_attr {
+enum : graph::AttrIndex { kMatrix = 0, kRestMatrix, kAxis, kAngle, kRotate, kCount };
+}
 
 // Adds inverseMatrix and the rig operators' node types.
 Status register_util_types(graph::Registry& registry);
