@@ -325,6 +325,10 @@ std::string type_documentation(const ComponentSchema& s) {
 
 }  // namespace
 
+constexpr const char* kDataDoc =
+    "Hand-made data the build imports, in order, after the components are built (its last step, data); file is "
+    "relative to the definition's folder.";
+
 std::string definition_xsd(const SchemaRegistry& schemas) {
   const std::string num = kNumberPattern;
   std::string o;
@@ -380,10 +384,7 @@ std::string definition_xsd(const SchemaRegistry& schemas) {
   line(1, "</xs:complexType>");
 
   line(1, "<xs:complexType name=\"Data\">");
-  line(2, "<xs:annotation><xs:documentation>" +
-              esc("Hand-made data the build imports, in order, after the components are built (its last step, data); "
-                  "file is relative to the definition's folder.") +
-              "</xs:documentation></xs:annotation>");
+  line(2, "<xs:annotation><xs:documentation>" + esc(kDataDoc) + "</xs:documentation></xs:annotation>");
   attr(2, "kind", "DataKind", " use=\"required\"");
   attr(2, "file", "NonEmpty", " use=\"required\"");
   line(1, "</xs:complexType>");
