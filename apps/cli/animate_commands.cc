@@ -13,6 +13,7 @@
 #include "cli_util.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -59,7 +60,7 @@ int run_match(const MatchArgs& args) {
     return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   if (args.frame) {
     if (Status s = ws.set_frame(*args.frame); !s) return fail(Status(s.code(), args.scene + ": --" + s.message()));
   }
@@ -126,7 +127,7 @@ int run_mirror(const MirrorArgs& args) {
     return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   for (const std::string& name : args.controls) {
     auto id = ws.node(name, "controls");
     if (!id) return fail(Status(id.status().code(), args.scene + ": --controls: no node named '" + name + "'"));
@@ -175,7 +176,7 @@ int run_bind_pose(const BindPoseArgs& args) {
     if (name.empty()) return usage_error("--controls: empty name (expected A,B,...)");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   std::vector<graph::NodeId> nodes;
   for (const std::string& name : args.controls) {
     auto id = ws.node(name, "controls");

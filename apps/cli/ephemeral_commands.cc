@@ -28,6 +28,7 @@
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/transform.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -155,7 +156,7 @@ int run_ephemeral_key(const EphemeralKeyArgs& args) {
     if (name.empty()) return usage_error("--control: empty control name (expected A,B,...)");
   auto scene = load_rigged(args.scene);
   if (!scene) return fail(scene.status());
-  rigel::app::Workspace ws(std::move(*scene), args.scene, {}, rigel::ephemeral::components());
+  rigel::app::Workspace ws(std::move(*scene), args.scene, {}, rigel::tools::components());
   rigel::graph::Graph& g = ws.graph();
   std::vector<NodeId> controls;
   for (const std::string& name : args.controls) {

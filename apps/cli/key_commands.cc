@@ -15,6 +15,7 @@
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/ops/anim/channel_keys.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -122,7 +123,7 @@ int run_key(const KeyArgs& args) {
     if (name.empty()) return usage_error("--attr: empty name (expected ATTR,...)");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   auto resolved = key_nodes(ws, args.scene, args.controls);
   if (!resolved) return fail(resolved.status());
   const std::vector<NodeId>& nodes = *resolved;
@@ -177,7 +178,7 @@ struct KeysArgs {
 int run_keys(const KeysArgs& args) {
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   auto id = key_node(ws, args.scene, args.control);
   if (!id) return fail(id.status());
   auto keys = ws.channel_keys({*id}, args.attrs);
@@ -216,7 +217,7 @@ int run_tween(const TweenArgs& args) {
   if (args.frame && !std::isfinite(*args.frame)) return usage_error("--frame must be a finite number");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   auto resolved = key_nodes(ws, args.scene, args.controls);
   if (!resolved) return fail(resolved.status());
   const std::vector<NodeId>& nodes = *resolved;
@@ -258,7 +259,7 @@ int run_set(const SetArgs& args) {
     if (!std::isfinite(v)) return usage_error("--value must be finite numbers");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   auto resolved = key_nodes(ws, args.scene, args.controls);
   if (!resolved) return fail(resolved.status());
   if (args.frame) {

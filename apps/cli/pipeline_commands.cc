@@ -22,6 +22,7 @@
 #include "rigel/tools/batch.h"
 #include "rigel/tools/batch_slurm.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/tools/data_files.h"
 #include "rigel/tools/project.h"
 #include "rigel/tools/publish.h"
 
@@ -212,7 +213,7 @@ int run_data(bool exporting, const DataArgs& a) {
     return usage_error("--rename, --nearest and --mirror are for weights");
   auto scene = load(a.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   const std::string file = data_path(a.kind, exporting ? a.output : a.file);
   if (exporting) {
     auto path = a.kind == "weights"  ? ws.export_skin_weights(file)
@@ -365,7 +366,7 @@ int run_publish(const PublishArgs& a) {
   options.naming_template = settings().string("naming.template");
   options.checks = settings().flag("publish.checks");
   options.rigel_version = RIGEL_VERSION;
-  auto r = tools::publish_asset(*asset, ephemeral::components(), options);
+  auto r = tools::publish_asset(*asset, tools::components(), options);
   if (!r) return fail(r.status());
   if (a.json) {
     std::cout << Json{{"asset", asset->name}, {"version", r->version}, {"dir", r->dir.string()}, {"scene", r->scene.string()},

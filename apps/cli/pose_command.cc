@@ -15,6 +15,7 @@
 #include "rigel/ephemeral/keying.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/scene/transform_types.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -144,7 +145,7 @@ int run_pose(const PoseArgs& args) {
 
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components(), options);
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components(), options);
   graph::Graph& g = ws.graph();
   if (ws.all_controls().empty()) {
     return fail(Status(ErrorCode::kNotFound, args.scene + ": the scene has no ephemeral rig (nor a built rig's controls); run "

@@ -17,6 +17,7 @@
 #include "pipeline_commands.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -67,7 +68,7 @@ std::optional<int> open(const PoseArgs& args, Opened& out) {
     if (name.empty()) return usage_error("--controls: empty name (expected A,B,...)");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  out.ws = std::make_unique<app::Workspace>(std::move(*scene), args.scene, std::filesystem::path(), ephemeral::components());
+  out.ws = std::make_unique<app::Workspace>(std::move(*scene), args.scene, std::filesystem::path(), tools::components());
   for (const std::string& name : args.controls) {
     auto id = out.ws->node(name, "controls");
     if (!id) return fail(Status(id.status().code(), args.scene + ": --controls: no node named '" + name + "'"));
@@ -124,7 +125,7 @@ int run_apply(const PoseArgs& args) {
 
 // list and remove need no scene: a workspace on an empty one.
 app::Workspace library_workspace() {
-  return app::Workspace(std::make_shared<scene::Scene>(), {}, {}, ephemeral::components());
+  return app::Workspace(std::make_shared<scene::Scene>(), {}, {}, tools::components());
 }
 
 int run_list(const PoseArgs& args) {

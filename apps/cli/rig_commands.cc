@@ -25,6 +25,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
+#include "rigel/tools/data_files.h"
 #include "rigel/tools/publish.h"
 
 namespace rigel::cli {
@@ -34,8 +35,9 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using graph::NodeId;
 
-// Every component class rigel has: the rig layer's and `ephemeral`.
-const rig::ComponentFactory& factory() { return ephemeral::components(); }
+// Every component class rigel has (the rig layer's and `ephemeral`), with the
+// data importer a definition's <data> needs (tools/data_files.h).
+const rig::ComponentFactory& factory() { return tools::components(); }
 
 // Reads and checks a definition; prints every problem (file:line:column).
 std::optional<rig::Definition> read_definition(const std::string& path) {

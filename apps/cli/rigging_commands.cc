@@ -17,6 +17,7 @@
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/ops/anim/channel_keys.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -134,7 +135,7 @@ int run_shape(const ShapeArgs& a) {
   if (a.shape_only && a.color_only) return usage_error("give --shape-only or --color-only, not both");
   auto scene = load(a.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   auto controls = resolve(ws, a.controls, a.scene, "control");
   if (!controls) return fail(controls.status());
   const std::string where = a.scene + ": ";
@@ -176,7 +177,7 @@ int run_shape(const ShapeArgs& a) {
 int run_align(const AlignArgs& a) {
   auto scene = load(a.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   auto nodes = resolve(ws, a.nodes, a.scene, "node");
   if (!nodes) return fail(nodes.status());
   auto target = ws.node(a.target, "to");
@@ -192,7 +193,7 @@ int run_align(const AlignArgs& a) {
 int run_locator(const LocatorArgs& a) {
   auto scene = load(a.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   auto at = resolve(ws, a.at, a.scene, "at");
   if (!at) return fail(at.status());
   auto made = ws.create_locators(*at, a.size);
@@ -205,7 +206,7 @@ int run_locator(const LocatorArgs& a) {
 int run_mirror_joints(const MirrorJointsArgs& a) {
   auto scene = load(a.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), a.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   auto joints = resolve(ws, a.joints, a.scene, "joint");
   if (!joints) return fail(joints.status());
   tools::MirrorJointsOptions options;

@@ -20,6 +20,7 @@
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/manager.h"
+#include "rigel/tools/data_files.h"
 #include "workspace.h"
 
 #ifndef RIGEL_WEB_DIR
@@ -85,7 +86,7 @@ int run_serve(const ServeArgs& a) {
     if (!r) return fail(r.status().with_context(a.scene));
   }
   for (const std::string& def : a.rigs) {
-    auto r = rig::add_rig(*scene, fs::absolute(def), ephemeral::components());
+    auto r = rig::add_rig(*scene, fs::absolute(def), tools::components());
     if (!r) return fail(r.status());
     std::cerr << "rigel: built " << r->name << " " << r->version << " (" << r->components.size() << " components)\n";
   }
@@ -109,7 +110,7 @@ int run_serve(const ServeArgs& a) {
               << "); serving the API only. Build it with scripts/test or `npm ci && npm run build` in web/\n";
   }
 
-  server::Workspace workspace(std::move(scene), scene_path, fs::absolute(a.root), ephemeral::components());
+  server::Workspace workspace(std::move(scene), scene_path, fs::absolute(a.root), tools::components());
   if (!a.scene.empty()) workspace.set_character(fs::absolute(a.scene).lexically_normal());
   server::HttpServer http(workspace, options);
 

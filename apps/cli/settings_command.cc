@@ -13,6 +13,7 @@
 #include "cli_util.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -46,7 +47,7 @@ int run_playback(const PlaybackArgs& args) {
   if (args.range.empty() != args.output.empty()) return usage_error("--range writes a scene: give it with -o OUT");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   if (!args.range.empty()) {
     const auto range = parse_frames(args.range);
     if (!range) return usage_error("--range '" + args.range + "': " + kFramesExpected);
@@ -86,7 +87,7 @@ int run_sets(const SetsArgs& args) {
   if (!args.save.empty() && args.controls.empty()) return usage_error("--save needs --control A,B,...");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   if (!args.save.empty()) {
     std::vector<graph::NodeId> members;
     for (const std::string& name : args.controls) {
@@ -120,7 +121,7 @@ int run_sets(const SetsArgs& args) {
 int run_picker(const PickerArgs& args) {
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   Json groups = Json::array();
   for (const app::PickerGroup& p : ws.picker()) {
     Json controls = Json::array();
@@ -142,7 +143,7 @@ int run_trail(const TrailArgs& args) {
   if (!std::isfinite(args.step) || args.step <= 0) return usage_error("--step must be a positive number of frames");
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   std::vector<graph::NodeId> nodes;
   for (const std::string& name : args.controls) {
     auto id = ws.key_target(name, "control");

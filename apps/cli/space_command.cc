@@ -12,6 +12,7 @@
 #include "cli_util.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 namespace {
@@ -66,7 +67,7 @@ int run_space(const SpaceArgs& args) {
   }
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   auto control = ws.node(args.control, "control");
   if (!control) return fail(Status(control.status().code(), args.scene + ": --control: " + control.status().message()));
   const std::string name = ws.graph().node(*control)->name();

@@ -13,6 +13,7 @@
 #include "cli_util.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::cli {
 
@@ -47,7 +48,7 @@ int run_transfer(const TransferArgs& args) {
   }
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
-  app::Workspace ws(std::move(*scene), args.scene, {}, ephemeral::components());
+  app::Workspace ws(std::move(*scene), args.scene, {}, tools::components());
   auto report = ws.transfer_keys(args.from, args.to, frames, args.offset);
   if (!report) {
     const Status& s = report.status();

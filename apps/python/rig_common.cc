@@ -3,10 +3,11 @@
 #include "rig_common.h"
 
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::python {
 
-const rig::ComponentFactory& factory() { return ephemeral::components(); }
+const rig::ComponentFactory& factory() { return tools::components(); }
 const rig::SchemaRegistry& schemas() { return factory().schemas(); }
 
 // ---- component handles ---------------------------------------------------------

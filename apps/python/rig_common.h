@@ -19,8 +19,8 @@ namespace rigel::python {
 
 using DefinitionRef = std::shared_ptr<rig::Definition>;
 
-// Every component class rigel has (the rig layer's and `ephemeral`): what
-// the CLI builds with.
+// Every component class rigel has (the rig layer's and `ephemeral`) with the
+// data importer (tools::components()): what the CLI builds with.
 const rig::ComponentFactory& factory();
 const rig::SchemaRegistry& schemas();
 

@@ -80,6 +80,19 @@ void def_contents(DefinitionClass& cls) {
             d->geometry.push_back(rig::Geometry{file, name, {}});
           },
           py::arg("file"), py::arg("name") = "")
+      .def_property(
+          "data",
+          [](const DefinitionRef& d) {
+            py::list out;
+            for (const rig::DataImport& x : d->data) out.append(py::make_tuple(x.kind, x.file));
+            return out;
+          },
+          [](const DefinitionRef& d, const std::vector<std::pair<std::string, std::string>>& list) {
+            d->data.clear();
+            for (const auto& [kind, file] : list) d->data.push_back(rig::DataImport{kind, file, {}});
+          },
+          "Data the build imports after the components, in order, as (kind, file) pairs (kind: weights, shapes, "
+          "blendshapes, driven_poses, correctives; files relative to the definition's folder): its last step, data.")
       .def_property_readonly(
           "features", [](const DefinitionRef& d) { return features_of(d->features); },
           "Rig-wide features as dicts {name, enabled, switches: {name: enabled}}.")

@@ -1,8 +1,9 @@
 // rigel's pipeline in Python (tools/project.h, tools/config.h, base/log.h):
 // module functions for projects, assets and settings, and the log level;
 // Workspace's data managers (export and import of skin weights, control
-// shapes, driven poses and correctives) and set-driven keys. Python values
-// in, library calls, records out.
+// shapes, driven poses and correctives) and set-driven keys; import_data
+// and asset_data_files (tools/data_files.h), what PyBuild.post() imports by
+// default. Python values in, library calls, records out.
 
 #include <map>
 #include <optional>
@@ -10,7 +11,9 @@
 
 #include "rigel/base/log.h"
 #include "rigel/ops/anim/channel_keys.h"
+#include "rigel/rig/meta.h"
 #include "rigel/tools/config.h"
+#include "rigel/tools/data_files.h"
 #include "rigel/tools/project.h"
 #include "rigel/tools/publish.h"
 #include "rigel/ephemeral/component.h"
@@ -127,7 +130,7 @@ void wrap_pipeline(py::module_& m) {
             o.naming_template = settings.string("naming.template");
             o.checks = settings.flag("publish.checks");
             o.rigel_version = "python";
-            const tools::PublishReport r = unwrap(tools::publish_asset(asset, ephemeral::components(), o));
+            const tools::PublishReport r = unwrap(tools::publish_asset(asset, tools::components(), o));
             py::dict d;
             d["version"] = r.version;
             d["dir"] = r.dir.string();
@@ -145,6 +148,40 @@ void wrap_pipeline(py::module_& m) {
           "Publishes an asset (NAME in the project, or the one the current folder is in): built from scratch, its "
           "data imported, checked, written as rig/vNNN; returns record(version, dir, scene, manifest, rigs, "
           "warnings, weights_vertices, shapes_set, driven_curves, rest_error).")
+      .def(
+          "import_data",
+          [](const SceneRef& scene, const std::string& kind, const std::string& file, const std::string& rig) {
+            graph::NodeId root;
+            if (!rig.empty()) {
+              root = rig::find_rig(scene->graph(), rig);
+              if (!root.is_valid())
+                raise(Status(ErrorCode::kNotFound, "rig: the scene has no rig '" + rig + "'").with_field("rig"));
+            }
+            const tools::DataFileReport r = unwrap(tools::import_data_file(*scene, root, kind, file));
+            py::dict d;
+            d["kind"] = r.kind;
+            d["file"] = file;
+            d["weights_vertices"] = r.weights_vertices;
+            d["shapes_set"] = r.shapes_set;
+            d["missing"] = r.missing;
+            return record(d);
+          },
+          py::arg("scene"), py::arg("kind"), py::arg("file"), py::arg("rig") = "",
+          "Imports a data file of KIND (weights, shapes; blendshapes, driven_poses and correctives are not read yet) "
+          "into SCENE: the same dispatcher as a definition's <data> and a publish. Shapes go onto RIG (default: the "
+          "rig the file names). One undo step; returns record(kind, file, weights_vertices, shapes_set, missing).")
+      .def(
+          "asset_data_files",
+          [](const std::string& path) {
+            py::list out;
+            auto asset = tools::find_asset(path.empty() ? std::filesystem::current_path() : std::filesystem::path(path));
+            if (!asset) return out;
+            for (const tools::DataFile& f : tools::asset_data_files(*asset)) out.append(py::make_tuple(f.kind, f.file.string()));
+            return out;
+          },
+          py::arg("path") = "",
+          "The data files of the asset PATH is in (default: the current folder) that import_data reads, as (kind, "
+          "file) pairs in import order (weights, then shapes; names sorted); empty when PATH is in no asset.")
       .def(
           "set_log_level",
           [](const std::string& level) {

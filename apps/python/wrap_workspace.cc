@@ -12,6 +12,7 @@
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/app/workspace.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::python {
 
@@ -40,7 +41,7 @@ WorkspaceRef make_workspace(const SceneArg& scene, const std::optional<std::stri
   } else {
     w.scene = std::get<SceneRef>(scene);
   }
-  w.ws = std::make_unique<app::Workspace>(w.scene, scene_path, root ? fs::path(*root) : fs::path(), eph::components());
+  w.ws = std::make_unique<app::Workspace>(w.scene, scene_path, root ? fs::path(*root) : fs::path(), tools::components());
   if (!character.empty()) w.ws->set_character(character);
   return w;
 }

@@ -33,6 +33,9 @@ namespace xform = scene::xform;
 // metaRoot and groups) and each component's first step (its metaComponent).
 inline constexpr const char* kRigStep = "rig";
 inline constexpr const char* kMetaStep = "meta";
+// The rig's last step when its definition names data (Definition::data):
+// each entry imported by the factory's data importer.
+inline constexpr const char* kDataStep = "data";
 
 // A guide's values as a matrix: its place, or its offset from its joint.
 math::Mat4 guide_values(const Guide& guide);
@@ -113,6 +116,11 @@ struct AttachTarget {
 
 // The owner of a planned step's records: the component's rigId, "" for the rig.
 std::string key_of(const Build& b, int component);
+
+// The data step's construct: each of `d.data` imported in order by the
+// factory's importer onto the rig `root`; an entry's failure names the
+// definition file:line and the data file (build_steps.cc).
+Status import_definition_data(scene::Scene& scene, const Definition& d, const ComponentFactory& factory, NodeId root);
 
 // ---- controls (build_rebuild.cc) ------------------------------------------
 

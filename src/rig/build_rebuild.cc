@@ -505,7 +505,16 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
 
   g.begin_transaction("update " + definition_.name);
   std::set<std::string> owners;
-  Status s = detach_kept(g, root, kept);
+  // The data step first, back: it comes last and may have changed what the
+  // rebuilt components own (their controls' shapes). It is done again at
+  // the end, so an update re-imports the data (the files may have changed).
+  Status s;
+  if (auto data = records_->done.find({"", kDataStep}); data != records_->done.end()) {
+    s = undo_record(g, data->second);
+    records_->done.erase(data);
+    records_->text.erase("");
+  }
+  if (s) s = detach_kept(g, root, kept);
   // Build on the rest pose, not on the pose at the scene's time.
   RestPose rest;
   if (s) {
@@ -539,6 +548,8 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
   if (s) s = reattach_kept(g, root, kept);
   if (s) s = rest.restore(g);
   if (s && !keyed.empty()) s = restore_world_keys(scene_, root, keyed);
+  for (std::size_t i = 0; i < plan_.size() && s; ++i)
+    if (plan_[i].component < 0 && plan_[i].step == kDataStep) s = construct(static_cast<int>(i));
   if (s) s = g.set_value(Plug{root, g.node(root)->type().attr_find("version"), -1}, Value(definition_.version));
   for (const Component* c : components_) {
     if (!s || dirty.count(c->rig_id)) continue;

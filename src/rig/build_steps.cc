@@ -3,6 +3,7 @@
 // step as one undo step.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <set>
@@ -68,6 +69,31 @@ Status record_bind_values(graph::Graph& g, NodeId meta, const std::string& step)
 }
 
 }  // namespace
+
+Status detail::import_definition_data(scene::Scene& scene, const Definition& d, const ComponentFactory& factory,
+                                      NodeId root) {
+  for (const DataImport& x : d.data) {
+    std::string where = d.source.empty() ? std::string("definition") : d.source;
+    if (x.where.line > 0) {
+      where += ':';
+      where += std::to_string(x.where.line);
+      where += ':';
+      where += std::to_string(x.where.column);
+    }
+    where += ": data ";
+    where += x.kind;
+    where += " '";
+    where += x.file;
+    where += '\'';
+    if (!factory.data_importer())
+      return error(ErrorCode::kUnsupported,
+                   where + ": this build has no data importer (build with the tools layer's components)");
+    std::filesystem::path file(x.file);
+    if (file.is_relative()) file = std::filesystem::path(d.source).parent_path() / file;
+    if (Status s = factory.data_importer()(scene, root, x, file); !s) return s.with_context(where);
+  }
+  return Status::ok();
+}
 
 Status Build::replan() {
   const Definition& d = definition_;
@@ -173,6 +199,9 @@ Status Build::replan() {
       plan_.push_back(PlannedStep{i, s.name, s.feature, s.switch_name, step_enabled(definition_, &c, s.feature, s.switch_name)});
     }
   }
+  // The hand-made data last: it changes what the components made (control
+  // shapes) and what the character holds (skin weights).
+  if (!d.data.empty()) plan_.push_back(PlannedStep{-1, kDataStep, "", "", true});
   return Status::ok();
 }
 
@@ -219,7 +248,9 @@ Status Build::construct(int index) {
   Status status;
   {
     Recorder recorder(g, record);
-    if (p.component < 0) {
+    if (p.component < 0 && p.step == kDataStep) {
+      status = import_definition_data(scene_, definition_, factory_, ctx.root_);
+    } else if (p.component < 0) {
       // The rig's own step: its metaRoot and groups.
       Result<NodeId> r = g.create_node(kMetaRootType, definition_.name + "_meta");
       if (!r) return r.status();

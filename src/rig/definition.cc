@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <iterator>
 #include <utility>
 
 #include "rigel/graph/uuid.h"
@@ -39,6 +40,10 @@ const ControlStyle* Component::control(std::string_view role) const {
   for (const ControlStyle& c : controls)
     if (c.role == role) return &c;
   return nullptr;
+}
+
+bool is_data_import_kind(std::string_view kind) {
+  return std::any_of(std::begin(kDataImportKinds), std::end(kDataImportKinds), [&](const char* k) { return kind == k; });
 }
 
 std::string Component::full_name() const { return side == Side::kCenter ? name : name + "_" + side_name(side); }

@@ -354,7 +354,7 @@ class JsonReader {
   void read_rig(const Json& j, const std::string& path, Definition& d) {
     d.where = value_at(path);
     if (!expect(j, path, j.is_object(), "'rig'", "an object")) return;
-    check_keys(j, path, {"name", "version", "guiLocation", "geometry", "features", "components"}, "the rig");
+    check_keys(j, path, {"name", "version", "guiLocation", "geometry", "features", "data", "components"}, "the rig");
     read_string(j, path, "name", d.name);
     read_string(j, path, "version", d.version);
     read_gui_location(j, path, d.gui_location);
@@ -368,6 +368,15 @@ class JsonReader {
       d.geometry.push_back(std::move(geo));
     });
     for_each(j, path, "features", [&](const Json& f, const std::string& p) { read_feature(f, p, d.features); });
+    for_each(j, path, "data", [&](const Json& x, const std::string& p) {
+      if (!expect(x, p, x.is_object(), "a data entry", "an object {\"kind\", \"file\"}")) return;
+      DataImport entry;
+      entry.where = value_at(p);
+      check_keys(x, p, {"kind", "file"}, "a data entry");
+      read_string(x, p, "kind", entry.kind);
+      read_string(x, p, "file", entry.file);
+      d.data.push_back(std::move(entry));
+    });
     for_each(j, path, "components", [&](const Json& c, const std::string& p) { read_component(c, p, d.components, 1); });
   }
 
@@ -624,6 +633,11 @@ std::string write_json(const Definition& d) {
     for (const Feature& f : d.features) a.push_back(feature_json(f));
     rig["features"] = std::move(a);
   }
+  if (!d.data.empty()) {
+    Json a = Json::array();
+    for (const DataImport& x : d.data) a.push_back(Json{{"kind", x.kind}, {"file", x.file}});
+    rig["data"] = std::move(a);
+  }
   if (!d.components.empty()) {
     Json a = Json::array();
     for (const Component& c : d.components) a.push_back(component_json(c));
@@ -631,7 +645,7 @@ std::string write_json(const Definition& d) {
   }
   Json root = Json::object();
   root["rig"] = std::move(rig);
-  // Flat objects in arrays (a guide, a control, a switch, a geometry entry)
+  // Flat objects in arrays (a guide, a control, a switch, a geometry or data entry)
   // go on one line each.
   return io::diffable_json(root, {.inline_flat_objects_in_arrays = true, .scalar = scalar_text});
 }

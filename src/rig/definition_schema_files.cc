@@ -12,6 +12,7 @@
 // `rigel validate` checks them.
 #include <nlohmann/json.hpp>
 
+#include <iterator>
 #include <set>
 
 #include "definition_io_internal.h"
@@ -169,6 +170,18 @@ std::string definition_json_schema(const SchemaRegistry& schemas) {
     defs["geometry"] = std::move(g);
   }
   {
+    Json x = Json::object();
+    x["type"] = "object";
+    x["required"] = Json::array({"kind", "file"});
+    x["additionalProperties"] = false;
+    Json kinds = Json::array();
+    for (const char* k : kDataImportKinds) kinds.push_back(k);
+    x["properties"] = Json{{"kind", Json{{"enum", std::move(kinds)}}},
+                           {"file", Json{{"type", "string"}, {"minLength", 1}, {"description", "Data file, relative to the definition's folder."}}}};
+    x["description"] = "Hand-made data the build imports, in order, after the components are built (its last step, data).";
+    defs["data"] = std::move(x);
+  }
+  {
     Json g = Json::object();
     g["type"] = "object";
     g["additionalProperties"] = false;
@@ -234,6 +247,7 @@ std::string definition_json_schema(const SchemaRegistry& schemas) {
                            {"guiLocation", ref("guiLocation")},
                            {"geometry", array_of("geometry")},
                            {"features", array_of("feature")},
+                           {"data", array_of("data")},
                            {"components", array_of("component")}};
     defs["rig"] = std::move(r);
   }
@@ -311,6 +325,10 @@ std::string type_documentation(const ComponentSchema& s) {
 
 }  // namespace
 
+constexpr const char* kDataDoc =
+    "Hand-made data the build imports, in order, after the components are built (its last step, data); file is "
+    "relative to the definition's folder.";
+
 std::string definition_xsd(const SchemaRegistry& schemas) {
   const std::string num = kNumberPattern;
   std::string o;
@@ -352,6 +370,7 @@ std::string definition_xsd(const SchemaRegistry& schemas) {
   line(2, "<xs:choice minOccurs=\"0\" maxOccurs=\"unbounded\">");
   line(3, "<xs:element name=\"geo\" type=\"Geo\"/>");
   line(3, "<xs:element name=\"feature\" type=\"Feature\"/>");
+  line(3, "<xs:element name=\"data\" type=\"Data\"/>");
   line(3, "<xs:element name=\"component\" type=\"Component\"/>");
   line(2, "</xs:choice>");
   attr(2, "name", "Name", " use=\"required\"");
@@ -362,6 +381,12 @@ std::string definition_xsd(const SchemaRegistry& schemas) {
   line(1, "<xs:complexType name=\"Geo\">");
   attr(2, "file", "NonEmpty", " use=\"required\"");
   attr(2, "name", "xs:string");
+  line(1, "</xs:complexType>");
+
+  line(1, "<xs:complexType name=\"Data\">");
+  line(2, "<xs:annotation><xs:documentation>" + esc(kDataDoc) + "</xs:documentation></xs:annotation>");
+  attr(2, "kind", "DataKind", " use=\"required\"");
+  attr(2, "file", "NonEmpty", " use=\"required\"");
   line(1, "</xs:complexType>");
 
   line(1, "<xs:complexType name=\"Feature\">");
@@ -428,6 +453,7 @@ std::string definition_xsd(const SchemaRegistry& schemas) {
   enumeration("ParamName", std::vector<std::string>(param_names.begin(), param_names.end()),
               "Every parameter name of every component type; which ones a type takes is in ComponentType.");
   enumeration("Side", {"C", "L", "R"}, nullptr);
+  enumeration("DataKind", std::vector<std::string>(std::begin(kDataImportKinds), std::end(kDataImportKinds)), nullptr);
   enumeration("Bool", {"true", "false"}, nullptr);
   enumeration("Shape", scene::control_shape_names(), nullptr);
   line(1, "<xs:simpleType name=\"Color\">");

@@ -422,12 +422,24 @@ class XmlReader {
         d.geometry.push_back(read_geo(c));
       } else if (name == "feature") {
         d.features.push_back(read_feature(c));
+      } else if (name == "data") {
+        d.data.push_back(read_data(c));
       } else if (name == "component") {
         d.components.push_back(read_component(c, 1));
       } else {
-        unknown_element(n, c, {"geo", "feature", "component"});
+        unknown_element(n, c, {"geo", "feature", "data", "component"});
       }
     });
+  }
+
+  DataImport read_data(pugi::xml_node n) {
+    DataImport x;
+    x.where = at(n);
+    check_attrs(n, {"kind", "file"});
+    x.kind = n.attribute("kind").value();
+    x.file = n.attribute("file").value();
+    children(n, [&](pugi::xml_node c, std::string_view) { unknown_element(n, c, {}); });
+    return x;
   }
 
   Geometry read_geo(pugi::xml_node n) {
@@ -633,7 +645,7 @@ class XmlWriter {
     out_ = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     Attrs attrs = {{"name", d.name}, {"version", d.version}};
     if (d.gui_location) attrs.emplace_back("guiLocation", pair_text(*d.gui_location));
-    const bool has_children = !d.geometry.empty() || !d.features.empty() || !d.components.empty();
+    const bool has_children = !d.geometry.empty() || !d.features.empty() || !d.data.empty() || !d.components.empty();
     open(0, "rig", attrs, has_children);
     for (const Geometry& g : d.geometry) {
       Attrs a = {{"file", g.file}};
@@ -641,6 +653,7 @@ class XmlWriter {
       open(1, "geo", a, false);
     }
     for (const Feature& f : d.features) feature(1, f);
+    for (const DataImport& x : d.data) open(1, "data", {{"kind", x.kind}, {"file", x.file}}, false);
     for (const Component& c : d.components) component(1, c);
     if (has_children) close(0, "rig");
     return std::move(out_);

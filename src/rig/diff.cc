@@ -16,6 +16,7 @@ const char* difference_kind_name(DifferenceKind kind) {
     case DifferenceKind::kRigGuiLocation: return "rigGuiLocation";
     case DifferenceKind::kGeometryAdded: return "geometryAdded";
     case DifferenceKind::kGeometryRemoved: return "geometryRemoved";
+    case DifferenceKind::kDataChanged: return "dataChanged";
     case DifferenceKind::kFeatureAdded: return "featureAdded";
     case DifferenceKind::kFeatureRemoved: return "featureRemoved";
     case DifferenceKind::kFeatureChanged: return "featureChanged";
@@ -54,6 +55,7 @@ std::string Difference::str() const {
     case DifferenceKind::kComponentGuiLocation: return who + ": guiLocation " + change;
     case DifferenceKind::kGeometryAdded: return who + ": geometry added: " + item;
     case DifferenceKind::kGeometryRemoved: return who + ": geometry removed: " + item;
+    case DifferenceKind::kDataChanged: return who + ": data " + change;
     case DifferenceKind::kFeatureAdded: return who + ": feature '" + item + "' added: " + new_value;
     case DifferenceKind::kFeatureRemoved: return who + ": feature '" + item + "' removed (was " + old_value + ")";
     case DifferenceKind::kFeatureChanged: return who + ": feature '" + item + "': " + change;
@@ -109,6 +111,13 @@ std::string guide_text(const Guide& g) {
 std::string control_text(const ControlStyle& s) {
   return "shape=" + (s.shape.empty() ? "(default)" : s.shape) + " color=" + (s.color.empty() ? "(default)" : s.color) +
          " size=" + format_double(s.size);
+}
+
+// Data entries in order (the order they are imported in matters).
+std::string data_text(const std::vector<DataImport>& data) {
+  std::string out;
+  for (const DataImport& x : data) out += (out.empty() ? "" : ", ") + x.kind + " " + x.file;
+  return out;
 }
 
 std::string geometry_text(const Geometry& g) { return g.name.empty() ? g.file : g.file + "#" + g.name; }
@@ -194,6 +203,8 @@ class Differ {
       if (!has(b_.geometry, g)) add_rig(DifferenceKind::kGeometryRemoved, geometry_text(g), geometry_text(g), "");
     for (const Geometry& g : b_.geometry)
       if (!has(a_.geometry, g)) add_rig(DifferenceKind::kGeometryAdded, geometry_text(g), "", geometry_text(g));
+    if (data_text(a_.data) != data_text(b_.data))
+      add_rig(DifferenceKind::kDataChanged, "", data_text(a_.data), data_text(b_.data));
     features(a_.features, b_.features, nullptr);
   }
 

@@ -288,6 +288,16 @@ Result<UpdateReport> update_rig(scene::Scene& scene, std::string_view rig_name, 
     for (const Component& child : c.children) walk(child);
   };
   for (const Component& c : def->components) walk(c);
+  // ... and the same data to import (Definition::data).
+  if (same) {
+    const ParseResult built_def = parse_definition(meta_string(g, root, "definition"), Syntax::kJson, "", factory.schemas());
+    auto entries = [](const Definition& d) {
+      std::vector<std::pair<std::string, std::string>> out;
+      for (const DataImport& x : d.data) out.emplace_back(x.kind, x.file);
+      return out;
+    };
+    same = built_def.ok() && entries(built_def.definition) == entries(*def);
+  }
   if (same && !force) return report;
   auto build = Build::reopen(scene, report.rig, factory);
   if (!build) return build.status();

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -94,11 +96,32 @@ class Validator {
     if (d_.version.empty()) error(d_.where, "the rig has no version");
     for (const Geometry& g : d_.geometry)
       if (g.file.empty()) error(g.where, "geometry without a file");
+    check_data();
     std::set<std::string> known;
     for (const std::string& type : schemas_.types())
       for (const std::string& f : schemas_.find(type)->features) known.insert(f);
     check_features(d_.features, "the rig", std::vector<std::string>(known.begin(), known.end()),
                    "features of the component types");
+  }
+
+  // Data entries: a known kind and a file that is there (relative to the
+  // definition's folder; a definition with no file checks absolute paths only).
+  void check_data() {
+    std::vector<std::string> kinds(std::begin(kDataImportKinds), std::end(kDataImportKinds));
+    for (const DataImport& x : d_.data) {
+      if (!is_data_import_kind(x.kind))
+        error(x.where, "data: unknown kind '" + x.kind + "' (kinds: " + join(kinds) + ")");
+      if (x.file.empty()) {
+        error(x.where, "data without a file");
+        continue;
+      }
+      const std::filesystem::path file(x.file);
+      if (d_.source.empty() && file.is_relative()) continue;
+      const std::filesystem::path at = file.is_absolute() ? file : std::filesystem::path(d_.source).parent_path() / file;
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(at, ec))
+        error(x.where, "data: " + x.kind + " file '" + x.file + "' does not exist (looked for " + at.string() + ")");
+    }
   }
 
   void check_features(const std::vector<Feature>& features, const std::string& owner,

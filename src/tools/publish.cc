@@ -10,6 +10,7 @@
 #include <ctime>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -23,9 +24,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
-#include "rigel/tools/driven_poses.h"
-#include "rigel/tools/shape_data.h"
-#include "rigel/tools/skin_weights.h"
+#include "rigel/tools/data_files.h"
 
 namespace rigel::tools {
 
@@ -34,14 +33,6 @@ using graph::NodeId;
 using Json = nlohmann::ordered_json;
 
 namespace {
-
-Result<std::string> read_all(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return Status(ErrorCode::kIoError, file.string() + ": cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The files of `folder` whose names end with one of `exts`, sorted.
 std::vector<fs::path> files_in(const fs::path& folder, std::initializer_list<const char*> exts) {
@@ -65,6 +56,13 @@ std::map<std::string, math::Mat4> joint_worlds(scene::Scene& s) {
 }
 
 std::string in_asset(const fs::path& p, const fs::path& base) { return p.lexically_relative(base).generic_string(); }
+
+// A data file as the publish tells files apart (each is imported once).
+fs::path same_file(const fs::path& p) {
+  std::error_code ec;
+  fs::path c = fs::weakly_canonical(p, ec);
+  return ec ? fs::absolute(p, ec).lexically_normal() : c;
+}
 
 }  // namespace
 
@@ -118,6 +116,32 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
   if (!scene) return scene.status().with_context(where + ": skeleton");
   const auto rest = joint_worlds(**scene);
   Json defs = Json::array();
+  // The hand-made data back: what a definition names (<data>) its build
+  // imports at its data step; then every file of the asset's data folders
+  // that no definition named (each file imported once).
+  Json data = Json::array();
+  std::set<fs::path> imported;
+  auto imported_file = [&](const DataFileReport& r, const fs::path& given) -> Status {
+    const fs::path f = given.lexically_normal();  // "build/../data/x" as "data/x"
+    Result<std::string> sum = file_checksum(f);
+    if (!sum) return sum.status();
+    report.weights_vertices += r.weights_vertices;
+    report.shapes_set += r.shapes_set;
+    report.driven_curves += r.driven_curves;
+    for (const std::string& m : r.missing) log::warn(in_asset(f, asset.dir) + ": the rig has no " + m + " (left out)");
+    log::info(r.kind + " from " + in_asset(f, asset.dir) + ": " +
+              (r.kind == "weights"  ? std::to_string(r.weights_vertices) + " vertices"
+               : r.kind == "shapes" ? std::to_string(r.shapes_set) + " controls"
+                                    : std::to_string(r.driven_curves) + " curves"));
+    imported.insert(same_file(f));
+    data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", r.kind}, {"checksum", *sum}});
+    return Status::ok();
+  };
+  rig::ComponentFactory builder = factory;
+  builder.set_data_importer([&](scene::Scene& s, NodeId rig, const rig::DataImport& entry, const fs::path& f) -> Status {
+    Result<DataFileReport> r = import_data_file(s, rig, entry.kind, f);
+    return r ? imported_file(*r, f) : r.status();
+  });
   for (const fs::path& d : definitions) {
     rig::ParseResult parsed = rig::load_definition(d, factory.schemas());
     if (!parsed.ok()) return Status(ErrorCode::kParseError, parsed.errors.front().str()).with_context(where);
@@ -127,7 +151,7 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
     }
     rig::BuildOptions build;
     build.naming_template = options.naming_template;
-    auto added = rig::add_rig(**scene, d, factory, build);
+    auto added = rig::add_rig(**scene, d, builder, build);
     if (!added) return added.status().with_context(where + ": " + in_asset(d, asset.dir));
     log::info("built " + added->name + " " + added->version + " (" + std::to_string(added->steps) + " steps) from " + in_asset(d, asset.dir));
     report.rigs.push_back(added->name);
@@ -135,46 +159,11 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
     if (!sum) return sum.status();
     defs.push_back(Json{{"file", in_asset(d, asset.dir)}, {"rig", added->name}, {"version", added->version}, {"checksum", *sum}});
   }
-  // The hand-made data back.
-  Json data = Json::array();
-  for (const fs::path& f : files_in(asset.dir / "data" / "weights", {".weights.json"})) {
-    Result<std::string> text = read_all(f);
-    if (!text) return text.status();
-    auto skins = skin_weights_from_json(*text, f.string());
-    if (!skins) return skins.status();
-    auto r = apply_skin_weights(**scene, *skins);
-    if (!r) return r.status().with_context(in_asset(f, asset.dir));
-    report.weights_vertices += r->vertices;
-    log::info("weights from " + in_asset(f, asset.dir) + ": " + std::to_string(r->vertices) + " vertices");
-    data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", "weights"}, {"checksum", *file_checksum(f)}});
-  }
-  for (const fs::path& f : files_in(asset.dir / "data" / "shapes", {".shapes.json"})) {
-    Result<std::string> text = read_all(f);
-    if (!text) return text.status();
-    auto shapes = control_shapes_from_json(*text, f.string());
-    if (!shapes) return shapes.status();
-    const NodeId rig = rig::find_rig((*scene)->graph(), shapes->rig);
-    if (!rig.is_valid()) return Status(ErrorCode::kInvalidArgument, in_asset(f, asset.dir) + ": no rig '" + shapes->rig + "' was built");
-    auto r = apply_control_shapes((*scene)->graph(), rig, *shapes);
-    if (!r) return r.status().with_context(in_asset(f, asset.dir));
-    for (const std::string& m : r->missing) log::warn(in_asset(f, asset.dir) + ": the rig has no " + m + " (left out)");
-    report.shapes_set += r->set;
-    data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", "shapes"}, {"checksum", *file_checksum(f)}});
-  }
-  for (const DrivenData kind : {DrivenData::kPoses, DrivenData::kCorrectives}) {
-    const bool poses = kind == DrivenData::kPoses;
-    for (const fs::path& f : files_in(asset.dir / "data" / (poses ? "driven_poses" : "correctives"),
-                                      {poses ? ".drivenposes.json" : ".correctives.json"})) {
-      Result<std::string> text = read_all(f);
-      if (!text) return text.status();
-      auto set = driven_poses_from_json(*text, f.string(), kind);
-      if (!set) return set.status();
-      auto r = apply_driven_poses((*scene)->graph(), *set);
-      if (!r) return r.status().with_context(in_asset(f, asset.dir));
-      report.driven_curves += r->curves;
-      log::info(std::string(driven_data_name(kind)) + " from " + in_asset(f, asset.dir) + ": " + std::to_string(r->curves) + " curves");
-      data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", poses ? "driven_poses" : "correctives"}, {"checksum", *file_checksum(f)}});
-    }
+  for (const DataFile& f : asset_data_files(asset)) {
+    if (imported.count(same_file(f.file))) continue;  // a definition's build imported it
+    Result<DataFileReport> r = import_data_file(**scene, NodeId{}, f.kind, f.file);
+    if (!r) return r.status().with_context(where);
+    if (Status s = imported_file(*r, f.file); !s) return s;
   }
   // Checks.
   Json checks = Json::array();

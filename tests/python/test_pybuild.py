@@ -2,6 +2,7 @@
 
 import importlib.util
 import os
+import pathlib
 import re
 import subprocess
 import sys
@@ -152,3 +153,103 @@ def test_errors():
 def test_build_is_the_pybuild_base_class():
     assert rigel.Build is rigel.PyBuild
     assert rigel.RigBuild is not rigel.Build
+
+
+# ---- post()'s default: the build's data ----------------------------------------------
+
+GLOBAL_ID = "6513270e-269e-4d37-b2a7-4de452e6b438"
+ARM_ID = "056085bd-f7e6-45bb-8505-54f724ac83a7"
+# The components of the scripts below, with rigIds of their own: shapes
+# files find controls by rigId, so a script that keeps its shapes as data
+# names its components' rigIds (fresh ones each run would match nothing).
+ARMS_RUN = f"""
+    root_component = None
+
+    def run(self):
+        world = self.add("global", "global", guides=[rigel.Guide("main")], rig_id="{GLOBAL_ID}")
+        self.add("limb", "arm", "L", parent=world, guides=["upper_arm.L", "forearm.L", "hand.L"],
+                 params={{"kind": "arm"}}, rig_id="{ARM_ID}")
+"""
+
+
+class Arms(rigel.PyBuild):
+    character_file = str(METARIG)
+    rig_name = "arms"
+    asset = False
+    root_component = None
+
+    def run(self):  # as ARMS_RUN says
+        world = self.add("global", "global", guides=[rigel.Guide("main")], rig_id=GLOBAL_ID)
+        self.add("limb", "arm", "L", parent=world, guides=["upper_arm.L", "forearm.L", "hand.L"],
+                 params={"kind": "arm"}, rig_id=ARM_ID)
+
+
+def drawn_shapes(path, rig="arms", color=(0.25, 0.5, 1.0)):
+    """A shapes file of the Arms rig (named `rig`) with arm_L's ik control recoloured."""
+    b = Arms()
+    b.node("arm_L/ik")["shapeColor"] = color
+    w = rigel.Workspace(b.scene)
+    w.export_control_shapes(str(path), "arms")
+    if rig != "arms":
+        text = path.read_text().replace('"rig": "arms"', f'"rig": "{rig}"')
+        path.write_text(text)
+    return path
+
+
+def test_default_post_imports_the_data_the_build_names(tmp_path):
+    shapes = drawn_shapes(tmp_path / "arms.shapes.json")
+
+    class WithData(Arms):
+        data = [("shapes", str(shapes))]
+
+        def post(self):
+            super().post()  # the default import, then the script's own work
+            self.posted = [r.kind for r in self.imported]
+
+    b = WithData()
+    assert b.posted == ["shapes"]
+    assert b.imported[0].shapes_set > 0 and b.imported[0].missing == []
+    assert close(b.node("arm_L/ik")["shapeColor"], (0.25, 0.5, 1.0), 1e-12)
+    assert not close(Arms().node("arm_L/ik")["shapeColor"], (0.25, 0.5, 1.0), 1e-3), "Arms names no data"
+
+    class Bad(Arms):
+        data = [("blendshapes", str(shapes))]
+
+    with pytest.raises(rigel.Error, match="blendshapes"):
+        Bad()
+
+    class Missing(Arms):
+        data = [("weights", str(tmp_path / "none.weights.json"))]
+
+    with pytest.raises(rigel.NotFoundError, match="none.weights.json"):
+        Missing()
+
+
+def test_default_post_imports_the_data_of_the_asset_the_script_is_in(tmp_path):
+    rigel.create_project(str(tmp_path / "show"))
+    asset = pathlib.Path(rigel.create_asset("arms", skeleton=str(METARIG), project=str(tmp_path / "show")).dir)
+    drawn_shapes(asset / "data" / "shapes" / "arms.shapes.json")
+    drawn_shapes(asset / "data" / "shapes" / "other.shapes.json", rig="other", color=(1.0, 0.0, 0.0))
+    assert [k for k, _ in rigel.asset_data_files(str(asset / "build"))] == ["shapes", "shapes"]
+    assert rigel.asset_data_files(str(tmp_path)) == []
+
+    # A build script saved in the asset's build/ folder.
+    script = asset / "build" / "arms_build.py"
+    script.write_text(
+        "import rigel\n\n"
+        "class ArmsBuild(rigel.PyBuild):\n"
+        f"    character_file = {str(METARIG)!r}\n"
+        "    rig_name = 'arms'\n" + ARMS_RUN)
+    spec = importlib.util.spec_from_file_location("arms_build", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    b = module.ArmsBuild()
+    assert [os.path.basename(f) for _, f in b.data_files()] == ["arms.shapes.json"], "another rig's shapes are left"
+    assert [r.kind for r in b.imported] == ["shapes"]
+    assert close(b.node("arm_L/ik")["shapeColor"], (0.25, 0.5, 1.0), 1e-12)
+
+    # The same class told to import no asset's data.
+    class NoAsset(module.ArmsBuild):
+        asset = False
+
+    assert NoAsset().imported == []

@@ -236,7 +236,7 @@ TEST(DefinitionIo, json_structure_errors_are_all_reported_at_their_place) {
   const ParseResult r = load_definition(data("invalid_structure.rig.json"));
   const std::vector<std::string> expected = {
       "13:9: duplicate key 'name' (the last one would win)",
-      "5:5: unknown key 'colour' in the rig (expected name, version, guiLocation, geometry, features, components)",
+      "5:5: unknown key 'colour' in the rig (expected name, version, guiLocation, geometry, features, data, components)",
       "8:53: 'side': unknown side 'X' (expected C, L or R)",
       "8:69: 'version' must be a string, not a number",
       "10:50: 'translate' must be an array of 3 numbers [x, y, z], not an array of 2 values",

@@ -34,14 +34,42 @@ What happens, in order (``execute()``):
    as ``rigel build``, with the same component classes;
 5. ``post()`` runs with the built rig (``self.build``, ``self.scene``),
    when the build is complete (not after a partial build, ``steps=N``:
-   post-build tasks need the whole rig);
+   post-build tasks need the whole rig). Its default imports the build's
+   hand-made data (below); a script that overrides it calls
+   ``super().post()`` to keep that;
 6. the scene is saved to ``output`` when given.
+
+The data ``post()`` imports by default (``data_files()``), each file once,
+in this order, through the same importer as a definition's ``<data>`` and
+``rigel publish`` (``rigel.import_data``):
+
+- ``data``: (kind, file) pairs, files relative to the current folder (as
+  ``character_file``), e.g. ``data = [("weights", "data/weights/body.weights.json")]``;
+  shapes go onto this rig;
+- when the script sits inside an asset (``asset`` None: the folder of the
+  file the class, or its ``run()``, is written in; or a folder given;
+  False: none), every file
+  of the asset's data folders (``rigel.asset_data_files``: weights, then
+  shapes): weights onto the scene's skins, a shapes file only when it names
+  this rig (the asset's other rigs have their own).
+
+Kinds: weights, shapes (blendshapes, driven_poses and correctives are
+refused until their managers exist). A shapes file finds controls by their
+component's rigId: a script whose shapes are kept as data gives its
+components theirs (``self.add(..., rig_id="...")``, ``root_component =
+None`` and its own global), since a component added without one gets a
+fresh rigId on every run. The records of what was imported are
+kept in ``self.imported``. Unlike a definition's ``<data>`` (the build's
+last step, recorded and removable with the rig), this import is a plain
+edit of the scene after the build.
 
 So a Python build script produces a real rig definition and a real build:
 ``rigel rigs``, ``rigel update``, ``rigel remove`` and addresses work on
 what it made exactly as on a rig built from a .rig.xml file.
 """
 
+import inspect
+import json
 import os
 
 from . import _rigel
@@ -60,6 +88,13 @@ class PyBuild:
     #: The root component made before run() as ``self.character``:
     #: (type, name, guide); None makes none (run() adds the roots itself).
     root_component = ("global", "global", "main")
+    #: Data the default post() imports, in order: (kind, file) pairs, files
+    #: relative to the current folder.
+    data = ()
+    #: The asset whose data folders the default post() imports: None, the
+    #: asset the file defining the class is in (if any); a path, the asset
+    #: that folder is in; False, none.
+    asset = None
 
     def __init__(self, character_file=None, rig_name=None, *, output=None, definition_output=None, steps=None,
                  edit_mode=False, execute=True):
@@ -78,6 +113,7 @@ class PyBuild:
             kind, name, guide = self.root_component
             self.character = self.definition.add_component(kind, name, guides=[_rigel.Guide(guide)])
         self.build = None
+        self.imported = []
         if execute:
             self.execute()
 
@@ -88,7 +124,57 @@ class PyBuild:
         raise NotImplementedError(f"{type(self).__name__}.run(): add the rig's components here")
 
     def post(self):
-        """Runs after a complete build (self.build, self.scene); optional."""
+        """Runs after a complete build (self.build, self.scene). The default
+        imports the build's data (data_files()) and keeps the records in
+        self.imported; an override calls super().post() to keep that."""
+        for kind, file in self.data_files():
+            self.imported.append(_rigel.import_data(self.scene, kind, file, self.rig_name))
+
+    def data_files(self):
+        """What the default post() imports, as (kind, file) pairs: `data`, then
+        the asset's data files (see the module's docstring); each file once."""
+        files, seen = [], set()
+
+        def add(kind, file):
+            key = os.path.realpath(file)
+            if key not in seen:
+                seen.add(key)
+                files.append((kind, file))
+
+        for kind, file in self.data:
+            add(kind, os.fspath(file))
+        folder = self.asset_folder()
+        if folder is not None:
+            for kind, file in _rigel.asset_data_files(folder):
+                if kind == "shapes" and self._shapes_rig(file) not in (None, self.rig_name):
+                    continue  # another rig's shapes (an unreadable file goes on, for import_data to report)
+                add(kind, file)
+        return files
+
+    def asset_folder(self):
+        """The folder whose asset's data the default post() imports, or None."""
+        if self.asset is False:
+            return None
+        if self.asset is not None:
+            return os.fspath(self.asset)
+        try:
+            script = inspect.getfile(type(self))
+        except TypeError:  # its module is not in sys.modules (loaded by hand) or has no file
+            try:
+                script = inspect.getfile(type(self).run)  # the file its run() is written in
+            except TypeError:
+                return None
+        if not os.path.isfile(script):  # typed at a prompt
+            return None
+        return os.path.dirname(os.path.abspath(script))
+
+    @staticmethod
+    def _shapes_rig(file):
+        try:
+            with open(file, encoding="utf-8") as f:
+                return json.load(f).get("rig")
+        except (OSError, ValueError, AttributeError):
+            return None  # import_data reports what is wrong with it
 
     # ---- helpers for run() -----------------------------------------------------------
 

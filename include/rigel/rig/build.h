@@ -5,7 +5,10 @@
 // The plan: the rig's own step ("rig": metaRoot and groups), then every
 // component (parents before children, and after any component whose hook it
 // attaches to) with its steps in declared order; a component's first step
-// ("meta") makes its metaComponent. A step's construct runs through a
+// ("meta") makes its metaComponent. When the definition names data
+// (Definition::data), the plan ends with the rig's step "data": each entry
+// imported in order by the factory's data importer (component.h), so a
+// rebuild from scratch gives the hand-made work back. A step's construct runs through a
 // BuildContext; everything it does to the graph is recorded (nodes made,
 // connections made or broken, values, names and tags changed on nodes that
 // existed before) and the record is saved on the component's meta node
@@ -126,7 +129,9 @@ class Build {
   // Replaces the definition and rebuilds only what changed (by rigId): such
   // a component is destructed and constructed again, with the components
   // that hang from it; components added or removed are built or destructed;
-  // nothing else is touched. Connections into the rebuilt controls from
+  // nothing else is touched, but the data step (when the old or new
+  // definition names data) is destructed first and done again last, so an
+  // update re-imports the data. Connections into the rebuilt controls from
   // outside the rig (animation curves) re-attach to the new controls with
   // the same role and index, values as they were. Returns the rigIds rebuilt
   // or removed. One undo step; on failure nothing changes.

@@ -4,6 +4,8 @@
 // (build.h) records and undoes them, so a class writes constructs only.
 #pragma once
 
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -36,6 +38,16 @@ class ComponentClass {
 // (the ephemeral layer: ephemeral::components()).
 class ComponentFactory {
  public:
+  // Imports one data entry of a definition (<data kind file/>) into the
+  // scene, for the rig whose metaRoot is `rig`; `file` is the entry's file
+  // resolved against the definition's folder. The build's last step ("data")
+  // calls it for each entry, recorded like every step. The rig layer does not
+  // know the data formats: the tools layer gives the importer
+  // (tools::components(), tools/data_files.h); without one, a definition
+  // that names data fails to build, saying so.
+  using DataImporter = std::function<Status(scene::Scene& scene, graph::NodeId rig, const DataImport& entry,
+                                            const std::filesystem::path& file)>;
+
   explicit ComponentFactory(const SchemaRegistry& schemas = builtin_schemas()) : schemas_(&schemas) {}
   // Fails when the type has no schema or already has a class.
   Status add(std::shared_ptr<const ComponentClass> component_class);
@@ -45,10 +57,13 @@ class ComponentFactory {
   Result<const ComponentClass*> class_of(const graph::Graph& graph, graph::NodeId meta) const;
   const SchemaRegistry& schemas() const { return *schemas_; }
   std::vector<std::string> types() const;
+  void set_data_importer(DataImporter importer) { data_importer_ = std::move(importer); }
+  const DataImporter& data_importer() const { return data_importer_; }
 
  private:
   const SchemaRegistry* schemas_;
   std::vector<std::shared_ptr<const ComponentClass>> classes_;
+  DataImporter data_importer_;
 };
 
 // The rig layer's component classes (components/*.cc).

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -112,11 +113,24 @@ struct Geometry {
   SourceLocation where;
 };
 
+// Hand-made data a build imports after the components are built (seed 004
+// §4.9-4.10): its last step, "data", imports each entry in order. `file` is
+// relative to the definition's folder, as geometry is; `kind` is one of
+// kDataImportKinds (tools/project.h's data folders).
+struct DataImport {
+  std::string kind;
+  std::string file;
+  SourceLocation where;
+};
+inline constexpr const char* kDataImportKinds[] = {"weights", "shapes", "blendshapes", "driven_poses", "correctives"};
+bool is_data_import_kind(std::string_view kind);
+
 struct Definition {
   std::string name;
   std::string version = "1.0";
   std::vector<Geometry> geometry;
   std::vector<Feature> features;
+  std::vector<DataImport> data;  // imported in order by the build's last step
   std::vector<Component> components;  // roots (usually one: the global component)
   std::optional<std::pair<double, double>> gui_location;
   std::string source;  // file it was read from, for messages; "" when built in code

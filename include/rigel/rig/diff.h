@@ -19,6 +19,7 @@ enum class DifferenceKind {
   kRigGuiLocation,     // old/new: "x,y" ("" when absent)
   kGeometryAdded,      // item: "file" or "file#name"; new
   kGeometryRemoved,    // item as above; old
+  kDataChanged,        // old/new: the data entries in order, "kind file, kind file" ("" when none)
   kFeatureAdded,       // item: feature name; new: "true"/"false" (+ switches); rig-level when rig_id is ""
   kFeatureRemoved,
   kFeatureChanged,     // old/new: "enabled=... switches a=true,b=false"

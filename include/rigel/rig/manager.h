@@ -99,8 +99,9 @@ Result<AddedRig> add_rig(scene::Scene& scene, const std::filesystem::path& path,
 // components removed are destructed (every component with `force`), keys
 // kept as `keep` says. The rebuilt components are built on the rest pose
 // (Build::rebuild_changed), whatever the scene's time. `updated` is false
-// when the rig's and every component's version already agreed and nothing
-// was forced. A definition that cannot be read fails naming its path.
+// when the rig's and every component's version and the data entries
+// (Definition::data) already agreed and nothing was forced; an update that
+// runs imports the data again (rebuild_changed). A definition that cannot be read fails naming its path.
 // Updated from `definition_path`, the rig records it as its definition.
 struct UpdateReport {
   std::string rig, from, to, definition;

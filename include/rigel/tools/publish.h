@@ -12,10 +12,13 @@
 //
 // The build: every definition in build/ (.rig.xml, .rig.json; sorted by
 // name) onto the skeleton file (skeleton/ as the asset file names it),
-// named by the naming template given; then every weights file of
-// data/weights/, every shapes file of data/shapes/ and every driven-poses
-// and correctives file of data/driven_poses/ and data/correctives/
-// imported. Checks:
+// named by the naming template given, each definition's <data> imported
+// by its build's data step; then every file of the asset's data folders
+// that a definition did not name (data_files.h: data/weights/*.weights.json,
+// data/shapes/*.shapes.json, data/driven_poses/*.drivenposes.json,
+// data/correctives/*.correctives.json) imported, so no file is imported twice (the
+// manifest lists each once). The builds get a copy of `factory` whose data
+// importer is data_files.h's. Checks:
 // every definition validates (errors stop the publish, warnings are kept);
 // the skeleton's rest pose is unchanged by the build (no joint moves at
 // rest by more than 1e-6). The version folder is made under a temporary
