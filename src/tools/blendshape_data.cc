@@ -206,6 +206,7 @@ struct Plan {
   std::string name;      // for messages and the made node
   std::vector<BlendTarget> targets;  // every target after the import, in order
   std::vector<char> from_file;       // per target: the file sets its weight
+  std::vector<double> weight_now;    // per target: its weight before the import (0: added)
 };
 
 // The scene's targets with the file's merged in (blendshape_data.h's rules).
@@ -213,6 +214,8 @@ Status merge(const BlendShapeSet& file, const std::string& where, Plan& plan, Bl
   const std::size_t count = plan.targets.size();
   std::vector<int> claimed(count, -1);
   plan.from_file.assign(count, 0);
+  plan.weight_now.clear();
+  for (const BlendTarget& t : plan.targets) plan.weight_now.push_back(t.weight);
   report.targets += file.targets.size();
   for (std::size_t f = 0; f < file.targets.size(); ++f) {
     const BlendTarget& t = file.targets[f];
@@ -242,6 +245,7 @@ Status merge(const BlendShapeSet& file, const std::string& where, Plan& plan, Bl
       report.added.push_back(plan.name + ": " + (t.name.empty() ? "target " + std::to_string(t.index) : t.name));
       plan.targets.push_back(std::move(next));
       plan.from_file.push_back(1);
+      plan.weight_now.push_back(0.0);
     }
   }
   return Status::ok();
@@ -285,7 +289,8 @@ Status write(graph::Graph& g, Plan& p, BlendShapesReport& report) {
     if (!p.from_file[t]) continue;
     const auto e = static_cast<std::int32_t>(t);
     if (all_driven || driven.count(e)) {
-      report.driven.push_back(p.name + ".weights[" + std::to_string(t) + "]");
+      if (p.targets[t].weight != p.weight_now[t])
+        report.driven.push_back(p.name + ".weights[" + std::to_string(t) + "]");
       continue;
     }
     s = g.set_value(Plug{p.node, bs::kWeights, e}, graph::Value(p.targets[t].weight));

@@ -88,7 +88,9 @@ struct BlendShapesReport {
   std::size_t blend_shapes = 0, targets = 0;
   std::vector<std::string> created;  // blendShapes made ("face_blendShape on face")
   std::vector<std::string> added;    // targets the blendShape lacked ("face_blendShape: smile")
-  std::vector<std::string> driven;   // weights left to what drives them ("face_blendShape.weights[1]")
+  // Weights the file gives otherwise than what drives them gives now, left
+  // to their driver ("face_blendShape.weights[1]").
+  std::vector<std::string> driven;
 };
 
 // Each file blendShape onto the scene's blendShape of the same name, else
@@ -97,12 +99,12 @@ struct BlendShapesReport {
 // name, else the scene's target at its index when that one is unnamed (it
 // takes the name); an unnamed one, the target at its index; one that
 // matches none is added after the scene's. Scene targets the file does not
-// list are kept. Each target's weight is set unless something drives it
-// (reported). One undo step; on failure nothing changes. kInvalidArgument
-// naming the blendShape (field "blendShape") for one the scene lacks, a
-// vertex count that differs, a vertex out of range or two file targets
-// onto one; naming the mesh (field "mesh") for one that cannot take a new
-// blendShape.
+// list are kept. Each target's weight is set unless something drives it (a
+// curve: reported when the file's differs). One undo step; on failure
+// nothing changes. kInvalidArgument naming the blendShape (field
+// "blendShape") for one the scene lacks, a vertex count that differs, a
+// vertex out of range or two file targets onto one; naming the mesh (field
+// "mesh") for one that cannot take a new blendShape.
 Result<BlendShapesReport> apply_blend_shapes(graph::Graph& graph, const std::vector<BlendShapeSet>& sets,
                                              const BlendShapesImport& options = {});
 
