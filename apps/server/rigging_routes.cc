@@ -125,7 +125,8 @@ namespace {
 
 std::string data_kind(const Json& body) {
   const std::string kind = as_string(need(body, "kind"), "kind");
-  if (kind != "weights" && kind != "shapes") refuse(400, "kind: expected \"weights\" or \"shapes\", got \"" + kind + "\"", "kind");
+  if (kind != "weights" && kind != "shapes" && kind != "blendshapes")
+    refuse(400, "kind: expected \"weights\", \"shapes\" or \"blendshapes\", got \"" + kind + "\"", "kind");
   return kind;
 }
 
@@ -139,8 +140,9 @@ std::string rig_of(const Json& body) {
 Json data_export(app::Workspace& ws, const Json& body) {
   const std::string kind = data_kind(body);
   const std::string file = as_string(need(body, "file"), "file");
-  const std::filesystem::path path =
-      take(kind == "weights" ? ws.export_skin_weights(file) : ws.export_control_shapes(rig_of(body), file));
+  const std::filesystem::path path = take(kind == "weights"       ? ws.export_skin_weights(file)
+                                          : kind == "blendshapes" ? ws.export_blend_shapes(file)
+                                                                  : ws.export_control_shapes(rig_of(body), file));
   // Where it went, as the request names files: inside the served root.
   const std::string shown = ws.root().empty() ? path.string() : path.lexically_relative(ws.root()).generic_string();
   return Json{{"revision", ws.revision()}, {"kind", kind}, {"file", shown}};
@@ -149,6 +151,13 @@ Json data_export(app::Workspace& ws, const Json& body) {
 Json data_import(app::Workspace& ws, const Json& body) {
   const std::string kind = data_kind(body);
   const std::string file = as_string(need(body, "file"), "file");
+  if (kind == "blendshapes") {
+    for (const char* k : {"rename", "nearest", "mirror"})
+      if (opt(body, k)) refuse(400, std::string(k) + ": only weights take it", k);
+    const tools::BlendShapesReport r = take(ws.import_blend_shapes(file));
+    return Json{{"revision", ws.revision()}, {"blendShapes", r.blend_shapes}, {"targets", r.targets},
+                {"created", r.created}, {"added", r.added}, {"driven", r.driven}};
+  }
   if (kind == "shapes") {
     for (const char* k : {"rename", "nearest", "mirror"})
       if (opt(body, k)) refuse(400, std::string(k) + ": only weights take it", k);

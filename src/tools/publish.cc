@@ -23,6 +23,7 @@
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
+#include "rigel/tools/blendshape_data.h"
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
 
@@ -64,6 +65,31 @@ std::map<std::string, math::Mat4> joint_worlds(scene::Scene& s) {
 }
 
 std::string in_asset(const fs::path& p, const fs::path& base) { return p.lexically_relative(base).generic_string(); }
+
+}  // namespace
+
+namespace {
+
+// Every data/blendshapes/*.blendshapes.json onto the built scene, each
+// listed in `data` with its checksum.
+Status import_blend_shapes(scene::Scene& scene, const Asset& asset, Json& data, PublishReport& report) {
+  for (const fs::path& f : files_in(asset.dir / "data" / "blendshapes", {".blendshapes.json"})) {
+    const std::string name = in_asset(f, asset.dir);
+    Result<std::string> text = read_all(f);
+    if (!text) return text.status();
+    auto sets = blend_shapes_from_json(*text, f.string());
+    if (!sets) return sets.status();
+    auto r = apply_blend_shapes(scene.graph(), *sets);
+    if (!r) return r.status().with_context(name);
+    for (const std::string& d : r->driven) log::warn(name + ": " + d + " is driven (the file's weight is left out)");
+    report.blend_shape_targets += r->targets;
+    log::info("blend shapes from " + name + ": " + std::to_string(r->targets) + " targets");
+    Result<std::string> sum = file_checksum(f);
+    if (!sum) return sum.status();
+    data.push_back(Json{{"file", name}, {"kind", "blendshapes"}, {"checksum", *sum}});
+  }
+  return Status::ok();
+}
 
 }  // namespace
 
@@ -147,6 +173,7 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
     log::info("weights from " + in_asset(f, asset.dir) + ": " + std::to_string(r->vertices) + " vertices");
     data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", "weights"}, {"checksum", *file_checksum(f)}});
   }
+  if (Status s = import_blend_shapes(**scene, asset, data, report); !s) return s;
   for (const fs::path& f : files_in(asset.dir / "data" / "shapes", {".shapes.json"})) {
     Result<std::string> text = read_all(f);
     if (!text) return text.status();

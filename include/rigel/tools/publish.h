@@ -13,7 +13,8 @@
 // The build: every definition in build/ (.rig.xml, .rig.json; sorted by
 // name) onto the skeleton file (skeleton/ as the asset file names it),
 // named by the naming template given; then every weights file of
-// data/weights/ and every shapes file of data/shapes/ imported. Checks:
+// data/weights/, blend shapes file of data/blendshapes/ and shapes file of
+// data/shapes/ imported. Checks:
 // every definition validates (errors stop the publish, warnings are kept);
 // the skeleton's rest pose is unchanged by the build (no joint moves at
 // rest by more than 1e-6). The version folder is made under a temporary
@@ -51,6 +52,7 @@ struct PublishReport {
   std::vector<std::string> rigs;
   std::vector<std::string> warnings;
   std::size_t weights_vertices = 0, shapes_set = 0;
+  std::size_t blend_shape_targets = 0;
   double rest_error = 0;  // the largest joint move at rest (metres)
 };
 
