@@ -181,10 +181,7 @@ std::string data_path(const std::string& kind, const std::string& given) {
   if (given.find('/') != std::string::npos) return given;
   auto asset = tools::find_asset(fs::current_path());
   if (!asset) return given;
-  const std::string ext = kind == "weights"        ? ".weights.json"
-                          : kind == "shapes"       ? ".shapes.json"
-                          : kind == "driven_poses" ? ".drivenposes.json"
-                                                   : ".correctives.json";
+  const std::string ext = kind == "driven_poses" ? ".drivenposes.json" : "." + kind + ".json";  // .weights.json, .shapes.json, ...
   const std::string name = given.size() > 5 && given.ends_with(".json") ? given : given + ext;
   return (asset->dir / "data" / kind / name).string();
 }
@@ -206,8 +203,8 @@ Result<std::map<std::string, std::string>> read_rename(const std::string& path) 
 
 int run_data(bool exporting, const DataArgs& a) {
   const bool driven = a.kind == "driven_poses" || a.kind == "correctives";
-  if (a.kind != "weights" && a.kind != "shapes" && !driven)
-    return usage_error("KIND '" + a.kind + "': expected weights, shapes, driven_poses or correctives");
+  if (a.kind != "weights" && a.kind != "shapes" && a.kind != "blendshapes" && !driven)
+    return usage_error("KIND '" + a.kind + "': expected weights, shapes, blendshapes, driven_poses or correctives");
   const tools::DrivenData driven_kind = a.kind == "correctives" ? tools::DrivenData::kCorrectives : tools::DrivenData::kPoses;
   if (a.kind != "weights" && (a.nearest || a.mirror || !a.rename.empty()))
     return usage_error("--rename, --nearest and --mirror are for weights");
@@ -216,9 +213,10 @@ int run_data(bool exporting, const DataArgs& a) {
   app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   const std::string file = data_path(a.kind, exporting ? a.output : a.file);
   if (exporting) {
-    auto path = a.kind == "weights"  ? ws.export_skin_weights(file)
-                : a.kind == "shapes" ? ws.export_control_shapes(a.rig, file)
-                                     : ws.export_driven_poses(driven_kind, file);
+    auto path = a.kind == "weights"       ? ws.export_skin_weights(file)
+                : a.kind == "shapes"      ? ws.export_control_shapes(a.rig, file)
+                : a.kind == "blendshapes" ? ws.export_blend_shapes(file)
+                                          : ws.export_driven_poses(driven_kind, file);
     if (!path) return fail(path.status().with_context(a.scene));
     if (a.json) std::cout << Json{{"kind", a.kind}, {"file", path->string()}}.dump() << "\n";
     std::cerr << "rigel: wrote " << a.kind << " to " << path->string() << "\n";
@@ -241,6 +239,12 @@ int run_data(bool exporting, const DataArgs& a) {
     auto r = ws.import_driven_poses(driven_kind, file);
     if (!r) return fail(r.status().with_context(a.scene));
     report = Json{{"curves", r->curves}, {"created", r->created}, {"keys", r->keys}};
+  } else if (a.kind == "blendshapes") {
+    auto r = ws.import_blend_shapes(file);
+    if (!r) return fail(r.status().with_context(a.scene));
+    report = Json{{"blendShapes", r->blend_shapes}, {"targets", r->targets}, {"created", r->created}, {"added", r->added},
+                  {"driven", r->driven}};
+    for (const std::string& d : r->driven) log::warn(file + ": " + d + " is driven (the file's weight is left out)");
   } else {
     auto r = ws.import_control_shapes(a.rig, file);
     if (!r) return fail(r.status().with_context(a.scene));
@@ -444,20 +448,21 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
   s.config_list = config->add_subcommand("list", "Every setting with its value and where it comes from");
   s.config_list->add_flag("--json", s.config.json, "Print the settings as JSON on stdout");
 
-  CLI::App* data = app.add_subcommand("data", "Hand-made rig data kept across rebuilds: skin weights, control shapes, driven poses, correctives");
+  CLI::App* data = app.add_subcommand("data", "Hand-made rig data kept across rebuilds: skin weights, control shapes, blend shapes, driven poses, correctives");
   data->require_subcommand(1);
   data->footer("Examples:\n  rigel data export weights hero.rigel -o hero.weights.json\n"
                "  rigel data import weights copy.rigel hero.weights.json --rename names.json -o copy.rigel\n"
                "  rigel data import weights hero.rigel hero.weights.json --mirror -o hero.rigel\n"
                "  rigel data export shapes hero.rigel -o hero   (in an asset: data/shapes/hero.shapes.json)\n"
                "  rigel data export driven_poses hero.rigel -o hero.drivenposes.json\n"
-               "  rigel data import correctives hero.rigel hero.correctives.json -o hero.rigel");
+               "  rigel data import correctives hero.rigel hero.correctives.json -o hero.rigel\n"
+               "  rigel data import blendshapes hero.rigel face -o hero.rigel   (in an asset: data/blendshapes/face.blendshapes.json)");
   s.data_export = data->add_subcommand("export", "Write a scene's data of one kind to a diffable JSON file");
-  s.data_export->add_option("KIND", s.data.kind, "weights, shapes, driven_poses or correctives")->required();
+  s.data_export->add_option("KIND", s.data.kind, "weights, shapes, blendshapes, driven_poses or correctives")->required();
   s.data_export->add_option("SCENE", s.data.scene, "Scene file (.rigel)")->required();
   s.data_export->add_option("-o,--output", s.data.output, "The data file (a bare name in an asset: its data folder)")->required();
   s.data_import = data->add_subcommand("import", "Set a scene's data of one kind from a file and write the scene");
-  s.data_import->add_option("KIND", s.data.kind, "weights, shapes, driven_poses or correctives")->required();
+  s.data_import->add_option("KIND", s.data.kind, "weights, shapes, blendshapes, driven_poses or correctives")->required();
   s.data_import->add_option("SCENE", s.data.scene, "Scene file (.rigel)")->required();
   s.data_import->add_option("FILE", s.data.file, "The data file (a bare name in an asset: its data folder)")->required();
   s.data_import->add_option("-o,--output", s.data.output, "Scene file to write (.rigel)")->required();

@@ -317,7 +317,26 @@ void def_data(WorkspaceClass& cls) {
           },
           py::arg("joint"), py::arg("axis") = py::make_tuple(1.0, 0.0, 0.0),
           "Makes a pose reader on JOINT (a corrective's driver): returns its name; drive with NAME.angle (the swing "
-          "of `axis` from rest, degrees) or NAME.rotateX/Y/Z. One undo step.");
+          "of `axis` from rest, degrees) or NAME.rotateX/Y/Z. One undo step.")
+      .def(
+          "export_blend_shapes",
+          [](const WorkspaceRef& w, const std::string& file) { return unwrap(w.ws->export_blend_shapes(file)).string(); },
+          py::arg("file"), "Writes every blendShape's targets and weights to FILE (.blendshapes.json); returns its path.")
+      .def(
+          "import_blend_shapes",
+          [](const WorkspaceRef& w, const std::string& file) {
+            const tools::BlendShapesReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_blend_shapes(file)); });
+            py::dict d;
+            d["blend_shapes"] = r.blend_shapes;
+            d["targets"] = r.targets;
+            d["created"] = r.created;
+            d["added"] = r.added;
+            d["driven"] = r.driven;
+            return record(d);
+          },
+          py::arg("file"),
+          "Sets blend shape targets and weights from FILE by blendShape (else mesh) name, targets by name or index; a "
+          "mesh without a blendShape gets one. One undo step; returns record(blend_shapes, targets, created, added, driven).");
 }
 
 }  // namespace rigel::python

@@ -62,7 +62,8 @@ void def_scene_settings(WorkspaceClass& cls);
 // mirror_joints.
 void def_rigging(WorkspaceClass& cls);
 // Workspace.export_skin_weights, import_skin_weights, export_control_shapes,
-// import_control_shapes (wrap_pipeline.cc).
+// import_control_shapes, export_blend_shapes, import_blend_shapes
+// (wrap_pipeline.cc).
 void def_data(WorkspaceClass& cls);
 
 }  // namespace rigel::python

@@ -127,8 +127,8 @@ namespace {
 
 std::string data_kind(const Json& body) {
   const std::string kind = as_string(need(body, "kind"), "kind");
-  if (kind != "weights" && kind != "shapes" && kind != "driven_poses" && kind != "correctives")
-    refuse(400, "kind: expected \"weights\", \"shapes\", \"driven_poses\" or \"correctives\", got \"" + kind + "\"", "kind");
+  if (kind != "weights" && kind != "shapes" && kind != "blendshapes" && kind != "driven_poses" && kind != "correctives")
+    refuse(400, "kind: expected \"weights\", \"shapes\", \"blendshapes\", \"driven_poses\" or \"correctives\", got \"" + kind + "\"", "kind");
   return kind;
 }
 
@@ -157,9 +157,10 @@ std::string rig_of(const Json& body) {
 Json data_export(app::Workspace& ws, const Json& body) {
   const std::string kind = data_kind(body);
   const std::string file = as_string(need(body, "file"), "file");
-  const std::filesystem::path path = take(kind == "weights"  ? ws.export_skin_weights(file)
-                                          : kind == "shapes" ? ws.export_control_shapes(rig_of(body), file)
-                                                             : ws.export_driven_poses(driven_of(kind), file));
+  const std::filesystem::path path = take(kind == "weights"       ? ws.export_skin_weights(file)
+                                          : kind == "shapes"      ? ws.export_control_shapes(rig_of(body), file)
+                                          : kind == "blendshapes" ? ws.export_blend_shapes(file)
+                                                                  : ws.export_driven_poses(driven_of(kind), file));
   // Where it went, as the request names files: inside the served root.
   const std::string shown = ws.root().empty() ? path.string() : path.lexically_relative(ws.root()).generic_string();
   return Json{{"revision", ws.revision()}, {"kind", kind}, {"file", shown}};
@@ -174,6 +175,11 @@ Json data_import(app::Workspace& ws, const Json& body) {
   if (kind == "driven_poses" || kind == "correctives") {
     const tools::DrivenPosesReport r = take(ws.import_driven_poses(driven_of(kind), file));
     return Json{{"revision", ws.revision()}, {"curves", r.curves}, {"created", r.created}, {"keys", r.keys}};
+  }
+  if (kind == "blendshapes") {
+    const tools::BlendShapesReport r = take(ws.import_blend_shapes(file));
+    return Json{{"revision", ws.revision()}, {"blendShapes", r.blend_shapes}, {"targets", r.targets},
+                {"created", r.created}, {"added", r.added}, {"driven", r.driven}};
   }
   if (kind == "shapes") {
     const tools::ShapesReport r = take(ws.import_control_shapes(rig_of(body), file));

@@ -30,10 +30,10 @@ Json align(app::Workspace& ws, const Json& body);
 Json locators(app::Workspace& ws, const Json& body);
 // POST /api/mirror-joints {"joints"? (the selection), "update"?}.
 Json mirror_joints(app::Workspace& ws, const Json& body);
-// The data managers: POST /api/data/export {"kind": "weights"|"shapes"|
-// "driven_poses"|"correctives",
-// "file", "rig"?} and POST /api/data/import {"kind", "file", "rig"?,
-// "rename"? {old: new}, "nearest"?, "mirror"?}, files inside the root.
+// The data managers: POST /api/data/export {"kind":
+// "weights"|"shapes"|"blendshapes"|"driven_poses"|"correctives", "file",
+// "rig"? (shapes)} and POST /api/data/import {"kind", "file", "rig"?,
+// "rename"? {old: new}, "nearest"?, "mirror"? (weights)}, files inside the root.
 Json data_export(app::Workspace& ws, const Json& body);
 Json data_import(app::Workspace& ws, const Json& body);
 // Set-driven keys: GET /api/driven-keys {"drivenPoses": {"drivers":

@@ -1,7 +1,8 @@
 // The workspace's data managers (workspace.h): skin weights, control
-// shapes, driven poses and correctives exported to files and imported back
-// (tools/skin_weights.h, tools/shape_data.h, tools/driven_poses.h), the
-// files confined to the root when there is one; and set-driven keys.
+// shapes, blend shapes, driven poses and correctives exported to files and
+// imported back (tools/skin_weights.h, tools/shape_data.h,
+// tools/blendshape_data.h, tools/driven_poses.h), the files confined to the
+// root when there is one; and set-driven keys.
 
 #include <fstream>
 #include <sstream>
@@ -78,6 +79,28 @@ Result<tools::ShapesReport> Workspace::import_control_shapes(const std::string& 
   Result<NodeId> r = internal::rig_named(graph(), rig.empty() ? shapes->rig : rig);
   if (!r) return r.status();
   auto report = tools::apply_control_shapes(graph(), *r, *shapes);
+  if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
+  bump_revision();
+  return report;
+}
+
+Result<fs::path> Workspace::export_blend_shapes(const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  auto sets = tools::capture_blend_shapes(graph());
+  if (!sets) return conflict(sets.status());
+  if (Status s = write_text(*path, tools::blend_shapes_to_json(*sets)); !s) return s;
+  return path;
+}
+
+Result<tools::BlendShapesReport> Workspace::import_blend_shapes(const std::string& file) {
+  Result<fs::path> path = resolve_path(file, "file");
+  if (!path) return path.status();
+  Result<std::string> text = read_text(*path);
+  if (!text) return text.status();
+  auto sets = tools::blend_shapes_from_json(*text, path->string());
+  if (!sets) return Status(sets.status()).with_field("file");
+  auto report = tools::apply_blend_shapes(graph(), *sets);
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();
   bump_revision();
   return report;

@@ -152,6 +152,11 @@ Status Exporter::collect_targets(MeshExport& m) {
   }
   m.weights.assign(count, 0.0);
   std::copy_n(weights.begin(), std::min(count, weights.size()), m.weights.begin());
+  const auto& names = value_as<std::vector<std::string>>(g_, m.blend, ba::kTargetNames);
+  if (std::any_of(names.begin(), names.end(), [](const std::string& n) { return !n.empty(); })) {
+    m.target_names.assign(count, std::string());
+    std::copy_n(names.begin(), std::min(count, names.size()), m.target_names.begin());
+  }
   return Status::ok();
 }
 

@@ -249,6 +249,11 @@ tinygltf::Mesh Exporter::write_mesh(const MeshExport& m, BufferWriter& buffer) {
     primitive.targets.push_back(std::move(target));
   }
   mesh.weights = m.weights;
+  if (!m.target_names.empty()) {  // the common convention for morph target names
+    tinygltf::Value::Array names;
+    for (const std::string& n : m.target_names) names.emplace_back(n);
+    mesh.extras = tinygltf::Value(tinygltf::Value::Object{{"targetNames", tinygltf::Value(std::move(names))}});
+  }
   mesh.primitives.push_back(std::move(primitive));
   return mesh;
 }

@@ -133,6 +133,7 @@ struct MeshExport {
   std::vector<std::int64_t> triangles;
   std::vector<std::vector<Vec3>> targets;  // dense deltas
   std::vector<double> weights;             // default morph weights
+  std::vector<std::string> target_names;   // the blendShape's targetNames (written as extras.targetNames)
   int skin = -1;                           // index into skins_
   std::size_t sets = 0;                    // JOINTS_n / WEIGHTS_n sets
   std::vector<std::uint16_t> joints;       // per vertex, sets * 4

@@ -26,6 +26,27 @@ int set_index(const std::string& name, std::string_view prefix) {
   return n;
 }
 
+// The names of a mesh's morph targets, from the common convention
+// mesh.extras.targetNames (glTF has no place for them): one string per
+// target, else none (with a warning: extras are the exporter's own, so
+// names that do not fit are not a reason to refuse the file).
+std::vector<std::string> target_names(const tinygltf::Mesh& mesh, std::size_t count, const std::string& path,
+                                      std::vector<std::string>* warnings) {
+  if (!mesh.extras.IsObject() || !mesh.extras.Has("targetNames")) return {};
+  const tinygltf::Value& list = mesh.extras.Get("targetNames");
+  std::vector<std::string> names;
+  for (std::size_t t = 0; list.IsArray() && t < list.ArrayLen(); ++t) {
+    const tinygltf::Value& name = list.Get(static_cast<int>(t));
+    if (!name.IsString() || !graph::is_valid_utf8(name.Get<std::string>())) break;
+    names.push_back(name.Get<std::string>());
+  }
+  if (list.IsArray() && names.size() == list.ArrayLen() && names.size() == count) return names;
+  if (warnings)
+    warnings->push_back(path + ".extras.targetNames: expected " + std::to_string(count) +
+                        " names, one per morph target; the targets are left unnamed");
+  return {};
+}
+
 }  // namespace
 
 // The component types an accessor of `type` may have: (component type,
@@ -223,6 +244,7 @@ Status Importer::read_meshes() {
     if (!mesh.weights.empty() && mesh.weights.size() != data.target_count)
       return bad(dot(at("meshes", m), "weights"),
                  std::to_string(mesh.weights.size()) + " weights for " + std::to_string(data.target_count) + " morph targets");
+    if (data.target_count > 0) data.target_names = target_names(mesh, data.target_count, at("meshes", m), options_.warnings);
   }
   return Status::ok();
 }
@@ -332,6 +354,7 @@ Status Importer::build_meshes() {
         if (s) s = set(*shape, bs::kTargetDeltas, std::move(deltas));
         if (s) s = set(*shape, bs::kTargetOffsets, std::move(offsets));
         if (s) s = set(*shape, bs::kWeights, weights);
+        if (s && !data.target_names.empty()) s = set(*shape, bs::kTargetNames, data.target_names);
         points_src = *shape;
         points_attr = bs::kOutPoints;
         blend_shapes_[i].push_back(*shape);

@@ -94,6 +94,7 @@ struct SkinBinding {
 struct MeshData {
   std::vector<PrimitiveData> primitives;
   std::size_t target_count = 0;
+  std::vector<std::string> target_names;  // extras.targetNames, one per target; empty: unnamed
 };
 
 class Importer {

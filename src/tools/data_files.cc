@@ -1,6 +1,5 @@
 // Asset data imported by kind (data_files.h): one table from a kind to its
-// files' extension and the manager that imports them. A manager added later
-// (blend shapes) fills in its row.
+// files' extension and the manager that imports them.
 
 #include "rigel/tools/data_files.h"
 
@@ -13,6 +12,7 @@
 #include "rigel/ephemeral/component.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/meta.h"
+#include "rigel/tools/blendshape_data.h"
 #include "rigel/tools/driven_poses.h"
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
@@ -31,6 +31,17 @@ Result<DataFileReport> import_weights(scene::Scene& scene, NodeId, const fs::pat
   if (!r) return r.status().with_context(file.string());
   DataFileReport report;
   report.weights_vertices = r->vertices;
+  return report;
+}
+
+Result<DataFileReport> import_blend(scene::Scene& scene, NodeId, const fs::path& file, const std::string& text) {
+  auto sets = blend_shapes_from_json(text, file.string());
+  if (!sets) return sets.status();
+  auto r = apply_blend_shapes(scene.graph(), *sets);
+  if (!r) return r.status().with_context(file.string());
+  for (const std::string& d : r->driven) log::warn(file.string() + ": " + d + " is driven (the file's weight is left out)");
+  DataFileReport report;
+  report.blend_shape_targets = r->targets;
   return report;
 }
 
@@ -70,7 +81,7 @@ struct Kind {
 constexpr Kind kKinds[] = {
     {"weights", ".weights.json", import_weights},
     {"shapes", ".shapes.json", import_shapes},
-    {"blendshapes", nullptr, nullptr},
+    {"blendshapes", ".blendshapes.json", import_blend},
     {"driven_poses", ".drivenposes.json", import_driven<DrivenData::kPoses>},
     {"correctives", ".correctives.json", import_driven<DrivenData::kCorrectives>},
 };

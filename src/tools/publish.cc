@@ -66,6 +66,11 @@ fs::path same_file(const fs::path& p) {
 
 }  // namespace
 
+namespace {
+
+
+}  // namespace
+
 Result<std::string> file_checksum(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return Status(ErrorCode::kIoError, file.string() + ": cannot be read for its checksum");
@@ -128,11 +133,13 @@ Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFact
     report.weights_vertices += r.weights_vertices;
     report.shapes_set += r.shapes_set;
     report.driven_curves += r.driven_curves;
+    report.blend_shape_targets += r.blend_shape_targets;
     for (const std::string& m : r.missing) log::warn(in_asset(f, asset.dir) + ": the rig has no " + m + " (left out)");
     log::info(r.kind + " from " + in_asset(f, asset.dir) + ": " +
               (r.kind == "weights"  ? std::to_string(r.weights_vertices) + " vertices"
-               : r.kind == "shapes" ? std::to_string(r.shapes_set) + " controls"
-                                    : std::to_string(r.driven_curves) + " curves"));
+               : r.kind == "shapes"      ? std::to_string(r.shapes_set) + " controls"
+               : r.kind == "blendshapes" ? std::to_string(r.blend_shape_targets) + " targets"
+                                         : std::to_string(r.driven_curves) + " curves"));
     imported.insert(same_file(f));
     data.push_back(Json{{"file", in_asset(f, asset.dir)}, {"kind", r.kind}, {"checksum", *sum}});
     return Status::ok();

@@ -157,6 +157,59 @@ TEST_F(CliPipeline, weights_and_shapes_exported_into_the_asset_and_imported_back
   EXPECT_FALSE(fs::exists(at("x.rigel")));
 }
 
+TEST_F(CliPipeline, blend_shapes_exported_into_the_asset_edited_and_imported_onto_a_fresh_import) {
+  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
+  const std::string morph = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/SimpleMorph.gltf").string();
+  ASSERT_TRUE(exited_with(rigel({"asset", "new", "tri", "--skeleton", morph}, at("show")), 0));
+  const fs::path asset = at("show/characters/tri");
+  ASSERT_TRUE(exited_with(rigel({"import", morph, "-o", (asset / "tri.rigel").string()}), 0));
+  // A bare name goes to the asset's data folder.
+  CliRun r = rigel({"data", "export", "blendshapes", "tri.rigel", "-o", "tri", "--json"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const fs::path file = asset / "data/blendshapes/tri.blendshapes.json";
+  EXPECT_EQ(Json::parse(r.out)["file"], file.string());
+  // Sculpted by hand in the file: target 0 moves vertex 2 further.
+  std::string text = io::testing::read_text(file);
+  const std::string line = "[2, -1.0, 1.0, 0.0]";
+  ASSERT_NE(text.find(line), std::string::npos) << text;
+  text.replace(text.find(line), line.size(), "[2, -1.0, 1.5, 0.25]");
+  io::testing::write_text(file, text);
+  // A rebuild: the glTF again, then the file (by bare name inside the asset).
+  ASSERT_TRUE(exited_with(rigel({"import", morph, "-o", at("fresh.rigel").string()}), 0));
+  r = rigel({"data", "import", "blendshapes", at("fresh.rigel").string(), "tri", "-o", at("fresh2.rigel").string(), "--json"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const Json report = Json::parse(r.out);
+  EXPECT_EQ(report["blendShapes"], 1);
+  EXPECT_EQ(report["targets"], 2);
+  EXPECT_TRUE(report["driven"].empty()) << "the animated weights are the file's";
+  r = rigel({"data", "export", "blendshapes", at("fresh2.rigel").string(), "-o", at("again.blendshapes.json").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(io::testing::read_text(at("again.blendshapes.json")), text) << "export after import: the same bytes";
+
+  // Refused: a file that is not JSON (file:line:column), a blendShape the
+  // scene lacks (named), a scene without blend shapes, weights' options.
+  io::testing::write_text(at("broken.blendshapes.json"), "{\"rigelBlendShapes\": 1,\n  \"blendShapes\": [}");
+  r = rigel({"data", "import", "blendshapes", at("fresh.rigel").string(), at("broken.blendshapes.json").string(), "-o", at("x.rigel").string()});
+  EXPECT_TRUE(exited_with(r, 1)) << r;
+  EXPECT_NE(r.err.find("broken.blendshapes.json:2:"), std::string::npos) << r;
+  std::string other = text;
+  other.replace(other.find("_blendShape\""), 12, "_nose\"");
+  other.replace(other.find("\"mesh\": \""), 9, "\"mesh\": \"no");
+  io::testing::write_text(at("other.blendshapes.json"), other);
+  r = rigel({"data", "import", "blendshapes", at("fresh.rigel").string(), at("other.blendshapes.json").string(), "-o", at("x.rigel").string()});
+  EXPECT_TRUE(exited_with(r, 1)) << r;
+  EXPECT_NE(r.err.find("_nose': the scene has no such blendShape"), std::string::npos) << r;
+  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
+  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", at("body.rigel").string()}), 0));
+  r = rigel({"data", "export", "blendshapes", at("body.rigel").string(), "-o", at("x.blendshapes.json").string()});
+  EXPECT_TRUE(exited_with(r, 1)) << r;
+  EXPECT_NE(r.err.find("no blend shapes"), std::string::npos) << r;
+  r = rigel({"data", "import", "blendshapes", at("fresh.rigel").string(), file.string(), "--mirror", "-o", at("x.rigel").string()});
+  EXPECT_TRUE(exited_with(r, 2)) << r;
+  EXPECT_FALSE(fs::exists(at("x.rigel")));
+  EXPECT_FALSE(fs::exists(at("x.blendshapes.json")));
+}
+
 TEST_F(CliPipeline, publish_twice_and_a_shot_of_version_1_is_out_of_date) {
   ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
   const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();

@@ -549,6 +549,46 @@ std::unique_ptr<Scene> bvh_scene(std::uint32_t frames) {
   return scene ? std::move(*scene) : nullptr;
 }
 
+TEST(GltfExport, blend_shape_target_names_are_written_as_mesh_extras_and_read_back) {
+  auto scene = new_scene();
+  Builder b(*scene);
+  b.node(scene::kMeshType, "face", 1);
+  const NodeId bs = b.node(ops::kBlendShapeType, "bs", 2);
+  b.set(bs, "basePoints", std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  b.set(bs, "targetDeltas", std::vector<Vec3>{{0, 0, 1}, {5, 0, 0}});
+  b.set(bs, "targetOffsets", std::vector<std::int64_t>{0, 1, 2});
+  b.set(bs, "targetIndices", std::vector<std::int64_t>{0, 2});
+  b.set(bs, "targetNames", std::vector<std::string>{"up", "side"});
+  b.set(scene->graph().find("face"), "triangles", std::vector<std::int64_t>{0, 1, 2});
+  b.connect("bs.outPoints", "face.points");
+  TempDir dir;
+  ASSERT_TRUE(export_gltf(*scene, dir.path() / "face.glb").is_ok());
+  EXPECT_VALID_GLTF(dir.path() / "face.glb");
+  tinygltf::Model model = load_model(dir.path() / "face.glb");
+  const tinygltf::Value& extras = model.meshes.at(0).extras;
+  ASSERT_TRUE(extras.IsObject() && extras.Has("targetNames")) << "the common convention for morph target names";
+  const tinygltf::Value& names = extras.Get("targetNames");
+  ASSERT_TRUE(names.IsArray());
+  ASSERT_EQ(names.ArrayLen(), 2u);
+  EXPECT_EQ(names.Get(0).Get<std::string>(), "up");
+  EXPECT_EQ(names.Get(1).Get<std::string>(), "side");
+
+  Result<std::unique_ptr<Scene>> back = import_gltf(dir.path() / "face.glb");
+  ASSERT_TRUE(back.is_ok()) << back.status().message();
+  Graph& g = (*back)->graph();
+  NodeId shape;
+  for (NodeId id : g.nodes())
+    if (g.node(id)->type().name() == ops::kBlendShapeType) shape = id;
+  ASSERT_TRUE(shape.is_valid());
+  EXPECT_EQ(std::get<std::vector<std::string>>(g.evaluate(shape, ops::blend_shape_attr::kTargetNames)),
+            (std::vector<std::string>{"up", "side"}));
+
+  // Unnamed targets write no extras.
+  b.set(bs, "targetNames", std::vector<std::string>{});
+  ASSERT_TRUE(export_gltf(*scene, dir.path() / "plain.glb").is_ok());
+  EXPECT_FALSE(load_model(dir.path() / "plain.glb").meshes.at(0).extras.Has("targetNames"));
+}
+
 TEST(GltfExport, bvh_euler_tracks_bake_and_world_matrices_match_the_scene) {
   auto scene = bvh_scene(5);
   ASSERT_TRUE(scene);

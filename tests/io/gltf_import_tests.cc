@@ -686,6 +686,31 @@ TEST(GltfImportMorph, targets_become_a_blend_shape_with_animated_weights) {
   EXPECT_TRUE(near(points[0], Vec3(1, 0, 1), 1e-6)) << "weights (1, 0.5) after the last key";
 }
 
+TEST(GltfImportMorph, target_names_come_from_the_mesh_extras) {
+  GltfFile f = triangle_file();
+  const int d0 = f.floats({0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");
+  const int d1 = f.floats({2, 0, 0, 0, 0, 0, 0, 0, 0}, "VEC3");
+  f.doc["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", d0}}, {{"POSITION", d1}}};
+  f.doc["meshes"][0]["extras"] = {{"targetNames", {"lift", "stretch"}}};
+  TempDir dir;
+  std::vector<std::string> warnings;
+  GltfImportOptions options;
+  options.warnings = &warnings;
+  Imported s = import_ok(f.write_gltf(dir.path(), "named.gltf"), options);
+  EXPECT_EQ(s.get<std::vector<std::string>>("shape_blendShape", bs::kTargetNames), (std::vector<std::string>{"lift", "stretch"}));
+  EXPECT_TRUE(warnings.empty());
+  // Names that do not fit the targets leave them unnamed, with a warning.
+  f.doc["meshes"][0]["extras"] = {{"targetNames", {"lift"}}};
+  Imported one = import_ok(f.write_gltf(dir.path(), "short.gltf"), options);
+  EXPECT_TRUE(one.get<std::vector<std::string>>("shape_blendShape", bs::kTargetNames).empty());
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(contains(warnings[0], "meshes[0].extras.targetNames: expected 2 names")) << warnings[0];
+  f.doc["meshes"][0]["extras"] = {{"targetNames", {"lift", 3}}};
+  Imported mixed = import_ok(f.write_gltf(dir.path(), "mixed.gltf"), options);
+  EXPECT_TRUE(mixed.get<std::vector<std::string>>("shape_blendShape", bs::kTargetNames).empty());
+  EXPECT_EQ(warnings.size(), 2u);
+}
+
 TEST(GltfImportMorph, cubic_weights_and_a_skinned_morph_feed_the_skin) {
   GltfFile f = skinned_file();
   const int d0 = f.floats({0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3");

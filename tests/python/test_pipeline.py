@@ -1,6 +1,6 @@
 """The pipeline from Python: a project with an asset, settings layered
-project over user over defaults, and the data managers (skin weights and
-control shapes exported and imported back): the same library calls as
+project over user over defaults, and the data managers (skin weights,
+control shapes and blend shapes exported and imported back): the same library calls as
 `rigel project`, `rigel asset`, `rigel config` and `rigel data`."""
 
 import pytest
@@ -98,6 +98,34 @@ def test_driven_keys_and_driven_poses_round_trip(tmp_path):
     with pytest.raises(rigel.ParseError) as info:
         hero.import_driven_poses(path, correctives=True)
     assert info.value.field == "file"
+
+
+def test_blend_shapes_round_trip(tmp_path):
+    w = rigel.Workspace(str(DATA / "gltf" / "SimpleMorph.gltf"))
+    w.time = 2.0  # the file's animated weights: (1, 1)
+    path = w.export_blend_shapes(str(tmp_path / "tri.blendshapes.json"))
+    text = open(path).read()
+    assert '"rigelBlendShapes": 1' in text and "[2, 1.0, 1.0, 0.0]" in text
+    edited = text.replace("[2, 1.0, 1.0, 0.0]", "[2, 1.0, 2.0, 0.0]")  # target 1 sculpted further
+    with open(path, "w") as f:
+        f.write(edited)
+    mesh = w.scene.nodes(type="mesh")[0].name
+    before = w.scene.get(mesh + ".points")
+    r = w.import_blend_shapes(path)
+    assert r.blend_shapes == 1 and r.targets == 2 and r.created == [] and r.added == []
+    assert r.driven == []  # the animated weights are the file's
+    after = w.scene.get(mesh + ".points")
+    assert abs(after[2][1] - before[2][1] - 1) < 1e-6
+    assert open(w.export_blend_shapes(str(tmp_path / "again.blendshapes.json"))).read() == edited
+    w.undo()
+    assert open(w.export_blend_shapes(str(tmp_path / "back.blendshapes.json"))).read() == text
+
+    (tmp_path / "bad.blendshapes.json").write_text('{"rigelBlendShapes": 1,\n "blendShapes": [}')
+    with pytest.raises(rigel.ParseError) as info:
+        w.import_blend_shapes(str(tmp_path / "bad.blendshapes.json"))
+    assert info.value.field == "file" and "bad.blendshapes.json:2:" in str(info.value)
+    with pytest.raises(rigel.StateError):
+        rigel.Workspace(str(DATA / "gltf" / "rigify_human_metarig.glb")).export_blend_shapes(str(tmp_path / "x.json"))
 
 
 def test_publish_from_python(tmp_path, user_settings, monkeypatch):

@@ -1,8 +1,9 @@
 // The JSON API's rigger actions (GET/POST /api/shape, POST /api/align,
-// /api/locators, /api/mirror-joints, GET/POST /api/driven-keys, the data
-// routes; docs/SERVER.md) on the biped built on
-// the bundled metarig: the same results as the library's calls, each one
-// undo step, refusals naming the field.
+// /api/locators, /api/mirror-joints, GET/POST /api/driven-keys; docs/SERVER.md)
+// on the biped built on the bundled metarig, and its data managers (POST
+// /api/data/export and import; blend shapes on Khronos' SimpleMorph): the
+// same results as the library's calls, each one undo step, refusals naming
+// the field.
 
 #include <gtest/gtest.h>
 
@@ -173,6 +174,59 @@ TEST(ServerApi, DrivenKeysSetListedRemovedExportedAndImported) {
   Response resp = s.request("POST", "/api/data/import", R"({"kind":"correctives","file":"data/hero.drivenposes.json"})");
   EXPECT_EQ(resp.status, 400) << resp.body;
   EXPECT_EQ(Json::parse(resp.body)["field"], "file");
+TEST(ServerApi, BlendShapesExportedEditedAndImportedBack) {
+  Served s;
+  s.root = s.dir->path() / "root";
+  fs::create_directories(s.root);
+  io::GltfImportOptions options;
+  options.registry = ephemeral::default_registry();
+  auto scene = io::import_gltf(source_path("tests/data/gltf/SimpleMorph.gltf"), options);
+  ASSERT_TRUE(scene.is_ok()) << scene.status().message();
+  s.workspace = std::make_unique<Workspace>(std::move(*scene), fs::path(), s.root, ephemeral::components());
+  graph::Graph& g = s.workspace->scene().graph();
+  graph::NodeId mesh;
+  for (graph::NodeId id : g.nodes())
+    if (g.node(id)->type().name() == scene::kMeshType) mesh = id;
+  auto points = [&] { return std::get<std::vector<math::Vec3>>(g.evaluate(mesh, scene::mesh_attr::kPoints)); };
+  g.set_time(2.0);  // weights (1, 1)
+  const auto before = points();
+
+  Json r = s.post("/api/data/export", {{"kind", "blendshapes"}, {"file", "data/tri.blendshapes.json"}});
+  EXPECT_EQ(r["file"], "data/tri.blendshapes.json");
+  const fs::path file = s.root / "data" / "tri.blendshapes.json";
+  std::string text = io::testing::read_text(file);
+  const std::string line = "[2, 1.0, 1.0, 0.0]";
+  ASSERT_NE(text.find(line), std::string::npos) << text;
+  text.replace(text.find(line), line.size(), "[2, 1.0, 2.0, 0.0]");
+  io::testing::write_text(file, text);
+  r = s.post("/api/data/import", {{"kind", "blendshapes"}, {"file", "data/tri.blendshapes.json"}});
+  EXPECT_EQ(r["blendShapes"], 1);
+  EXPECT_EQ(r["targets"], 2);
+  EXPECT_TRUE(r["driven"].empty()) << "the animated weights are the file's";
+  EXPECT_NEAR(points()[2].y(), before[2].y() + 1, 1e-6) << "target 1 moves vertex 2 one more in y";
+  s.post("/api/undo", Json::object());
+  EXPECT_NEAR(points()[2].y(), before[2].y(), 1e-12);
+
+  io::testing::write_text(s.root / "data" / "bad.blendshapes.json", "{\"rigelBlendShapes\": 1,\n \"blendShapes\": [}");
+  std::string other = text;
+  other.replace(other.find("_blendShape\""), 12, "_nose\"");
+  other.replace(other.find("\"mesh\": \""), 9, "\"mesh\": \"no");
+  io::testing::write_text(s.root / "data" / "other.blendshapes.json", other);
+  for (auto [body, status, field] :
+       {std::tuple{R"({"kind":"blendshapes","file":"data/bad.blendshapes.json"})", 400, "file"},
+        std::tuple{R"({"kind":"blendshapes","file":"data/other.blendshapes.json"})", 400, "blendShape"},
+        std::tuple{R"({"kind":"blendshapes","file":"data/tri.blendshapes.json","nearest":true})", 400, "nearest"},
+        std::tuple{R"({"kind":"blendshapes","file":"../outside.json"})", 400, "file"}}) {
+    Response resp = s.request("POST", "/api/data/import", body);
+    EXPECT_EQ(resp.status, status) << body << ": " << resp.body;
+    EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
+  }
+  EXPECT_NE(s.request("POST", "/api/data/import", R"({"kind":"blendshapes","file":"data/bad.blendshapes.json"})").body.find("bad.blendshapes.json:2:"),
+            std::string::npos);
+  Served biped = served_biped();
+  Response none = biped.request("POST", "/api/data/export", R"({"kind":"blendshapes","file":"data/x.blendshapes.json"})");
+  EXPECT_EQ(none.status, 409) << none.body;
+  EXPECT_FALSE(fs::exists(biped.root / "data" / "x.blendshapes.json"));
 }
 
 }  // namespace

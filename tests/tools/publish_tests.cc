@@ -1,11 +1,11 @@
 // Publishing (tools/publish.h): an asset with the biped's definition on the
 // body, published twice: each version a new folder (never overwritten) with
 // the built scene, a manifest of checksums and checks, and the log; hand
-// edits exported as data (a control's shape, a painted weight, a driven
-// pose) come back in the rebuilt version exactly; a project of a character
-// and a prop, each published twice with its hand edits; a scene from a
-// version reports its asset's newer one; a broken definition publishes
-// nothing.
+// edits exported as data (a control's shape, a painted weight, a sculpted
+// blend shape target, a driven pose) come back in the rebuilt version
+// exactly; a project of a character and a prop, each published twice with
+// its hand edits; a scene from a version reports its asset's newer one; a
+// broken definition publishes nothing.
 
 #include "rigel/tools/publish.h"
 
@@ -19,6 +19,7 @@
 #include "rigel/ops/deform/nodes.h"
 #include "rigel/rig/meta.h"
 #include "rigel/tools/driven_poses.h"
+#include "rigel/tools/blendshape_data.h"
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
 #include "../io/io_test_util.h"
@@ -81,12 +82,22 @@ TEST(Publish, two_versions_with_hand_made_data_rebuilt_exactly) {
   ASSERT_TRUE(apply_skin_weights(*scene, weights).is_ok());
   write_text(p->asset.dir / "data/shapes/hero.shapes.json", control_shapes_to_json(*capture_control_shapes(g, rig)));
   write_text(p->asset.dir / "data/weights/body.weights.json", skin_weights_to_json(*capture_skin_weights(*scene)));
+  // And a target sculpted on the body (whose glTF has none): a new blendShape.
+  graph::NodeId mesh;
+  for (graph::NodeId id : g.nodes())
+    if (g.node(id)->type().name() == scene::kMeshType) mesh = id;
+  const std::size_t vertices = std::get<std::vector<math::Vec3>>(g.evaluate(mesh, scene::mesh_attr::kPoints)).size();
+  BlendShapeSet sculpt{"body_blendShape", g.node(mesh)->name(), vertices, {BlendTarget{0, "belly", 0.5, {7, 8}, {{0, 0.01, 0}, {0, 0.02, 0}}}}};
+  ASSERT_TRUE(apply_blend_shapes(g, {sculpt}).is_ok());
+  const std::string blend_file = blend_shapes_to_json(*capture_blend_shapes(g));
+  write_text(p->asset.dir / "data/blendshapes/body.blendshapes.json", blend_file);
 
   auto v2 = publish_asset(p->asset, ephemeral::components(), {"", true, "test"});
   ASSERT_TRUE(v2.is_ok()) << v2.status().message();
   EXPECT_EQ(v2->version, 2);
   EXPECT_GT(v2->shapes_set, 50u);
   EXPECT_GT(v2->weights_vertices, 10000u);
+  EXPECT_EQ(v2->blend_shape_targets, 1u);
   EXPECT_TRUE(fs::exists(p->asset.dir / "rig/v001/rig.rigel")) << "version 1 kept";
   EXPECT_EQ(published_versions(p->asset), (std::vector<int>{1, 2}));
   auto rebuilt = load(v2->scene);
@@ -96,7 +107,11 @@ TEST(Publish, two_versions_with_hand_made_data_rebuilt_exactly) {
   const auto back = *capture_skin_weights(*rebuilt);
   ASSERT_EQ(back.back().weights.size(), weights.back().weights.size());
   for (std::size_t k = 0; k < back.back().weights.size(); ++k) EXPECT_NEAR(back.back().weights[k], weights.back().weights[k], 1e-6);
-  EXPECT_EQ(nlohmann::json::parse(read_text(v2->manifest))["data"].size(), 2u);
+  EXPECT_EQ(blend_shapes_to_json(*capture_blend_shapes(rebuilt->graph())), blend_file) << "the sculpted target, exactly";
+  const auto data = nlohmann::json::parse(read_text(v2->manifest))["data"];
+  ASSERT_EQ(data.size(), 3u);
+  EXPECT_EQ(data[1]["kind"], "blendshapes") << "after the weights";
+  EXPECT_EQ(data[1]["checksum"], *file_checksum(p->asset.dir / "data/blendshapes/body.blendshapes.json"));
 
   // A scene of version 1 knows version 2 is newer.
   auto old = load(v1->scene);

@@ -38,6 +38,7 @@
 #include "rigel/scene/scene.h"
 #include "rigel/scene/scene_options.h"
 #include "rigel/tools/bind_pose.h"
+#include "rigel/tools/blendshape_data.h"
 #include "rigel/tools/curves.h"
 #include "rigel/tools/driven_poses.h"
 #include "rigel/tools/keys.h"
@@ -523,6 +524,11 @@ class Workspace {
   // role and index.
   Result<fs::path> export_control_shapes(const std::string& rig, const std::string& file);
   Result<tools::ShapesReport> import_control_shapes(const std::string& rig, const std::string& file);
+  // Every blendShape's targets and weights to a .blendshapes.json file, and
+  // back by blendShape (else mesh) name, targets by name or index
+  // (tools/blendshape_data.h).
+  Result<fs::path> export_blend_shapes(const std::string& file);
+  Result<tools::BlendShapesReport> import_blend_shapes(const std::string& file);
   // Driven poses or correctives (tools/driven_poses.h): every driven key of
   // that kind to a .drivenposes.json / .correctives.json file, and back.
   Result<fs::path> export_driven_poses(tools::DrivenData kind, const std::string& file);

@@ -35,7 +35,9 @@
 //   65535, else UNSIGNED_INT. Points are the evaluated `points`, except:
 //   * points fed by a blendShape's outPoints: the blendShape's basePoints,
 //     and one morph target per blendShape target (sparse targets made
-//     dense), with the blendShape's weights as the mesh's default weights;
+//     dense), with the blendShape's weights as the mesh's default weights
+//     and its targetNames (when any is set) as the mesh's
+//     extras.targetNames;
 //   * a skinned mesh (points fed by a skinCluster's outPoints): the
 //     skinCluster's bindPoints / bindNormals (or, when bindPoints is fed by
 //     a blendShape, that blendShape's basePoints and targets), and a glTF

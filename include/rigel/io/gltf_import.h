@@ -57,7 +57,9 @@
 // - Morph targets: a `blendShape` named `<mesh>_blendShape` with basePoints
 //   = POSITION, dense targetDeltas from each target's POSITION (a target
 //   without POSITION has zero deltas; NORMAL and TANGENT deltas are not
-//   imported) and weights = the node's `weights`, else the mesh's, else 0.
+//   imported), weights = the node's `weights`, else the mesh's, else 0,
+//   and targetNames = the mesh's extras.targetNames (the common convention;
+//   names that are not one string per target are left out, with a warning).
 //   Its outPoints feed the skinCluster's bindPoints when skinned, else the
 //   mesh's points.
 //

@@ -11,7 +11,8 @@
 //   shapes        shape_data.h: onto the controls of the rig (its metaRoot)
 //   driven_poses, correctives
 //                 driven_poses.h: the driven keys recreated from the file's drivers
-//   blendshapes   not read by this build yet (refused with kUnsupported naming the kind)
+//   blendshapes   blendshape_data.h: onto the scene's blendShapes (by name, else mesh name;
+//                 a mesh without one gets one)
 
 #include <cstddef>
 #include <filesystem>
@@ -33,6 +34,7 @@ struct DataFileReport {
   std::size_t shapes_set = 0;        // shapes: controls set
   std::vector<std::string> missing;  // shapes: entries the rig lacks ("arm_L ik[0]"), left out
   std::size_t driven_curves = 0;     // driven_poses, correctives: driven-key curves set
+  std::size_t blend_shape_targets = 0;  // blendshapes: targets set
 };
 
 // Imports `file`, a data file of `kind`. Shapes go onto the controls of the

@@ -15,7 +15,8 @@
 // named by the naming template given, each definition's <data> imported
 // by its build's data step; then every file of the asset's data folders
 // that a definition did not name (data_files.h: data/weights/*.weights.json,
-// data/shapes/*.shapes.json, data/driven_poses/*.drivenposes.json,
+// data/shapes/*.shapes.json, data/blendshapes/*.blendshapes.json,
+// data/driven_poses/*.drivenposes.json,
 // data/correctives/*.correctives.json) imported, so no file is imported twice (the
 // manifest lists each once). The builds get a copy of `factory` whose data
 // importer is data_files.h's. Checks:
@@ -56,6 +57,7 @@ struct PublishReport {
   std::vector<std::string> rigs;
   std::vector<std::string> warnings;
   std::size_t weights_vertices = 0, shapes_set = 0, driven_curves = 0;
+  std::size_t blend_shape_targets = 0;
   double rest_error = 0;  // the largest joint move at rest (metres)
 };
 

@@ -216,9 +216,11 @@ Status register_deform_types(graph::Registry& registry) {
         input("targetOffsets", kInts, std::vector<std::int64_t>{}),
         input("targetIndices", kInts, std::vector<std::int64_t>{}),
         input("weights", kDoubles, std::vector<double>{}, graph::kKeyable),
+        input("targetNames", {ValueType::kString, true}, std::vector<std::string>{}),
         output("outPoints", kPoints),
     };
-    for (graph::AttrIndex i = 0; i < a::kOutPoints; ++i) spec.attrs[i].affects = {"outPoints"};
+    // Names are data for people and tools; they change no point.
+    for (graph::AttrIndex i = 0; i < a::kTargetNames; ++i) spec.attrs[i].affects = {"outPoints"};
     spec.compute = compute_blend_shape;
     if (Status s = registry.add(std::move(spec)); !s) return s;
   }

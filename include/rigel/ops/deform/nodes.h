@@ -53,6 +53,8 @@ enum : graph::AttrIndex {
   kTargetIndices,   // int[]: vertex of each delta (sparse targets); empty: every target is
                     // dense, one delta per base point, in order
   kWeights,         // double[], keyable: weight of each target (missing: 0)
+  kTargetNames,     // string[]: name of each target (missing or "": unnamed); read from a glTF
+                    // mesh's extras.targetNames, what blend shape data files match targets by
   kOutPoints,       // output double3[]
   kCount
 };
