@@ -125,10 +125,6 @@ Result<DataFileReport> import_data_file(scene::Scene& scene, NodeId rig, std::st
     return Status(ErrorCode::kInvalidArgument,
                   file.string() + ": unknown data kind '" + std::string(kind) + "' (kinds: " + kind_names() + ")")
         .with_field("kind");
-  if (!k->import)
-    return Status(ErrorCode::kUnsupported, file.string() + ": importing " + std::string(kind) +
-                                               " data is not implemented in this build (it imports: weights, shapes)")
-        .with_field("kind");
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
     return Status(ErrorCode::kNotFound, file.string() + ": no such " + std::string(kind) + " file").with_field("file");

@@ -215,8 +215,14 @@ def test_default_post_imports_the_data_the_build_names(tmp_path):
     class Bad(Arms):
         data = [("blendshapes", str(shapes))]
 
-    with pytest.raises(rigel.Error, match="blendshapes"):
-        Bad()
+    with pytest.raises(rigel.Error, match="not a rigel blend shapes file"):
+        Bad()  # a file of another kind is refused, naming the file
+
+    class Unknown(Arms):
+        data = [("muscles", str(shapes))]
+
+    with pytest.raises(rigel.Error, match="unknown data kind 'muscles'"):
+        Unknown()
 
     class Missing(Arms):
         data = [("weights", str(tmp_path / "none.weights.json"))]

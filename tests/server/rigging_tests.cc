@@ -174,6 +174,8 @@ TEST(ServerApi, DrivenKeysSetListedRemovedExportedAndImported) {
   Response resp = s.request("POST", "/api/data/import", R"({"kind":"correctives","file":"data/hero.drivenposes.json"})");
   EXPECT_EQ(resp.status, 400) << resp.body;
   EXPECT_EQ(Json::parse(resp.body)["field"], "file");
+}
+
 TEST(ServerApi, BlendShapesExportedEditedAndImportedBack) {
   Served s;
   s.root = s.dir->path() / "root";

@@ -110,8 +110,9 @@ TEST(Publish, two_versions_with_hand_made_data_rebuilt_exactly) {
   EXPECT_EQ(blend_shapes_to_json(*capture_blend_shapes(rebuilt->graph())), blend_file) << "the sculpted target, exactly";
   const auto data = nlohmann::json::parse(read_text(v2->manifest))["data"];
   ASSERT_EQ(data.size(), 3u);
-  EXPECT_EQ(data[1]["kind"], "blendshapes") << "after the weights";
-  EXPECT_EQ(data[1]["checksum"], *file_checksum(p->asset.dir / "data/blendshapes/body.blendshapes.json"));
+  EXPECT_EQ(data[0]["kind"], "weights");
+  EXPECT_EQ(data[2]["kind"], "blendshapes") << "in the kinds' order: weights, shapes, blendshapes";
+  EXPECT_EQ(data[2]["checksum"], *file_checksum(p->asset.dir / "data/blendshapes/body.blendshapes.json"));
 
   // A scene of version 1 knows version 2 is newer.
   auto old = load(v1->scene);
