@@ -80,7 +80,7 @@ class CliBatch : public ::testing::Test {
         << "two shots' outputs differ, and the comparison sees it";
 
     // Fixed and retried: only it runs.
-    const auto before = written_times(all, out);
+    const BeforeRetry before = before_retry(all, out);
     write_shot(hero_, kShotCount, at("shots/broken.rigel"));
     std::vector<std::string> retry = {"batch", op};
     retry.insert(retry.end(), options.begin(), options.end());

@@ -163,27 +163,53 @@ inline void expect_report_with_broken_shot(const CliRun& run, const std::string&
   EXPECT_EQ(read_text(out / "batch-report.json"), run.out);
 }
 
+// What a retry must leave as it was: the report before it (its text) and
+// the modification times of the outputs and logs of the shots in `out`
+// that are not broken.rigel.
+struct BeforeRetry {
+  std::string report;
+  std::map<std::filesystem::path, std::filesystem::file_time_type> times;
+};
+inline BeforeRetry before_retry(const std::vector<std::string>& shots, const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  BeforeRetry before{read_text(out / "batch-report.json"), {}};
+  for (const std::string& shot : shots) {
+    if (fs::path(shot).filename() == "broken.rigel") continue;
+    for (const fs::path& p : {output_of(out, shot), out / "logs" / (fs::path(shot).stem().string() + ".log")}) {
+      std::error_code ec;
+      before.times[p] = fs::last_write_time(p, ec);
+      EXPECT_FALSE(ec) << p;
+    }
+  }
+  return before;
+}
+
 // The retry of that run once the broken shot is fixed: `rigel batch OP -o
 // OUT --retry-failed OUT/batch-report.json --json` (`run`) ran only it,
-// exit 0, and the report, printed and in its file, lists every shot ok in
-// order; no other shot's output or log was written again (`before`: their
-// modification times before the retry, by path).
+// exit 0; the report, printed and in its file, lists every shot ok in
+// order, the others' entries as they were, its jobs the first run's and
+// its time the sum of both; no other shot's output or log was written
+// again.
 inline void expect_retried_alone(const CliRun& run, const std::string& op, const std::vector<std::string>& shots,
-                                 const std::filesystem::path& out,
-                                 const std::map<std::filesystem::path, std::filesystem::file_time_type>& before) {
+                                 const std::filesystem::path& out, const BeforeRetry& before) {
   namespace fs = std::filesystem;
   using Json = nlohmann::json;
   ASSERT_TRUE(exited_with(run, 0)) << run;
   EXPECT_TRUE(contains(run.err, "rigel: batch " + op + ": 1 of 1 shots ok")) << "only the failed shot ran: " << run;
-  const Json merged = Json::parse(read_text(out / "batch-report.json"));
+  const Json merged = Json::parse(read_text(out / "batch-report.json")), earlier = Json::parse(before.report);
   EXPECT_EQ(merged, Json::parse(run.out));
+  EXPECT_EQ(merged["jobs"], earlier["jobs"]);
+  EXPECT_GT(merged["seconds"].get<double>(), earlier["seconds"].get<double>()) << "the first run's time and the retry's";
   ASSERT_EQ(merged["shots"].size(), shots.size());
   for (std::size_t i = 0; i < shots.size(); ++i) {
     EXPECT_EQ(merged["shots"][i]["shot"], shots[i]);
     EXPECT_EQ(merged["shots"][i]["status"], "ok") << merged["shots"][i];
     EXPECT_TRUE(fs::exists(output_of(out, shots[i]))) << shots[i];
+    if (fs::path(shots[i]).filename() != "broken.rigel") {
+      EXPECT_EQ(merged["shots"][i], earlier["shots"][i]) << "a shot that did not run again is reported as it was";
+    }
   }
-  for (const auto& [path, time] : before) EXPECT_EQ(fs::last_write_time(path), time) << path << " was written again";
+  for (const auto& [path, time] : before.times) EXPECT_EQ(fs::last_write_time(path), time) << path << " was written again";
 }
 
 // Whether `text` holds a UUID at `at` (8-4-4-4-12 hex digits, as
@@ -251,24 +277,6 @@ inline ::testing::AssertionResult same_output(const std::filesystem::path& a, co
                                        << " of their text with made uuids numbered:\n--- " << a.filename() << " ---\n"
                                        << nx.substr(from, 400) << "\n--- " << b.filename() << " ---\n"
                                        << ny.substr(from, 400);
-}
-
-// The modification times of the outputs and logs of the shots in `out`
-// that are not broken.rigel (what a retry must not touch).
-inline std::map<std::filesystem::path, std::filesystem::file_time_type> written_times(const std::vector<std::string>& shots,
-                                                                                      const std::filesystem::path& out) {
-  namespace fs = std::filesystem;
-  std::map<fs::path, fs::file_time_type> times;
-  for (const std::string& shot : shots) {
-    if (fs::path(shot).filename() == "broken.rigel") continue;
-    for (const fs::path& p : {output_of(out, shot), out / "logs" / (fs::path(shot).stem().string() + ".log")}) {
-      std::error_code ec;
-      const auto t = fs::last_write_time(p, ec);
-      EXPECT_FALSE(ec) << p;
-      times[p] = t;
-    }
-  }
-  return times;
 }
 
 }  // namespace rigel::cli::testing

@@ -69,7 +69,7 @@ class CliBatchSlurm : public ::testing::Test {
     }
     for (const std::string& shot : shots_) EXPECT_TRUE(same_output(output_of(slurm, shot), output_of(local, shot), shot));
 
-    const auto before = written_times(all, slurm);
+    const BeforeRetry before = before_retry(all, slurm);
     write_shot(hero_, kShotCount, at("shots/broken.rigel"));
     std::vector<std::string> retry = {"batch", op};
     retry.insert(retry.end(), options.begin(), options.end());
