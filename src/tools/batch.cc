@@ -169,6 +169,10 @@ Result<BatchReport> batch_report_from_json(std::string_view text, const std::str
   if (!j.contains("shots") || !j["shots"].is_array()) return bad("shots", "expected an array");
   BatchReport r;
   r.operation = j["operation"].get<std::string>();
+  // What a retry's merged report keeps: the first run's jobs, and its time
+  // that the retry's adds to.
+  if (j.contains("jobs") && j["jobs"].is_number_unsigned()) r.jobs = j["jobs"].get<std::size_t>();
+  if (j.contains("seconds") && j["seconds"].is_number()) r.seconds = j["seconds"].get<double>();
   for (std::size_t i = 0; i < j["shots"].size(); ++i) {
     const Json& s = j["shots"][i];
     const std::string at = "shots[" + std::to_string(i) + "]";

@@ -1,12 +1,16 @@
 // `rigel batch --slurm` on a real single-node Slurm cluster the test starts
 // (tests/support/slurm_cluster.sh: munge, slurmctld and slurmd of its own in
-// a temporary folder, stopped at the end): the shots as one job array, every
-// output as the local run's, a broken shot failed with its log, the report
-// listing every shot, --retry-failed through Slurm running only that one.
+// a temporary folder, stopped at the end), over 50 generated shots and a
+// broken one (batch_shots.h), for bake and update: the shots as one job
+// array, every output as the local run's (batch_cli_tests.cc shows those
+// equal to running the command by hand), the broken shot failed with its
+// log, the report listing every shot, --retry-failed through Slurm running
+// only that one once it is fixed.
 // Skipped, saying why, where Slurm cannot run (not installed, not root).
 #include <cstdlib>
 #include <filesystem>
 
+#include "batch_shots.h"
 #include "cli_test_util.h"
 
 namespace rigel::cli::testing {
@@ -28,16 +32,10 @@ class CliBatchSlurm : public ::testing::Test {
     while (!conf.empty() && (conf.back() == '\n' || conf.back() == ' ')) conf.pop_back();
     setenv("SLURM_CONF", conf.c_str(), 1);
     started_ = true;
-    const std::string example = (fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml").string();
-    ASSERT_TRUE(exited_with(rigel({"build", example, "-o", at("hero.rigel").string()}), 0));
-    for (int i = 0; i < 6; ++i) {
-      const std::string shot = at("shots/s" + std::to_string(i) + ".rigel").string();
-      fs::create_directories(at("shots"));
-      const CliRun r = rigel({"key", at("hero.rigel").string(), "--control", "hero_arm_L_fkIkSwitch", "--attr", "fkIk",
-                              "--frame", std::to_string(2 + i), "--value", "0." + std::to_string(i), "-o", shot});
-      ASSERT_TRUE(exited_with(r, 0)) << r;
-      shots_.push_back(shot);
-    }
+    hero_ = build_hero(dir_.path());
+    ASSERT_FALSE(hero_.empty());
+    shots_ = write_shots(hero_, at("shots"));
+    ASSERT_FALSE(HasFailure()) << "the shots could not be made";
   }
   void TearDown() override {
     if (!started_) return;
@@ -47,51 +45,58 @@ class CliBatchSlurm : public ::testing::Test {
     unsetenv("SLURM_CONF");
   }
   fs::path at(const std::string& name) { return dir_.path() / name; }
+
+  // `rigel batch OP SHOTS... OPTIONS` over the shots and a broken one,
+  // locally on 2 jobs (into OP_local/) and as a Slurm job array (into
+  // OP_slurm/), each reported as expect_report_with_broken_shot says; every
+  // Slurm output the local one; the broken shot fixed and retried alone
+  // through Slurm, its output as by hand.
+  void slurm_equals_local_and_retries_the_broken_shot_alone(const std::string& op, const std::vector<std::string>& options) {
+    io::testing::write_text(at("shots/broken.rigel"), kBrokenShotText);
+    const std::vector<std::string> all = with_broken(shots_, at("shots/broken.rigel").string());
+    const fs::path local = at(op + "_local"), slurm = at(op + "_slurm"), hand = at("by_hand");
+    fs::create_directories(hand);  // (`rigel bake -o` makes no folder)
+    for (const fs::path& out : {local, slurm}) {
+      std::vector<std::string> args = {"batch", op};
+      args.insert(args.end(), all.begin(), all.end());
+      args.insert(args.end(), options.begin(), options.end());
+      args.insert(args.end(), {"-o", out.string(), "--json"});
+      if (out == local) args.insert(args.end(), {"--jobs", "2"});
+      else args.push_back("--slurm");
+      SCOPED_TRACE(out.filename().string());
+      expect_report_with_broken_shot(rigel(args), op, all, out, out == local ? 2 : all.size());
+      if (HasFatalFailure()) return;
+    }
+    for (const std::string& shot : shots_) EXPECT_TRUE(same_output(output_of(slurm, shot), output_of(local, shot), shot));
+
+    const BeforeRetry before = before_retry(all, slurm);
+    write_shot(hero_, kShotCount, at("shots/broken.rigel"));
+    std::vector<std::string> retry = {"batch", op};
+    retry.insert(retry.end(), options.begin(), options.end());
+    retry.insert(retry.end(),
+                 {"-o", slurm.string(), "--slurm", "--retry-failed", (slurm / "batch-report.json").string(), "--json"});
+    expect_retried_alone(rigel(retry), op, all, slurm, before);
+    std::vector<std::string> by_hand = {op, at("shots/broken.rigel").string()};
+    by_hand.insert(by_hand.end(), options.begin(), options.end());
+    by_hand.insert(by_hand.end(), {"-o", output_of(hand, "broken.rigel").string()});
+    const CliRun fixed = rigel(by_hand);
+    ASSERT_TRUE(exited_with(fixed, 0)) << fixed;
+    EXPECT_TRUE(same_output(output_of(slurm, "broken.rigel"), output_of(hand, "broken.rigel"), at("shots/broken.rigel")));
+  }
+
   TempDir dir_;
   bool started_ = false;
+  fs::path hero_;
   std::vector<std::string> shots_;
 };
 
-TEST_F(CliBatchSlurm, a_job_array_gives_the_local_outputs_and_retries_the_broken_shot) {
-  io::testing::write_text(at("shots/broken.rigel"), "not a scene");
-  std::vector<std::string> shots = shots_;
-  shots.push_back(at("shots/broken.rigel").string());
-  std::vector<std::string> args = {"batch", "bake"};
-  args.insert(args.end(), shots.begin(), shots.end());
-  for (const char* where : {"local", "slurm"}) {
-    std::vector<std::string> a = args;
-    a.insert(a.end(), {"--frames", "0:10", "-o", at(where).string(), "--json"});
-    if (std::string(where) == "slurm") a.push_back("--slurm");
-    const CliRun r = rigel(a);
-    EXPECT_TRUE(exited_with(r, 1)) << where << ": the broken shot fails: " << r;
-    const Json report = Json::parse(r.out);
-    ASSERT_EQ(report["shots"].size(), shots.size()) << where;
-    for (const Json& s : report["shots"]) {
-      const bool broken = s["shot"].get<std::string>().find("broken") != std::string::npos;
-      EXPECT_EQ(s["status"], broken ? "failed" : "ok") << where << " " << s;
-      EXPECT_TRUE(fs::exists(s["log"].get<std::string>())) << s;
-    }
-  }
-  EXPECT_NE(read_text(at("slurm/logs/broken.log")).find("broken.rigel"), std::string::npos) << "its log says why";
-  for (std::size_t i = 0; i < shots_.size(); ++i) {
-    std::string name = "s";
-    name += std::to_string(i);
-    name += ".rigel";
-    for (int f : {0, 6, 10}) {
-      const CliRun a = rigel({"eval", at("local/" + name).string(), "--frame", std::to_string(f), "--json"});
-      const CliRun b = rigel({"eval", at("slurm/" + name).string(), "--frame", std::to_string(f), "--json"});
-      ASSERT_TRUE(exited_with(a, 0) && exited_with(b, 0)) << a << b;
-      EXPECT_EQ(a.out, b.out) << name << " at " << f;
-    }
-  }
-  fs::copy_file(shots_[0], at("shots/broken.rigel"), fs::copy_options::overwrite_existing);
-  const auto before = fs::last_write_time(at("slurm/s1.rigel"));
-  const CliRun r = rigel({"batch", "bake", "--frames", "0:10", "-o", at("slurm").string(), "--slurm", "--retry-failed",
-                          at("slurm/batch-report.json").string()});
-  ASSERT_TRUE(exited_with(r, 0)) << r;
-  const Json merged = Json::parse(read_text(at("slurm/batch-report.json")));
-  for (const Json& s : merged["shots"]) EXPECT_EQ(s["status"], "ok") << s;
-  EXPECT_EQ(fs::last_write_time(at("slurm/s1.rigel")), before) << "only the failed shot ran again";
+TEST_F(CliBatchSlurm, bake_of_50_shots_as_a_job_array_gives_the_local_outputs_and_retries_the_broken_shot) {
+  slurm_equals_local_and_retries_the_broken_shot_alone("bake", {"--frames", kBakeFrames});
+}
+
+TEST_F(CliBatchSlurm, update_of_50_shots_as_a_job_array_gives_the_local_outputs_and_retries_the_broken_shot) {
+  bump_left_arm(dir_.path());
+  slurm_equals_local_and_retries_the_broken_shot_alone("update", {});
 }
 
 }  // namespace

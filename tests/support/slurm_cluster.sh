@@ -65,6 +65,10 @@ for _ in range(2):
 print(*ports)')
     host=$(hostname)
     cpus=$(nproc)
+    # batch_sched_delay=0: a finished task's CPU goes to the next task at
+    # the next scheduling pass (every second) rather than after Slurm's
+    # default 3 s batching delay, which made a 50-task array wait 2.5 s
+    # per pair of tasks (71 s for 50 bakes of 0.3 s; 26 s without it).
     cat > "$dir/slurm.conf" <<CONF
 ClusterName=rigeltest
 SlurmctldHost=$host
@@ -86,6 +90,7 @@ TaskPlugin=task/none
 MpiDefault=none
 ReturnToService=2
 SchedulerType=sched/backfill
+SchedulerParameters=batch_sched_delay=0
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 JobAcctGatherType=jobacct_gather/none
