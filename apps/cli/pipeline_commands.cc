@@ -171,7 +171,7 @@ int run_config(const std::string& op, const ConfigArgs& a) {
 }
 
 struct DataArgs {
-  std::string kind, scene, file, output, rig, rename;
+  std::string kind, scene, file, output, rig, rename, format;
   bool nearest = false, mirror = false, json = false;
 };
 
@@ -206,14 +206,16 @@ int run_data(bool exporting, const DataArgs& a) {
   if (a.kind != "weights" && a.kind != "shapes" && a.kind != "blendshapes" && !driven)
     return usage_error("KIND '" + a.kind + "': expected weights, shapes, blendshapes, driven_poses or correctives");
   const tools::DrivenData driven_kind = a.kind == "correctives" ? tools::DrivenData::kCorrectives : tools::DrivenData::kPoses;
-  if (a.kind != "weights" && (a.nearest || a.mirror || !a.rename.empty()))
-    return usage_error("--rename, --nearest and --mirror are for weights");
+  if (a.kind != "weights" && (a.nearest || a.mirror || !a.rename.empty() || !a.format.empty()))
+    return usage_error("--rename, --nearest, --mirror and --format are for weights");
+  auto format = tools::weights_format_named(a.format.empty() ? settings().string("data.weights") : a.format);
+  if (!format) return usage_error("--format: " + format.status().message());
   auto scene = load(a.scene);
   if (!scene) return fail(scene.status());
   app::Workspace ws(std::move(*scene), a.scene, {}, tools::components());
   const std::string file = data_path(a.kind, exporting ? a.output : a.file);
   if (exporting) {
-    auto path = a.kind == "weights"       ? ws.export_skin_weights(file)
+    auto path = a.kind == "weights"       ? ws.export_skin_weights(file, *format)
                 : a.kind == "shapes"      ? ws.export_control_shapes(a.rig, file)
                 : a.kind == "blendshapes" ? ws.export_blend_shapes(file)
                                           : ws.export_driven_poses(driven_kind, file);
@@ -454,6 +456,7 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
                "  rigel data import weights copy.rigel hero.weights.json --rename names.json -o copy.rigel\n"
                "  rigel data import weights hero.rigel hero.weights.json --mirror -o hero.rigel\n"
                "  rigel data export shapes hero.rigel -o hero   (in an asset: data/shapes/hero.shapes.json)\n"
+               "  rigel data export weights hero.rigel -o hero.weights.json --format binary\n"
                "  rigel data export driven_poses hero.rigel -o hero.drivenposes.json\n"
                "  rigel data import correctives hero.rigel hero.correctives.json -o hero.rigel\n"
                "  rigel data import blendshapes hero.rigel face -o hero.rigel   (in an asset: data/blendshapes/face.blendshapes.json)");
@@ -461,6 +464,9 @@ void add_pipeline_commands(CLI::App& app, PipelineCommands& commands) {
   s.data_export->add_option("KIND", s.data.kind, "weights, shapes, blendshapes, driven_poses or correctives")->required();
   s.data_export->add_option("SCENE", s.data.scene, "Scene file (.rigel)")->required();
   s.data_export->add_option("-o,--output", s.data.output, "The data file (a bare name in an asset: its data folder)")->required();
+  s.data_export->add_option("--format", s.data.format,
+                            "Weights: json (all in the file) or binary (the arrays in a side file beside it, with a checksum); "
+                            "default: the setting data.weights");
   s.data_import = data->add_subcommand("import", "Set a scene's data of one kind from a file and write the scene");
   s.data_import->add_option("KIND", s.data.kind, "weights, shapes, blendshapes, driven_poses or correctives")->required();
   s.data_import->add_option("SCENE", s.data.scene, "Scene file (.rigel)")->required();

@@ -195,8 +195,12 @@ void wrap_pipeline(py::module_& m) {
 void def_data(WorkspaceClass& cls) {
   cls.def(
          "export_skin_weights",
-         [](const WorkspaceRef& w, const std::string& file) { return unwrap(w.ws->export_skin_weights(file)).string(); },
-         py::arg("file"), "Writes every skinCluster's weights to FILE (.weights.json); returns its path.")
+         [](const WorkspaceRef& w, const std::string& file, const std::string& format) {
+           return unwrap(w.ws->export_skin_weights(file, unwrap(tools::weights_format_named(format)))).string();
+         },
+         py::arg("file"), py::arg("format") = "json",
+         "Writes every skinCluster's weights to FILE (.weights.json); format \"binary\" puts the arrays in a side file "
+         "beside it, with a checksum. Returns its path.")
       .def(
           "import_skin_weights",
           [](const WorkspaceRef& w, const std::string& file, const std::map<std::string, std::string>& rename, bool nearest,

@@ -157,7 +157,10 @@ std::string rig_of(const Json& body) {
 Json data_export(app::Workspace& ws, const Json& body) {
   const std::string kind = data_kind(body);
   const std::string file = as_string(need(body, "file"), "file");
-  const std::filesystem::path path = take(kind == "weights"       ? ws.export_skin_weights(file)
+  if (kind != "weights" && opt(body, "format")) refuse(400, "format: only weights take it", "format");
+  tools::WeightsFormat format = tools::WeightsFormat::kJson;
+  if (const Json* f = opt(body, "format")) format = take(tools::weights_format_named(as_string(*f, "format")));
+  const std::filesystem::path path = take(kind == "weights"       ? ws.export_skin_weights(file, format)
                                           : kind == "shapes"      ? ws.export_control_shapes(rig_of(body), file)
                                           : kind == "blendshapes" ? ws.export_blend_shapes(file)
                                                                   : ws.export_driven_poses(driven_of(kind), file));

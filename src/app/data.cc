@@ -36,12 +36,13 @@ Status write_text(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
-Result<fs::path> Workspace::export_skin_weights(const std::string& file) {
+Result<fs::path> Workspace::export_skin_weights(const std::string& file, tools::WeightsFormat format) {
   Result<fs::path> path = resolve_path(file, "file");
   if (!path) return path.status();
   auto skins = tools::capture_skin_weights(*scene_);
   if (!skins) return conflict(skins.status());
-  if (Status s = write_text(*path, tools::skin_weights_to_json(*skins)); !s) return s;
+  if (Status s = internal::make_parent(*path, "file"); !s) return s;
+  if (Status s = internal::saved(tools::write_skin_weights(*path, *skins, format), "file"); !s) return s;
   return path;
 }
 
@@ -50,7 +51,7 @@ Result<tools::WeightsReport> Workspace::import_skin_weights(const std::string& f
   if (!path) return path.status();
   Result<std::string> text = read_text(*path);
   if (!text) return text.status();
-  auto skins = tools::skin_weights_from_json(*text, path->string());
+  auto skins = tools::skin_weights_from_json(*text, path->string(), tools::side_files_beside(*path));
   if (!skins) return Status(skins.status()).with_field("file");
   auto report = tools::apply_skin_weights(*scene_, *skins, options);
   if (!report) return report.status().field().empty() ? conflict(report.status()) : report.status();

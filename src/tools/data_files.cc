@@ -25,7 +25,7 @@ using graph::NodeId;
 namespace {
 
 Result<DataFileReport> import_weights(scene::Scene& scene, NodeId, const fs::path& file, const std::string& text) {
-  auto skins = skin_weights_from_json(text, file.string());
+  auto skins = skin_weights_from_json(text, file.string(), side_files_beside(file));
   if (!skins) return skins.status();
   auto r = apply_skin_weights(scene, *skins);
   if (!r) return r.status().with_context(file.string());

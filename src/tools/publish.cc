@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <map>
@@ -17,6 +16,7 @@
 
 #include "rigel/base/log.h"
 #include "rigel/ephemeral/rig.h"
+#include "rigel/io/checksum.h"
 #include "rigel/io/diffable_json.h"
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
@@ -74,15 +74,13 @@ namespace {
 Result<std::string> file_checksum(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return Status(ErrorCode::kIoError, file.string() + ": cannot be read for its checksum");
-  std::uint64_t h = 0xcbf29ce484222325ull;
+  io::Checksum sum;
   char buf[65536];
   while (in) {
     in.read(buf, sizeof buf);
-    for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ static_cast<unsigned char>(buf[i])) * 0x100000001b3ull;
+    sum.update(std::string_view(buf, static_cast<std::size_t>(in.gcount())));
   }
-  char text[32];
-  std::snprintf(text, sizeof text, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
-  return std::string(text);
+  return sum.text();
 }
 
 Result<PublishReport> publish_asset(const Asset& asset, const rig::ComponentFactory& factory, const PublishOptions& options) {

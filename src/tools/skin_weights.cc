@@ -5,13 +5,18 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
+#include "rigel/io/checksum.h"
 #include "rigel/io/diffable_json.h"
+#include "rigel/io/scene_file.h"
 #include "rigel/io/json_depth.h"
 #include "rigel/ops/deform/nodes.h"
 #include "rigel/rig/templates.h"
@@ -147,33 +152,122 @@ Result<std::vector<SkinWeights>> capture_skin_weights(scene::Scene& scene) {
   return out;
 }
 
-std::string skin_weights_to_json(const std::vector<SkinWeights>& skins) {
+namespace {
+
+constexpr std::string_view kSideMagic = "RIGELWB1";  // 8 bytes, then each skin's block
+
+void put_u32(std::string& out, std::uint64_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+}
+void put_f64(std::string& out, double d) {
+  const auto bits = std::bit_cast<std::uint64_t>(d);
+  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((bits >> (8 * i)) & 0xff));
+}
+std::uint64_t get_le(std::string_view bytes, std::size_t at, int n) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < n; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(i)])) << (8 * i);
+  return v;
+}
+
+// The file; with `side` set, each skin's vertices go to *side as a block
+// (per vertex its influence count, then every entry's influence, then
+// every entry's weight: uint32, uint32, float64, little-endian) that the
+// JSON points at by byte offset.
+std::string weights_json(const std::vector<SkinWeights>& skins, std::string* side, const std::string& side_name) {
   Json list = Json::array();
+  if (side) *side = std::string(kSideMagic);
   for (const SkinWeights& s : skins) {
     Json influences = Json::array();
     for (const SkinInfluence& i : s.influences)
       influences.push_back(Json{{"joint", i.joint}, {"uuid", i.uuid}, {"bind", Json::array({i.bind.x(), i.bind.y(), i.bind.z()})}});
-    Json vertices = Json::array();
-    for (std::size_t v = 0; v + 1 < s.offsets.size(); ++v) {
-      Json row = Json::array();
-      for (std::int64_t k = s.offsets[v]; k < s.offsets[v + 1]; ++k) {
-        row.push_back(s.joints[static_cast<std::size_t>(k)]);
-        row.push_back(s.weights[static_cast<std::size_t>(k)]);
+    Json skin{{"skin", s.skin}, {"mesh", s.mesh}, {"vertexCount", s.vertex_count()}, {"influences", std::move(influences)}};
+    if (side) {
+      skin["block"] = Json{{"offset", side->size()}, {"entries", s.joints.size()}};
+      for (std::size_t v = 0; v + 1 < s.offsets.size(); ++v) put_u32(*side, static_cast<std::uint64_t>(s.offsets[v + 1] - s.offsets[v]));
+      for (std::int64_t j : s.joints) put_u32(*side, static_cast<std::uint64_t>(j));
+      for (double w : s.weights) put_f64(*side, w);
+    } else {
+      Json vertices = Json::array();
+      for (std::size_t v = 0; v + 1 < s.offsets.size(); ++v) {
+        Json row = Json::array();
+        for (std::int64_t k = s.offsets[v]; k < s.offsets[v + 1]; ++k) {
+          row.push_back(s.joints[static_cast<std::size_t>(k)]);
+          row.push_back(s.weights[static_cast<std::size_t>(k)]);
+        }
+        vertices.push_back(std::move(row));
       }
-      vertices.push_back(std::move(row));
+      skin["vertices"] = std::move(vertices);
     }
-    list.push_back(Json{{"skin", s.skin},
-                        {"mesh", s.mesh},
-                        {"vertexCount", s.vertex_count()},
-                        {"influences", std::move(influences)},
-                        {"vertices", std::move(vertices)}});
+    list.push_back(std::move(skin));
   }
+  Json top{{"rigelWeights", kWeightsFormat}};
+  if (side) top["binary"] = Json{{"file", side_name}, {"bytes", side->size()}, {"checksum", io::checksum_of(*side)}};
+  top["skins"] = std::move(list);
   io::DiffableJsonOptions o;
   o.inline_flat_objects_in_arrays = true;
-  return io::diffable_json(Json{{"rigelWeights", kWeightsFormat}, {"skins", std::move(list)}}, o);
+  return io::diffable_json(top, o);
 }
 
-Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, const std::string& source) {
+// Skin `w`'s vertices from its block of the side file (checked whole
+// against its checksum already).
+Status read_block(const std::string& source, const std::string& at, const Json& block, std::string_view bytes,
+                  std::size_t vertex_count, SkinWeights& w) {
+  if (!block.is_object() || !block.contains("offset") || !block["offset"].is_number_unsigned() || !block.contains("entries") ||
+      !block["entries"].is_number_unsigned())
+    return bad(source, at, "expected {\"offset\", \"entries\"} (whole numbers)");
+  const std::uint64_t offset = block["offset"].get<std::uint64_t>(), entries = block["entries"].get<std::uint64_t>();
+  const std::uint64_t size = 4 * static_cast<std::uint64_t>(vertex_count) + 12 * entries;
+  if (offset < kSideMagic.size() || offset > bytes.size() || vertex_count > bytes.size() || entries > bytes.size() ||
+      size > bytes.size() - offset)
+    return bad(source, at, "lies outside the side file (" + std::to_string(bytes.size()) + " bytes)");
+  std::size_t p = static_cast<std::size_t>(offset);
+  w.offsets.assign(1, 0);
+  for (std::size_t v = 0; v < vertex_count; ++v, p += 4)
+    w.offsets.push_back(w.offsets.back() + static_cast<std::int64_t>(get_le(bytes, p, 4)));
+  if (static_cast<std::uint64_t>(w.offsets.back()) != entries)
+    return bad(source, at, "the vertices' influence counts add up to " + std::to_string(w.offsets.back()) + ", not " + std::to_string(entries));
+  for (std::uint64_t k = 0; k < entries; ++k, p += 4) {
+    const std::uint64_t j = get_le(bytes, p, 4);
+    if (j >= w.influences.size())
+      return bad(source, at, "entry " + std::to_string(k) + ": influence " + std::to_string(j) + " is not one of the " +
+                                 std::to_string(w.influences.size()));
+    w.joints.push_back(static_cast<std::int64_t>(j));
+  }
+  for (std::uint64_t k = 0; k < entries; ++k, p += 8) {
+    const double d = std::bit_cast<double>(get_le(bytes, p, 8));
+    if (!std::isfinite(d) || d < 0) return bad(source, at, "entry " + std::to_string(k) + ": weight is not a finite number >= 0");
+    w.weights.push_back(d);
+  }
+  return Status::ok();
+}
+
+}  // namespace
+
+std::string skin_weights_to_json(const std::vector<SkinWeights>& skins) { return weights_json(skins, nullptr, ""); }
+
+WeightsFiles skin_weights_to_files(const std::vector<SkinWeights>& skins, WeightsFormat format, const std::string& stem) {
+  WeightsFiles out;
+  if (format == WeightsFormat::kJson) {
+    out.json = weights_json(skins, nullptr, "");
+    return out;
+  }
+  // The side file's name holds its checksum: a new export never overwrites
+  // the file an older weights file names, so replacing the pair is atomic
+  // (the JSON is written last).
+  std::string side;
+  weights_json(skins, &side, "");
+  out.side_name = stem + "." + io::checksum_of(side).substr(std::string_view("fnv1a64:").size(), 8) + ".bin";
+  out.json = weights_json(skins, &out.side, out.side_name);
+  return out;
+}
+
+Result<WeightsFormat> weights_format_named(std::string_view name) {
+  if (name == "json") return WeightsFormat::kJson;
+  if (name == "binary") return WeightsFormat::kBinary;
+  return Status(ErrorCode::kInvalidArgument, "weights format '" + std::string(name) + "': expected json or binary").with_field("format");
+}
+
+Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, const std::string& source, const SideFileReader& read_side) {
   Result<Json> parsed = io::parse_json(text, source, 16);
   if (!parsed) return parsed.status();
   Json j = std::move(*parsed);
@@ -183,6 +277,28 @@ Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, c
     return Status(ErrorCode::kFailedPrecondition, source + ": made by a newer rigel (weights format " +
                                                       std::to_string(j["rigelWeights"].get<std::int64_t>()) + ")");
   if (!j.contains("skins") || !j["skins"].is_array()) return bad(source, "skins", "expected an array");
+  // The side file, when the arrays are in one: named plainly beside the
+  // weights file (never a path elsewhere), of the size and checksum recorded.
+  std::string side;
+  const bool binary = j.contains("binary");
+  if (binary) {
+    const Json& b = j["binary"];
+    if (!b.is_object() || !b.contains("file") || !b["file"].is_string() || !b.contains("bytes") || !b["bytes"].is_number_unsigned() ||
+        !b.contains("checksum") || !b["checksum"].is_string())
+      return bad(source, "binary", "expected {\"file\", \"bytes\", \"checksum\"}");
+    const std::string name = b["file"].get<std::string>();
+    if (name.empty() || name == "." || name == ".." || name.find_first_of("/\\") != std::string::npos)
+      return bad(source, "binary.file", "'" + name + "' is not a plain file name (the side file lies beside the weights file)");
+    if (!read_side) return bad(source, "binary.file", "names a side file, and nothing reads one here (read the weights file from disk)");
+    Result<std::string> bytes = read_side(name);
+    if (!bytes) return Status(bytes.status()).with_context(source + ": binary.file");
+    side = std::move(*bytes);
+    if (side.size() != b["bytes"].get<std::uint64_t>())
+      return bad(source, "binary.bytes", name + " has " + std::to_string(side.size()) + " bytes, the file says " + b["bytes"].dump());
+    if (io::checksum_of(side) != b["checksum"].get<std::string>())
+      return bad(source, "binary.checksum", name + " is not the side file this file was written with (checksum " + io::checksum_of(side) + ")");
+    if (side.compare(0, kSideMagic.size(), kSideMagic) != 0) return bad(source, "binary.file", name + " is not a rigel weights side file");
+  }
   std::vector<SkinWeights> out;
   for (std::size_t si = 0; si < j["skins"].size(); ++si) {
     const Json& s = j["skins"][si];
@@ -207,6 +323,13 @@ Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, c
         x.bind[c] = n.get<double>();
       }
       w.influences.push_back(std::move(x));
+    }
+    if (binary) {
+      if (!s.contains("vertexCount") || !s["vertexCount"].is_number_unsigned()) return bad(source, at + ".vertexCount", "expected a whole number");
+      if (!s.contains("block")) return bad(source, at + ".block", "missing (the file's arrays are in its side file)");
+      if (Status st = read_block(source, at + ".block", s["block"], side, s["vertexCount"].get<std::size_t>(), w); !st) return st;
+      out.push_back(std::move(w));
+      continue;
     }
     if (!s.contains("vertices") || !s["vertices"].is_array()) return bad(source, at + ".vertices", "expected an array");
     if (s.contains("vertexCount") && (!s["vertexCount"].is_number_unsigned() || s["vertexCount"].get<std::size_t>() != s["vertices"].size()))
@@ -319,6 +442,64 @@ Result<WeightsReport> apply_skin_weights(scene::Scene& scene, const std::vector<
     }
   }
   return report;
+}
+
+}  // namespace rigel::tools
+
+namespace rigel::tools {
+
+namespace fs = std::filesystem;
+
+Status write_skin_weights(const fs::path& file, const std::vector<SkinWeights>& skins, WeightsFormat format) {
+  std::string stem = file.filename().string();
+  if (stem.ends_with(".json")) stem.resize(stem.size() - 5);
+  // The side file the weights file names now, removed once the new pair is
+  // written (when it is another).
+  std::string old_side;
+  {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    if (in) text << in.rdbuf();
+    Result<Json> old = io::parse_json(text.str(), file.string(), 16);
+    if (old && old->is_object() && old->contains("binary") && (*old)["binary"].is_object() && (*old)["binary"].contains("file") &&
+        (*old)["binary"]["file"].is_string()) {
+      const std::string name = (*old)["binary"]["file"].get<std::string>();
+      if (name.starts_with(stem + ".") && name.ends_with(".bin") && name.find_first_of("/\\") == std::string::npos) old_side = name;
+    }
+  }
+  const WeightsFiles files = skin_weights_to_files(skins, format, stem);
+  if (!files.side_name.empty())
+    if (Status s = io::write_file_atomic(file.parent_path() / files.side_name, files.side); !s) return s;
+  if (Status s = io::write_file_atomic(file, files.json); !s) return s;
+  if (!old_side.empty() && old_side != files.side_name) {
+    std::error_code ec;
+    fs::remove(file.parent_path() / old_side, ec);  // best effort: a stale side file harms nothing
+  }
+  return Status::ok();
+}
+
+namespace {
+
+Result<std::string> read_bytes(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return Status(ErrorCode::kNotFound, path.string() + ": no such " + what);
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) return Status(ErrorCode::kIoError, path.string() + ": cannot be read");
+  return text.str();
+}
+
+}  // namespace
+
+SideFileReader side_files_beside(const fs::path& file) {
+  return [dir = file.parent_path()](const std::string& name) { return read_bytes(dir / name, "side file"); };
+}
+
+Result<std::vector<SkinWeights>> read_skin_weights(const fs::path& file) {
+  Result<std::string> text = read_bytes(file, "weights file");
+  if (!text) return text.status();
+  return skin_weights_from_json(*text, file.string(), side_files_beside(file));
 }
 
 }  // namespace rigel::tools

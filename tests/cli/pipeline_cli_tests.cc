@@ -157,6 +157,57 @@ TEST_F(CliPipeline, weights_and_shapes_exported_into_the_asset_and_imported_back
   EXPECT_FALSE(fs::exists(at("x.rigel")));
 }
 
+// The project's data.weights = binary: exports put the arrays in a side
+// file beside the weights file (the same weights back, byte for byte on a
+// second export); --format json overrides the setting; --format on another
+// kind, or an unknown format, is a usage error.
+TEST_F(CliPipeline, weights_in_a_binary_side_file_by_the_project_setting) {
+  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
+  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
+  ASSERT_TRUE(exited_with(rigel({"asset", "new", "hero", "--skeleton", body}, at("show")), 0));
+  const fs::path asset = at("show/characters/hero");
+  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", (asset / "body.rigel").string()}), 0));
+  ASSERT_TRUE(exited_with(rigel({"data", "export", "weights", "body.rigel", "-o", "plain"}, asset), 0));
+  const std::string plain = io::testing::read_text(asset / "data/weights/plain.weights.json");
+  ASSERT_TRUE(exited_with(rigel({"config", "set", "data.weights", "binary"}, at("show")), 0));
+  CliRun r = rigel({"data", "export", "weights", "body.rigel", "-o", "body"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  const fs::path file = asset / "data/weights/body.weights.json";
+  const Json j = Json::parse(io::testing::read_text(file));
+  ASSERT_TRUE(j.contains("binary")) << "the setting made it binary";
+  const fs::path side = file.parent_path() / j["binary"]["file"].get<std::string>();
+  ASSERT_TRUE(fs::is_regular_file(side));
+  EXPECT_EQ(fs::file_size(side), j["binary"]["bytes"].get<std::uintmax_t>());
+  // Imported onto a fresh import and exported as JSON: the weights the plain export has.
+  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", at("fresh.rigel").string()}), 0));
+  r = rigel({"data", "import", "weights", at("fresh.rigel").string(), file.string(), "-o", at("fresh2.rigel").string(), "--json"});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(Json::parse(r.out)["vertices"], 10027);
+  r = rigel({"data", "import", "weights", (asset / "body.rigel").string(), file.string(), "-o", at("same.rigel").string()});
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  r = rigel({"data", "export", "weights", at("same.rigel").string(), "-o", at("again.weights.json").string(), "--format", "json"}, asset);
+  ASSERT_TRUE(exited_with(r, 0)) << r;
+  EXPECT_EQ(io::testing::read_text(at("again.weights.json")), plain) << "--format json over the setting; the same weights";
+  const std::string before = io::testing::read_text(file);
+  ASSERT_TRUE(exited_with(rigel({"data", "export", "weights", at("same.rigel").string(), "-o", file.string()}, asset), 0));
+  EXPECT_EQ(io::testing::read_text(file), before) << "export after import: the same bytes";
+  EXPECT_TRUE(fs::is_regular_file(side)) << "the same side file";
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"data", "export", "weights", "body.rigel", "-o", "x", "--format", "xml"},
+        std::vector<std::string>{"data", "export", "shapes", "body.rigel", "-o", "x", "--format", "binary"}}) {
+    const CliRun b = rigel(bad, asset);
+    EXPECT_TRUE(exited_with(b, 2)) << b;
+  }
+  // A side file that is not the one written: refused, naming the member.
+  std::string bytes = io::testing::read_text(side);
+  bytes[bytes.size() - 3] ^= 0x01;
+  io::testing::write_text(side, bytes);
+  r = rigel({"data", "import", "weights", at("fresh.rigel").string(), file.string(), "-o", at("x.rigel").string()});
+  EXPECT_TRUE(exited_with(r, 1)) << r;
+  EXPECT_NE(r.err.find("binary.checksum"), std::string::npos) << r;
+  EXPECT_FALSE(fs::exists(at("x.rigel")));
+}
+
 TEST_F(CliPipeline, blend_shapes_exported_into_the_asset_edited_and_imported_onto_a_fresh_import) {
   ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
   const std::string morph = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/SimpleMorph.gltf").string();

@@ -57,6 +57,15 @@ def test_weights_and_shapes_round_trip(tmp_path):
     assert mirrored.remapped  # the left joints onto the right
     w.undo()
     assert open(w.export_skin_weights(str(tmp_path / "back.weights.json"))).read() == text
+    # The arrays in a binary side file beside it (what data.weights = binary does).
+    binary = w.export_skin_weights(str(tmp_path / "bin" / "body.weights.json"), format="binary")
+    sides = [p.name for p in (tmp_path / "bin").iterdir() if p.suffix == ".bin"]
+    assert len(sides) == 1 and '"binary"' in open(binary).read()
+    assert w.import_skin_weights(binary).vertices == report.vertices
+    assert open(w.export_skin_weights(str(tmp_path / "back2.weights.json"))).read() == text
+    with pytest.raises(rigel.InvalidArgumentError) as info:
+        w.export_skin_weights(str(tmp_path / "x.weights.json"), format="xml")
+    assert info.value.field == "format"
 
     hero = rigel.Workspace(str(DATA / "gltf" / "rigify_human_metarig.glb"))
     hero.add_rig(str(BIPED))

@@ -118,6 +118,18 @@ TEST(ServerApi, DataExportedAndImportedInsideTheRoot) {
   r = s.post("/api/data/import", {{"kind", "weights"}, {"file", "data/w.weights.json"}, {"mirror", true}});
   EXPECT_GE(r["skins"].get<int>(), 1);
   EXPECT_FALSE(r["remapped"].empty()) << "the left joints onto the right";
+  // The arrays in a side file beside it, inside the root; read back.
+  r = s.post("/api/data/export", {{"kind", "weights"}, {"file", "data/b.weights.json"}, {"format", "binary"}});
+  const Json b = Json::parse(read_text(s.root / "data" / "b.weights.json"));
+  ASSERT_TRUE(b.contains("binary"));
+  EXPECT_TRUE(fs::is_regular_file(s.root / "data" / b["binary"]["file"].get<std::string>()));
+  EXPECT_GE(s.post("/api/data/import", {{"kind", "weights"}, {"file", "data/b.weights.json"}})["skins"].get<int>(), 1);
+  for (auto [body, field] : {std::pair{R"({"kind":"weights","file":"data/c.weights.json","format":"xml"})", "format"},
+                             std::pair{R"({"kind":"shapes","file":"data/c.shapes.json","format":"binary"})", "format"}}) {
+    Response resp = s.request("POST", "/api/data/export", body);
+    EXPECT_EQ(resp.status, 400) << body << ": " << resp.body;
+    EXPECT_EQ(Json::parse(resp.body)["field"], field) << body;
+  }
   for (auto [body, status, field] :
        {std::tuple{R"({"kind":"colours","file":"x.json"})", 400, "kind"},
         std::tuple{R"({"kind":"shapes","file":"../outside.json"})", 400, "file"},

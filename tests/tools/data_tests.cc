@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <map>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include "rigel/rig/templates.h"
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
+#include "../io/io_test_util.h"
 #include "tools_test_util.h"
 
 namespace rigel::tools {
@@ -158,6 +160,93 @@ TEST(SkinWeightsData, mirrored_weights_are_the_other_side_s) {
     ++checked;
   }
   EXPECT_GT(checked, 50u);
+}
+
+// The arrays in a binary side file (the format data.weights: binary): the
+// same weights back exactly, export after import the same pair of files,
+// a repaint's export replacing the side file (the old one gone), and a
+// side file changed, cut short, missing or named outside the folder refused
+// naming the weights file and the member.
+TEST(SkinWeightsData, binary_side_file_round_trips_and_is_checked) {
+  namespace fs = std::filesystem;
+  using io::testing::read_text;
+  using io::testing::write_text;
+  io::testing::TempDir dir;
+  auto s = body();
+  ASSERT_TRUE(s);
+  paint(*s, 100, 3);
+  const auto painted = *capture_skin_weights(*s);
+  const fs::path file = dir.path() / "body.weights.json";
+  ASSERT_TRUE(write_skin_weights(file, painted, WeightsFormat::kBinary).is_ok());
+  const std::string json = read_text(file);
+  const auto side_files = [&] {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir.path()))
+      if (e.path().extension() == ".bin") out.push_back(e.path().filename().string());
+    return out;
+  };
+  ASSERT_EQ(side_files().size(), 1u);
+  const std::string side = side_files()[0];
+  EXPECT_TRUE(side.starts_with("body.weights.") && side.size() == std::string("body.weights.12345678.bin").size()) << side;
+  EXPECT_NE(json.find("\"binary\""), std::string::npos);
+  EXPECT_EQ(json.find("\"vertices\""), std::string::npos) << "the arrays are in the side file";
+  EXPECT_LT(json.size() * 20, skin_weights_to_json(painted).size()) << "the JSON keeps the influences only";
+
+  auto back = read_skin_weights(file);
+  ASSERT_TRUE(back.is_ok()) << back.status().message();
+  ASSERT_EQ(back->size(), painted.size());
+  EXPECT_EQ((*back)[0].offsets, painted[0].offsets);
+  EXPECT_EQ((*back)[0].joints, painted[0].joints);
+  EXPECT_EQ((*back)[0].weights, painted[0].weights) << "float64 in the side file: exact";
+  EXPECT_EQ(skin_weights_to_json(*back), skin_weights_to_json(painted)) << "the same weights as the JSON format";
+
+  // Imported onto a fresh copy and exported again: the same pair, byte for byte.
+  auto fresh = body();
+  ASSERT_TRUE(apply_skin_weights(*fresh, *back).is_ok());
+  const std::string side_bytes = read_text(dir.path() / side);
+  ASSERT_TRUE(write_skin_weights(file, *capture_skin_weights(*fresh), WeightsFormat::kBinary).is_ok());
+  EXPECT_EQ(side_files(), std::vector<std::string>{side});
+  EXPECT_EQ(read_text(dir.path() / side), side_bytes);
+  // (the fresh copy's joints have other uuids: the JSON differs only there)
+  ASSERT_TRUE(write_skin_weights(file, painted, WeightsFormat::kBinary).is_ok());
+  EXPECT_EQ(read_text(file), json) << "byte for byte";
+
+  // A repaint: a new side file, the old one removed once the pair is written.
+  paint(*s, 200, 5);
+  ASSERT_TRUE(write_skin_weights(file, *capture_skin_weights(*s), WeightsFormat::kBinary).is_ok());
+  ASSERT_EQ(side_files().size(), 1u);
+  EXPECT_NE(side_files()[0], side);
+  EXPECT_NEAR(weight_of((*read_skin_weights(file))[0], 200, painted[0].influences[5].joint), 1.0, 1e-12);
+  // Back to JSON: the side file goes too.
+  ASSERT_TRUE(write_skin_weights(file, painted, WeightsFormat::kJson).is_ok());
+  EXPECT_TRUE(side_files().empty());
+  EXPECT_EQ(read_text(file), skin_weights_to_json(painted));
+
+  // Refused: a changed byte, a short file, a missing one, a path elsewhere,
+  // and a side file with nothing to read it.
+  ASSERT_TRUE(write_skin_weights(file, painted, WeightsFormat::kBinary).is_ok());
+  const fs::path bin = dir.path() / side_files()[0];
+  std::string bytes = read_text(bin);
+  const auto refused = [&](const std::string& member) {
+    auto r = read_skin_weights(file);
+    EXPECT_FALSE(r.is_ok()) << member;
+    if (r.is_ok()) return;
+    EXPECT_NE(r.status().message().find(file.string()), std::string::npos) << r.status().message();
+    EXPECT_NE(r.status().message().find(member), std::string::npos) << r.status().message();
+  };
+  bytes[bytes.size() / 2] ^= 0x10;
+  write_text(bin, bytes);
+  refused("binary.checksum");
+  write_text(bin, bytes.substr(0, bytes.size() - 8));
+  refused("binary.bytes");
+  fs::remove(bin);
+  refused("binary.file");
+  std::string outside = json;
+  outside.replace(outside.find(side), side.size(), "../" + side);
+  write_text(file, outside);
+  refused("not a plain file name");
+  EXPECT_NE(skin_weights_from_json(json, "w.json").status().message().find("nothing reads one"), std::string::npos);
+  EXPECT_EQ(weights_format_named("xml").status().field(), "format");
 }
 
 TEST(SkinWeightsData, bad_files_and_mismatches_are_refused) {

@@ -516,8 +516,9 @@ class Workspace {
   // ---- data managers (tools/skin_weights.h, tools/shape_data.h; src/app/data.cc)
   // Files resolved as resolve_path does (errors name "file"); written
   // atomically, their folder made. Imports are one undo step each.
-  // Every skinCluster's weights to a .weights.json file.
-  Result<fs::path> export_skin_weights(const std::string& file);
+  // Every skinCluster's weights to a .weights.json file (kBinary: its
+  // arrays in a side file beside it, skin_weights.h).
+  Result<fs::path> export_skin_weights(const std::string& file, tools::WeightsFormat format = tools::WeightsFormat::kJson);
   Result<tools::WeightsReport> import_skin_weights(const std::string& file, const tools::WeightsImport& options = {});
   // A built rig's control shapes and colours (`rig` empty: the scene's only
   // rig; errors name "rig") to a .shapes.json file, and back by rigId,

@@ -30,10 +30,25 @@
 // entry for unweighted vertices, the mesh node itself, is listed with its
 // name too). Numbers are written shortest round-trip, so export after
 // import gives the same file byte for byte.
+//
+// Large arrays may go to a binary side file instead (the format "binary",
+// the setting data.weights): each skin has "block": {"offset", "entries"}
+// in place of "vertices", and the file names its side file with its size
+// and checksum:
+//
+//   "binary": {"file": "body.weights.3f2a9c1e.bin", "bytes": 602290, "checksum": "fnv1a64:..."}
+//
+// The side file lies beside the weights file; its name holds the start of
+// its checksum, so a new export never overwrites the side file an older
+// weights file names (the pair is replaced atomically: the side file
+// first, the JSON last, the old side file removed after). It is "RIGELWB1",
+// then per skin: each vertex's influence count (uint32), every entry's
+// influence (uint32), every entry's weight (float64), little-endian.
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <string_view>
@@ -65,10 +80,38 @@ struct SkinWeights {
 // kInvalidArgument when it has none.
 Result<std::vector<SkinWeights>> capture_skin_weights(scene::Scene& scene);
 
+enum class WeightsFormat { kJson, kBinary };
+// "json" or "binary" (the setting data.weights); kInvalidArgument else.
+Result<WeightsFormat> weights_format_named(std::string_view name);
+
+// The file, all in JSON.
 std::string skin_weights_to_json(const std::vector<SkinWeights>& skins);
+
+struct WeightsFiles {
+  std::string json;
+  std::string side_name, side;  // the binary side file (kBinary only)
+};
+// The file in `format`; the side file is named `stem`.CHECKSUM8.bin
+// (stem: the weights file's name without ".json").
+WeightsFiles skin_weights_to_files(const std::vector<SkinWeights>& skins, WeightsFormat format, const std::string& stem);
+
+// The bytes of the side file a weights file names (a plain file name).
+using SideFileReader = std::function<Result<std::string>(const std::string& name)>;
 // kParseError naming `source` and the place (line:column, or the member:
-// "skins[0].vertices[12]") for text that is not a weights file.
-Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, const std::string& source);
+// "skins[0].vertices[12]", "binary.checksum") for text that is not a
+// weights file or a side file that is not the one it was written with.
+// A file with a side file needs `read_side`.
+Result<std::vector<SkinWeights>> skin_weights_from_json(std::string_view text, const std::string& source,
+                                                        const SideFileReader& read_side = {});
+
+// Reads side files from `file`'s folder.
+SideFileReader side_files_beside(const std::filesystem::path& file);
+
+// Writes `file` (and its side file, for kBinary) atomically; a side file
+// the old `file` named is removed once the new pair is written.
+Status write_skin_weights(const std::filesystem::path& file, const std::vector<SkinWeights>& skins, WeightsFormat format);
+// Reads `file` and the side file it names, from its folder only.
+Result<std::vector<SkinWeights>> read_skin_weights(const std::filesystem::path& file);
 
 struct WeightsImport {
   // File joint name -> scene joint name, for joints the scene names otherwise.
