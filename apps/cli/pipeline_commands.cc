@@ -20,7 +20,7 @@
 #include "rigel/base/log.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/batch.h"
-#include "rigel/tools/batch_slurm.h"
+#include "rigel/tools/batch_run.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/tools/data_files.h"
 #include "rigel/tools/project.h"
@@ -275,60 +275,18 @@ std::string self_exe() {
 }
 
 int run_batch(const BatchArgs& a) {
+  tools::BatchRequest request;
+  request.operation = a.operation;
+  request.shots = a.shots;
+  request.output = a.output;
+  request.frames = a.frames;
+  request.report = a.report;
+  request.retry_failed = a.retry;
+  request.parallel = static_cast<std::size_t>(a.jobs >= 0 ? a.jobs : settings().integer("batch.jobs"));
+  request.slurm = a.slurm;
+  request.partition = a.slurm && a.partition.empty() ? settings().string("batch.partition") : a.partition;
+  request.program = self_exe();
   const std::string op = a.operation;
-  if (op != "update" && op != "bake" && op != "export" && op != "validate")
-    return usage_error("OPERATION '" + op + "': expected update, bake, export or validate");
-  if (op != "validate" && a.output.empty()) return usage_error("batch " + op + " writes a file per shot: give -o OUTDIR");
-  if (op == "bake" && a.frames.empty()) return usage_error("batch bake: give --frames FIRST:LAST");
-  if (!a.frames.empty() && !parse_frames(a.frames)) return usage_error("--frames '" + a.frames + "': " + kFramesExpected);
-  std::vector<std::string> shots = a.shots;
-  std::optional<tools::BatchReport> earlier;
-  if (!a.retry.empty()) {
-    std::ifstream in(a.retry, std::ios::binary);
-    if (!in) return fail(Status(ErrorCode::kNotFound, "--retry-failed: " + a.retry + ": cannot be read"));
-    std::stringstream text;
-    text << in.rdbuf();
-    auto r = tools::batch_report_from_json(text.str(), a.retry);
-    if (!r) return fail(r.status());
-    if (r->operation != op) return usage_error("--retry-failed: " + a.retry + " is a report of batch " + r->operation + ", not " + op);
-    if (!shots.empty()) return usage_error("--retry-failed reruns the report's failed shots: give no SHOTS");
-    shots = tools::failed_shots(*r);
-    earlier = std::move(*r);
-  }
-  if (shots.empty() && !earlier) return usage_error("give the shots (SHOTS...) or --retry-failed REPORT");
-  const fs::path out_dir = a.output;
-  const fs::path report_path = !a.report.empty() ? fs::path(a.report)
-                               : !a.retry.empty() ? fs::path(a.retry)
-                               : out_dir.empty()  ? fs::path("batch-report.json")
-                                                  : out_dir / "batch-report.json";
-  std::error_code ec;
-  if (!out_dir.empty()) {
-    fs::create_directories(out_dir, ec);
-    if (ec || !fs::is_directory(out_dir)) return fail(Status(ErrorCode::kInvalidArgument, "-o: " + out_dir.string() + ": not a folder"));
-  }
-  const fs::path logs = out_dir.empty() ? report_path.parent_path() / "batch-logs" : out_dir / "logs";
-  const std::string exe = self_exe();
-  std::vector<tools::BatchJob> jobs;
-  std::map<std::string, std::string> taken;  // output name -> shot, so two shots never write one file
-  for (const std::string& shot : shots) {
-    const std::string stem = fs::path(shot).stem().string();
-    if (auto [it, fresh] = taken.emplace(stem, shot); !fresh)
-      return usage_error("shots " + it->second + " and " + shot + " would write the same " + stem + " output");
-    tools::BatchJob j;
-    j.shot = shot;
-    j.log = logs / (stem + ".log");
-    if (op == "update") j.output = out_dir / (stem + ".rigel"), j.argv = {exe, "update", shot, "-o", j.output.string()};
-    if (op == "bake") j.output = out_dir / (stem + ".rigel"), j.argv = {exe, "bake", shot, "--frames", a.frames, "-o", j.output.string()};
-    if (op == "export") {
-      j.output = out_dir / (stem + ".glb");
-      j.argv = {exe, "export", shot, "-o", j.output.string()};
-      if (!a.frames.empty()) j.argv.insert(j.argv.end(), {"--frames", a.frames});
-    }
-    if (op == "validate") j.argv = {exe, "rigs", shot, "--check"};
-    j.argv.insert(j.argv.end(), {"--log-level", "info"});
-    jobs.push_back(std::move(j));
-  }
-  const std::size_t parallel = static_cast<std::size_t>(a.jobs >= 0 ? a.jobs : settings().integer("batch.jobs"));
   const bool tty = isatty(2);
   std::size_t last_done = static_cast<std::size_t>(-1);
   auto show = [&](const tools::BatchProgress& p) {
@@ -336,28 +294,25 @@ int run_batch(const BatchArgs& a) {
     else if (p.done != last_done && (p.running == 0 || p.done == p.total)) log::info("batch " + op + ": " + tools::progress_line(p));
     last_done = p.done;
   };
-  tools::BatchReport report;
-  if (a.slurm) {
-    tools::SlurmOptions so;
-    so.partition = !a.partition.empty() ? a.partition : settings().string("batch.partition");
-    so.work = (out_dir.empty() ? report_path.parent_path() : out_dir) / "slurm";
-    auto r = tools::run_batch_slurm(op, jobs, so, show);
-    if (!r) return fail(r.status());
-    report = std::move(*r);
-  } else {
-    if (!a.partition.empty()) return usage_error("--partition goes with --slurm");
-    report = tools::run_batch_local(op, jobs, parallel, show);
-  }
+  auto outcome = tools::run_batch(request, show);
   if (tty) std::cerr << "\n";
-  const tools::BatchReport final_report = earlier ? tools::merge_reports(*earlier, report) : report;
-  if (report_path.has_parent_path()) fs::create_directories(report_path.parent_path(), ec);
-  if (Status s = io::write_file_atomic(report_path, tools::batch_report_to_json(final_report)); !s) return fail(s);
-  if (a.json) std::cout << tools::batch_report_to_json(final_report);
+  if (!outcome) {
+    // A request that cannot run is a usage error, with the option's name.
+    static const std::map<std::string, std::string> option = {{"operation", "OPERATION"}, {"output", "-o"},
+                                                              {"frames", "--frames"},     {"shots", "SHOTS"},
+                                                              {"retry_failed", "--retry-failed"}, {"partition", "--partition"}};
+    const Status& s = outcome.status();
+    auto it = option.find(s.field());
+    if (s.code() == ErrorCode::kInvalidArgument && it != option.end()) return usage_error(it->second + ": " + s.message());
+    return fail(s);
+  }
+  const tools::BatchReport& report = outcome->run;
+  if (a.json) std::cout << tools::batch_report_to_json(outcome->report);
   for (const tools::BatchResult& r : report.shots)
     if (r.status != "ok") std::cerr << "rigel: " << r.shot << ": " << r.status << "; its log: " << r.log.string() << "\n";
   std::cerr << "rigel: batch " << op << ": " << report.shots.size() - report.failed() << " of " << report.shots.size()
-            << " shots ok in " << number_text(report.seconds) << " s; report " << report_path.string() << "\n";
-  return final_report.failed() == 0 ? 0 : kExitInvalidInput;
+            << " shots ok in " << number_text(report.seconds) << " s; report " << outcome->report_path.string() << "\n";
+  return outcome->report.failed() == 0 ? 0 : kExitInvalidInput;
 }
 
 struct PublishArgs {

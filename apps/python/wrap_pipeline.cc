@@ -3,8 +3,10 @@
 // Workspace's data managers (export and import of skin weights, control
 // shapes, driven poses and correctives) and set-driven keys; import_data
 // and asset_data_files (tools/data_files.h), what PyBuild.post() imports by
-// default. Python values in, library calls, records out.
+// default; batch runs over shots (tools/batch_run.h). Python values in,
+// library calls, records out.
 
+#include <cstdlib>
 #include <map>
 #include <optional>
 #include <string>
@@ -12,6 +14,7 @@
 #include "rigel/base/log.h"
 #include "rigel/ops/anim/channel_keys.h"
 #include "rigel/rig/meta.h"
+#include "rigel/tools/batch_run.h"
 #include "rigel/tools/config.h"
 #include "rigel/tools/data_files.h"
 #include "rigel/tools/project.h"
@@ -25,6 +28,58 @@ namespace {
 
 tools::DrivenData driven_kind(bool correctives) {
   return correctives ? tools::DrivenData::kCorrectives : tools::DrivenData::kPoses;
+}
+
+// The settings of the project the current folder is in over the user's.
+tools::Config current_settings() {
+  std::filesystem::path file;
+  if (auto p = tools::find_project(std::filesystem::current_path())) file = p->dir / tools::kProjectConfigFile;
+  auto config = tools::Config::load(tools::user_config_path(), file);
+  return config ? std::move(*config) : tools::Config();
+}
+
+// The `rigel` command line a batch job runs: `program`, else $RIGEL_CLI,
+// else `rigel` on the PATH.
+std::string rigel_program(const std::string& program) {
+  if (!program.empty()) return program;
+  if (const char* env = std::getenv("RIGEL_CLI"); env && *env) return env;
+  if (const char* path = std::getenv("PATH")) {
+    std::string dirs = path;
+    for (std::size_t at = 0; at <= dirs.size();) {
+      const std::size_t end = std::min(dirs.find(':', at), dirs.size());
+      const std::filesystem::path candidate = std::filesystem::path(dirs.substr(at, end - at)) / "rigel";
+      std::error_code ec;
+      if (end > at && std::filesystem::is_regular_file(candidate, ec)) return candidate.string();
+      at = end + 1;
+    }
+  }
+  raise(Status(ErrorCode::kFailedPrecondition,
+               "batch jobs run the rigel command line: put it on the PATH, set RIGEL_CLI, or pass program=")
+            .with_field("program"));
+  return {};
+}
+
+py::object batch_record(const tools::BatchOutcome& o) {
+  py::list shots;
+  for (const tools::BatchResult& r : o.report.shots) {
+    py::dict d;
+    d["shot"] = r.shot;
+    d["status"] = r.status;
+    d["exit"] = r.exit;
+    d["seconds"] = r.seconds;
+    d["log"] = r.log.string();
+    d["output"] = r.output.string();
+    shots.append(record(d));
+  }
+  py::dict d;
+  d["operation"] = o.report.operation;
+  d["jobs"] = o.report.jobs;
+  d["seconds"] = o.report.seconds;
+  d["failed"] = o.report.failed();
+  d["ran"] = o.run.shots.size();
+  d["report"] = o.report_path.string();
+  d["shots"] = shots;
+  return record(d);
 }
 
 py::object project_record(const tools::Project& p) {
@@ -149,6 +204,59 @@ void wrap_pipeline(py::module_& m) {
           "data imported, checked, written as rig/vNNN; returns record(version, dir, scene, manifest, rigs, "
           "warnings, weights_vertices, shapes_set, driven_curves, rest_error).")
       .def(
+          "batch",
+          [](const std::string& operation, const std::vector<std::string>& shots, const std::string& output,
+             const std::string& frames, std::optional<std::size_t> jobs, bool slurm, std::optional<std::string> partition,
+             const std::string& report, const std::string& retry_failed, const std::string& program, py::object progress) {
+            const tools::Config settings = current_settings();
+            tools::BatchRequest r;
+            r.operation = operation;
+            r.shots = shots;
+            r.output = output;
+            r.frames = frames;
+            r.report = report;
+            r.retry_failed = retry_failed;
+            r.parallel = jobs ? *jobs : static_cast<std::size_t>(settings.integer("batch.jobs"));
+            r.slurm = slurm;
+            r.partition = partition ? *partition : slurm ? settings.string("batch.partition") : std::string();
+            r.program = rigel_program(program);
+            std::function<void(const tools::BatchProgress&)> tell;
+            std::optional<py::error_already_set> raised;  // the callback's first exception, raised once the jobs are done
+            if (!progress.is_none())
+              tell = [&progress, &raised](const tools::BatchProgress& p) {
+                py::gil_scoped_acquire gil;
+                if (raised) return;
+                py::dict d;
+                d["done"] = p.done;
+                d["failed"] = p.failed;
+                d["running"] = p.running;
+                d["total"] = p.total;
+                d["elapsed"] = p.elapsed;
+                d["left"] = p.left;
+                d["line"] = tools::progress_line(p);
+                try {
+                  progress(record(d));
+                } catch (py::error_already_set& e) {
+                  raised = std::move(e);
+                }
+              };
+            Result<tools::BatchOutcome> outcome = [&] {
+              py::gil_scoped_release released;  // the jobs run while Python goes on (progress takes it back)
+              return tools::run_batch(r, tell);
+            }();
+            if (raised) throw std::move(*raised);
+            return batch_record(unwrap(std::move(outcome)));
+          },
+          py::arg("operation"), py::arg("shots") = std::vector<std::string>{}, py::arg("output") = "", py::arg("frames") = "",
+          py::arg("jobs") = py::none(), py::arg("slurm") = false, py::arg("partition") = py::none(), py::arg("report") = "",
+          py::arg("retry_failed") = "", py::arg("program") = "", py::arg("progress") = py::none(),
+          "Runs OPERATION (update, bake, export, validate) over SHOTS, one `rigel` process per shot (`rigel batch`): "
+          "locally JOBS at a time (default: the setting batch.jobs), or as one Slurm job array with slurm=True; each "
+          "output in OUTPUT, each log in OUTPUT/logs. retry_failed=REPORT reruns only the shots REPORT lists as failed "
+          "and updates it. progress(record(done, failed, running, total, elapsed, left, line)) is called as shots start "
+          "and end. Failed shots are in the report, not an exception; returns record(operation, jobs, seconds, failed, "
+          "ran, report, shots: [record(shot, status, exit, seconds, log, output)]).")
+      .def(
           "import_data",
           [](const SceneRef& scene, const std::string& kind, const std::string& file, const std::string& rig) {
             graph::NodeId root;
@@ -163,13 +271,16 @@ void wrap_pipeline(py::module_& m) {
             d["file"] = file;
             d["weights_vertices"] = r.weights_vertices;
             d["shapes_set"] = r.shapes_set;
+            d["blend_shape_targets"] = r.blend_shape_targets;
+            d["driven_curves"] = r.driven_curves;
             d["missing"] = r.missing;
             return record(d);
           },
           py::arg("scene"), py::arg("kind"), py::arg("file"), py::arg("rig") = "",
-          "Imports a data file of KIND (weights, shapes; blendshapes, driven_poses and correctives are not read yet) "
-          "into SCENE: the same dispatcher as a definition's <data> and a publish. Shapes go onto RIG (default: the "
-          "rig the file names). One undo step; returns record(kind, file, weights_vertices, shapes_set, missing).")
+          "Imports a data file of KIND (weights, shapes, blendshapes, driven_poses, correctives) into SCENE: the same "
+          "dispatcher as a definition's <data> and a publish. Shapes go onto RIG (default: the rig the file names). "
+          "One undo step; returns record(kind, file, weights_vertices, shapes_set, blend_shape_targets, "
+          "driven_curves, missing).")
       .def(
           "asset_data_files",
           [](const std::string& path) {
