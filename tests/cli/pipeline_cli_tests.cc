@@ -20,6 +20,16 @@ class CliPipeline : public ::testing::Test {
   void SetUp() override { setenv("RIGEL_CONFIG_HOME", (dir_.path() / "user").c_str(), 1); }
   void TearDown() override { setenv("RIGEL_CONFIG_HOME", "/nonexistent/rigel-tests-config", 1); }
   fs::path at(const std::string& name) { return dir_.path() / name; }
+  // A project "show" with the character "hero" on the bundled body, which
+  // is imported into the asset as body.rigel; returns the asset's folder.
+  fs::path hero_on_the_body() {
+    EXPECT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
+    EXPECT_TRUE(exited_with(rigel({"asset", "new", "hero", "--skeleton", body()}, at("show")), 0));
+    const fs::path asset = at("show/characters/hero");
+    EXPECT_TRUE(exited_with(rigel({"import", body(), "-o", (asset / "body.rigel").string()}), 0));
+    return asset;
+  }
+  static std::string body() { return (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string(); }
   TempDir dir_;
 };
 
@@ -112,11 +122,9 @@ TEST_F(CliPipeline, settings_layered_and_used_by_builds_and_the_log) {
 }
 
 TEST_F(CliPipeline, weights_and_shapes_exported_into_the_asset_and_imported_back) {
-  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
-  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
-  ASSERT_TRUE(exited_with(rigel({"asset", "new", "hero", "--skeleton", body}, at("show")), 0));
-  const fs::path asset = at("show/characters/hero");
-  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", (asset / "body.rigel").string()}), 0));
+  const fs::path asset = hero_on_the_body();
+  ASSERT_FALSE(HasFailure());
+  const std::string body = CliPipeline::body();
   // A bare name goes to the asset's data folder.
   CliRun r = rigel({"data", "export", "weights", "body.rigel", "-o", "body", "--json"}, asset);
   ASSERT_TRUE(exited_with(r, 0)) << r;
@@ -162,11 +170,9 @@ TEST_F(CliPipeline, weights_and_shapes_exported_into_the_asset_and_imported_back
 // second export); --format json overrides the setting; --format on another
 // kind, or an unknown format, is a usage error.
 TEST_F(CliPipeline, weights_in_a_binary_side_file_by_the_project_setting) {
-  ASSERT_TRUE(exited_with(rigel({"project", "new", at("show").string()}), 0));
-  const std::string body = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_body.glb").string();
-  ASSERT_TRUE(exited_with(rigel({"asset", "new", "hero", "--skeleton", body}, at("show")), 0));
-  const fs::path asset = at("show/characters/hero");
-  ASSERT_TRUE(exited_with(rigel({"import", body, "-o", (asset / "body.rigel").string()}), 0));
+  const fs::path asset = hero_on_the_body();
+  ASSERT_FALSE(HasFailure());
+  const std::string body = CliPipeline::body();
   ASSERT_TRUE(exited_with(rigel({"data", "export", "weights", "body.rigel", "-o", "plain"}, asset), 0));
   const std::string plain = io::testing::read_text(asset / "data/weights/plain.weights.json");
   ASSERT_TRUE(exited_with(rigel({"config", "set", "data.weights", "binary"}, at("show")), 0));
