@@ -95,14 +95,33 @@ BatchReport run_batch_local(std::string operation, const std::vector<BatchJob>& 
       tell();
     }
     if (running.empty()) continue;
-    int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
-    if (pid < 0) {
+    // Wait for a child to end without reaping it, then reap it only when it
+    // is one of ours: a program that runs batches (a TD's Python script)
+    // may have children of its own, whose exit status is theirs to collect.
+    siginfo_t info{};
+    if (waitid(P_ALL, 0, &info, WEXITED | WNOWAIT) != 0) {
       if (errno == EINTR) continue;
       break;  // no children left (should not happen)
     }
+    int status = 0;
+    pid_t pid = info.si_pid;
+    if (running.count(pid)) {
+      if (waitpid(pid, &status, 0) != pid) continue;
+    } else {
+      // Another child ended and stays unreaped (waitid would see it again):
+      // poll ours until one ends.
+      pid = 0;
+      for (const auto& entry : running)
+        if (waitpid(entry.first, &status, WNOHANG) == entry.first) {
+          pid = entry.first;
+          break;
+        }
+      if (pid == 0) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        continue;
+      }
+    }
     auto it = running.find(pid);
-    if (it == running.end()) continue;
     BatchResult& r = report.shots[it->second.first];
     r.seconds = since(it->second.second);
     busy += r.seconds;
