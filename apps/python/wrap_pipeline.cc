@@ -306,12 +306,13 @@ void wrap_pipeline(py::module_& m) {
 void def_data(WorkspaceClass& cls) {
   cls.def(
          "export_skin_weights",
-         [](const WorkspaceRef& w, const std::string& file, const std::string& format) {
-           return unwrap(w.ws->export_skin_weights(file, unwrap(tools::weights_format_named(format)))).string();
+         [](const WorkspaceRef& w, const std::string& file, const std::optional<std::string>& format) {
+           const std::string f = format ? *format : current_settings().string("data.weights");
+           return unwrap(w.ws->export_skin_weights(file, unwrap(tools::weights_format_named(f)))).string();
          },
-         py::arg("file"), py::arg("format") = "json",
-         "Writes every skinCluster's weights to FILE (.weights.json); format \"binary\" puts the arrays in a side file "
-         "beside it, with a checksum. Returns its path.")
+         py::arg("file"), py::arg("format") = py::none(),
+         "Writes every skinCluster's weights to FILE (.weights.json): format \"json\", or \"binary\" (the arrays in a "
+         "side file beside it, with a checksum); None: the setting data.weights. Returns its path.")
       .def(
           "import_skin_weights",
           [](const WorkspaceRef& w, const std::string& file, const std::map<std::string, std::string>& rename, bool nearest,

@@ -50,7 +50,7 @@ def test_project_assets_and_settings(tmp_path, user_settings, monkeypatch):
         rigel.set_log_level("loud")
 
 
-def test_weights_and_shapes_round_trip(tmp_path):
+def test_weights_and_shapes_round_trip(tmp_path, user_settings):
     w = rigel.Workspace(str(DATA / "gltf" / "rigify_human_body.glb"))
     path = w.export_skin_weights(str(tmp_path / "body.weights.json"))
     text = open(path).read()
@@ -68,6 +68,11 @@ def test_weights_and_shapes_round_trip(tmp_path):
     assert len(sides) == 1 and '"binary"' in open(binary).read()
     assert w.import_skin_weights(binary).vertices == report.vertices
     assert open(w.export_skin_weights(str(tmp_path / "back2.weights.json"))).read() == text
+    # No format: the setting data.weights (the user's here).
+    rigel.set_setting("data.weights", "binary")
+    by_setting = w.export_skin_weights(str(tmp_path / "set" / "body.weights.json"))
+    assert '"binary"' in open(by_setting).read()
+    rigel.set_setting("data.weights", None)
     with pytest.raises(rigel.InvalidArgumentError) as info:
         w.export_skin_weights(str(tmp_path / "x.weights.json"), format="xml")
     assert info.value.field == "format"
