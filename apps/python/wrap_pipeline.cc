@@ -113,6 +113,63 @@ tools::Project project_at(const std::string& dir) {
 
 }  // namespace
 
+// rigel.batch (tools/batch_run.h): `rigel batch` from a script.
+static void def_batch(py::module_& m) {
+  m.def(
+      "batch",
+          [](const std::string& operation, const std::vector<std::string>& shots, const std::string& output,
+             const std::string& frames, std::optional<std::size_t> jobs, bool slurm, std::optional<std::string> partition,
+             const std::string& report, const std::string& retry_failed, const std::string& program, py::object progress) {
+            const tools::Config settings = current_settings();
+            tools::BatchRequest r;
+            r.operation = operation;
+            r.shots = shots;
+            r.output = output;
+            r.frames = frames;
+            r.report = report;
+            r.retry_failed = retry_failed;
+            r.parallel = jobs ? *jobs : static_cast<std::size_t>(settings.integer("batch.jobs"));
+            r.slurm = slurm;
+            r.partition = partition ? *partition : slurm ? settings.string("batch.partition") : std::string();
+            r.program = rigel_program(program);
+            std::function<void(const tools::BatchProgress&)> tell;
+            std::optional<py::error_already_set> raised;  // the callback's first exception, raised once the jobs are done
+            if (!progress.is_none())
+              tell = [&progress, &raised](const tools::BatchProgress& p) {
+                py::gil_scoped_acquire gil;
+                if (raised) return;
+                py::dict d;
+                d["done"] = p.done;
+                d["failed"] = p.failed;
+                d["running"] = p.running;
+                d["total"] = p.total;
+                d["elapsed"] = p.elapsed;
+                d["left"] = p.left;
+                d["line"] = tools::progress_line(p);
+                try {
+                  progress(record(d));
+                } catch (py::error_already_set& e) {
+                  raised = std::move(e);
+                }
+              };
+            Result<tools::BatchOutcome> outcome = [&] {
+              py::gil_scoped_release released;  // the jobs run while Python goes on (progress takes it back)
+              return tools::run_batch(r, tell);
+            }();
+            if (raised) throw std::move(*raised);
+            return batch_record(unwrap(std::move(outcome)));
+          },
+          py::arg("operation"), py::arg("shots") = std::vector<std::string>{}, py::arg("output") = "", py::arg("frames") = "",
+          py::arg("jobs") = py::none(), py::arg("slurm") = false, py::arg("partition") = py::none(), py::arg("report") = "",
+          py::arg("retry_failed") = "", py::arg("program") = "", py::arg("progress") = py::none(),
+          "Runs OPERATION (update, bake, export, validate) over SHOTS, one `rigel` process per shot (`rigel batch`): "
+          "locally JOBS at a time (default: the setting batch.jobs), or as one Slurm job array with slurm=True; each "
+          "output in OUTPUT, each log in OUTPUT/logs. retry_failed=REPORT reruns only the shots REPORT lists as failed "
+          "and updates it. progress(record(done, failed, running, total, elapsed, left, line)) is called as shots start "
+          "and end. Failed shots are in the report, not an exception; returns record(operation, jobs, seconds, failed, "
+          "ran, report, shots: [record(shot, status, exit, seconds, log, output)]).");
+}
+
 void wrap_pipeline(py::module_& m) {
   m.def(
        "create_project", [](const std::string& dir, const std::string& name) { return project_record(unwrap(tools::create_project(dir, name))); },
@@ -204,59 +261,6 @@ void wrap_pipeline(py::module_& m) {
           "data imported, checked, written as rig/vNNN; returns record(version, dir, scene, manifest, rigs, "
           "warnings, weights_vertices, shapes_set, driven_curves, rest_error).")
       .def(
-          "batch",
-          [](const std::string& operation, const std::vector<std::string>& shots, const std::string& output,
-             const std::string& frames, std::optional<std::size_t> jobs, bool slurm, std::optional<std::string> partition,
-             const std::string& report, const std::string& retry_failed, const std::string& program, py::object progress) {
-            const tools::Config settings = current_settings();
-            tools::BatchRequest r;
-            r.operation = operation;
-            r.shots = shots;
-            r.output = output;
-            r.frames = frames;
-            r.report = report;
-            r.retry_failed = retry_failed;
-            r.parallel = jobs ? *jobs : static_cast<std::size_t>(settings.integer("batch.jobs"));
-            r.slurm = slurm;
-            r.partition = partition ? *partition : slurm ? settings.string("batch.partition") : std::string();
-            r.program = rigel_program(program);
-            std::function<void(const tools::BatchProgress&)> tell;
-            std::optional<py::error_already_set> raised;  // the callback's first exception, raised once the jobs are done
-            if (!progress.is_none())
-              tell = [&progress, &raised](const tools::BatchProgress& p) {
-                py::gil_scoped_acquire gil;
-                if (raised) return;
-                py::dict d;
-                d["done"] = p.done;
-                d["failed"] = p.failed;
-                d["running"] = p.running;
-                d["total"] = p.total;
-                d["elapsed"] = p.elapsed;
-                d["left"] = p.left;
-                d["line"] = tools::progress_line(p);
-                try {
-                  progress(record(d));
-                } catch (py::error_already_set& e) {
-                  raised = std::move(e);
-                }
-              };
-            Result<tools::BatchOutcome> outcome = [&] {
-              py::gil_scoped_release released;  // the jobs run while Python goes on (progress takes it back)
-              return tools::run_batch(r, tell);
-            }();
-            if (raised) throw std::move(*raised);
-            return batch_record(unwrap(std::move(outcome)));
-          },
-          py::arg("operation"), py::arg("shots") = std::vector<std::string>{}, py::arg("output") = "", py::arg("frames") = "",
-          py::arg("jobs") = py::none(), py::arg("slurm") = false, py::arg("partition") = py::none(), py::arg("report") = "",
-          py::arg("retry_failed") = "", py::arg("program") = "", py::arg("progress") = py::none(),
-          "Runs OPERATION (update, bake, export, validate) over SHOTS, one `rigel` process per shot (`rigel batch`): "
-          "locally JOBS at a time (default: the setting batch.jobs), or as one Slurm job array with slurm=True; each "
-          "output in OUTPUT, each log in OUTPUT/logs. retry_failed=REPORT reruns only the shots REPORT lists as failed "
-          "and updates it. progress(record(done, failed, running, total, elapsed, left, line)) is called as shots start "
-          "and end. Failed shots are in the report, not an exception; returns record(operation, jobs, seconds, failed, "
-          "ran, report, shots: [record(shot, status, exit, seconds, log, output)]).")
-      .def(
           "import_data",
           [](const SceneRef& scene, const std::string& kind, const std::string& file, const std::string& rig) {
             graph::NodeId root;
@@ -301,55 +305,12 @@ void wrap_pipeline(py::module_& m) {
             log::set_level(*l);
           },
           py::arg("level"), "What rigel logs on stderr: trace, debug, info, warn, error or off.");
+  def_batch(m);
 }
 
-void def_data(WorkspaceClass& cls) {
+// Workspace's set-driven keys, driven poses and correctives (tools/driven_poses.h).
+static void def_driven_keys(WorkspaceClass& cls) {
   cls.def(
-         "export_skin_weights",
-         [](const WorkspaceRef& w, const std::string& file, const std::optional<std::string>& format) {
-           const std::string f = format ? *format : current_settings().string("data.weights");
-           return unwrap(w.ws->export_skin_weights(file, unwrap(tools::weights_format_named(f)))).string();
-         },
-         py::arg("file"), py::arg("format") = py::none(),
-         "Writes every skinCluster's weights to FILE (.weights.json): format \"json\", or \"binary\" (the arrays in a "
-         "side file beside it, with a checksum); None: the setting data.weights. Returns its path.")
-      .def(
-          "import_skin_weights",
-          [](const WorkspaceRef& w, const std::string& file, const std::map<std::string, std::string>& rename, bool nearest,
-             bool mirror) {
-            tools::WeightsImport o;
-            o.rename = rename;
-            o.nearest = nearest;
-            o.mirror = mirror;
-            const tools::WeightsReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_skin_weights(file, o)); });
-            py::dict d;
-            d["skins"] = r.skins;
-            d["vertices"] = r.vertices;
-            d["remapped"] = r.remapped;
-            return record(d);
-          },
-          py::arg("file"), py::arg("rename") = std::map<std::string, std::string>{}, py::arg("nearest") = false,
-          py::arg("mirror") = false,
-          "Sets skin weights from FILE: joints by uuid, name (after `rename`), or the nearest; mirrored with `mirror`. "
-          "One undo step; returns record(skins, vertices, remapped).")
-      .def(
-          "export_control_shapes",
-          [](const WorkspaceRef& w, const std::string& file, const std::string& rig) {
-            return unwrap(w.ws->export_control_shapes(rig, file)).string();
-          },
-          py::arg("file"), py::arg("rig") = "", "Writes a built rig's control shapes and colours to FILE (.shapes.json).")
-      .def(
-          "import_control_shapes",
-          [](const WorkspaceRef& w, const std::string& file, const std::string& rig) {
-            const tools::ShapesReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_control_shapes(rig, file)); });
-            py::dict d;
-            d["set"] = r.set;
-            d["missing"] = r.missing;
-            return record(d);
-          },
-          py::arg("file"), py::arg("rig") = "",
-          "Sets control shapes and colours from FILE by rigId, role and index (one undo step); returns record(set, missing).")
-      .def(
           "export_driven_poses",
           [](const WorkspaceRef& w, const std::string& file, bool correctives) {
             return unwrap(w.ws->export_driven_poses(driven_kind(correctives), file)).string();
@@ -433,7 +394,55 @@ void def_data(WorkspaceClass& cls) {
           },
           py::arg("joint"), py::arg("axis") = py::make_tuple(1.0, 0.0, 0.0),
           "Makes a pose reader on JOINT (a corrective's driver): returns its name; drive with NAME.angle (the swing "
-          "of `axis` from rest, degrees) or NAME.rotateX/Y/Z. One undo step.")
+          "of `axis` from rest, degrees) or NAME.rotateX/Y/Z. One undo step.");
+}
+
+void def_data(WorkspaceClass& cls) {
+  cls.def(
+         "export_skin_weights",
+         [](const WorkspaceRef& w, const std::string& file, const std::optional<std::string>& format) {
+           const std::string f = format ? *format : current_settings().string("data.weights");
+           return unwrap(w.ws->export_skin_weights(file, unwrap(tools::weights_format_named(f)))).string();
+         },
+         py::arg("file"), py::arg("format") = py::none(),
+         "Writes every skinCluster's weights to FILE (.weights.json): format \"json\", or \"binary\" (the arrays in a "
+         "side file beside it, with a checksum); None: the setting data.weights. Returns its path.")
+      .def(
+          "import_skin_weights",
+          [](const WorkspaceRef& w, const std::string& file, const std::map<std::string, std::string>& rename, bool nearest,
+             bool mirror) {
+            tools::WeightsImport o;
+            o.rename = rename;
+            o.nearest = nearest;
+            o.mirror = mirror;
+            const tools::WeightsReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_skin_weights(file, o)); });
+            py::dict d;
+            d["skins"] = r.skins;
+            d["vertices"] = r.vertices;
+            d["remapped"] = r.remapped;
+            return record(d);
+          },
+          py::arg("file"), py::arg("rename") = std::map<std::string, std::string>{}, py::arg("nearest") = false,
+          py::arg("mirror") = false,
+          "Sets skin weights from FILE: joints by uuid, name (after `rename`), or the nearest; mirrored with `mirror`. "
+          "One undo step; returns record(skins, vertices, remapped).")
+      .def(
+          "export_control_shapes",
+          [](const WorkspaceRef& w, const std::string& file, const std::string& rig) {
+            return unwrap(w.ws->export_control_shapes(rig, file)).string();
+          },
+          py::arg("file"), py::arg("rig") = "", "Writes a built rig's control shapes and colours to FILE (.shapes.json).")
+      .def(
+          "import_control_shapes",
+          [](const WorkspaceRef& w, const std::string& file, const std::string& rig) {
+            const tools::ShapesReport r = edit(w, [&](app::Workspace& ws) { return unwrap(ws.import_control_shapes(rig, file)); });
+            py::dict d;
+            d["set"] = r.set;
+            d["missing"] = r.missing;
+            return record(d);
+          },
+          py::arg("file"), py::arg("rig") = "",
+          "Sets control shapes and colours from FILE by rigId, role and index (one undo step); returns record(set, missing).")
       .def(
           "export_blend_shapes",
           [](const WorkspaceRef& w, const std::string& file) { return unwrap(w.ws->export_blend_shapes(file)).string(); },
@@ -453,6 +462,7 @@ void def_data(WorkspaceClass& cls) {
           py::arg("file"),
           "Sets blend shape targets and weights from FILE by blendShape (else mesh) name, targets by name or index; a "
           "mesh without a blendShape gets one. One undo step; returns record(blend_shapes, targets, created, added, driven).");
+  def_driven_keys(cls);
 }
 
 }  // namespace rigel::python
