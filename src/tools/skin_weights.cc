@@ -169,23 +169,37 @@ std::uint64_t get_le(std::string_view bytes, std::size_t at, int n) {
   return v;
 }
 
-// The file; with `side` set, each skin's vertices go to *side as a block
-// (per vertex its influence count, then every entry's influence, then
-// every entry's weight: uint32, uint32, float64, little-endian) that the
-// JSON points at by byte offset.
-std::string weights_json(const std::vector<SkinWeights>& skins, std::string* side, const std::string& side_name) {
+// The side file: "RIGELWB1", then each skin's block (per vertex its
+// influence count, then every entry's influence, then every entry's
+// weight: uint32, uint32, float64, little-endian), in the skins' order.
+std::string side_file(const std::vector<SkinWeights>& skins) {
+  std::string side(kSideMagic);
+  for (const SkinWeights& s : skins) {
+    for (std::size_t v = 0; v + 1 < s.offsets.size(); ++v) put_u32(side, static_cast<std::uint64_t>(s.offsets[v + 1] - s.offsets[v]));
+    for (std::int64_t j : s.joints) put_u32(side, static_cast<std::uint64_t>(j));
+    for (double w : s.weights) put_f64(side, w);
+  }
+  return side;
+}
+
+struct SideRef {
+  std::string name, checksum;
+  std::size_t bytes = 0;
+};
+
+// The file; with `side`, each skin points at its block of the side file by
+// byte offset instead of listing its vertices.
+std::string weights_json(const std::vector<SkinWeights>& skins, const SideRef* side) {
   Json list = Json::array();
-  if (side) *side = std::string(kSideMagic);
+  std::size_t offset = kSideMagic.size();
   for (const SkinWeights& s : skins) {
     Json influences = Json::array();
     for (const SkinInfluence& i : s.influences)
       influences.push_back(Json{{"joint", i.joint}, {"uuid", i.uuid}, {"bind", Json::array({i.bind.x(), i.bind.y(), i.bind.z()})}});
     Json skin{{"skin", s.skin}, {"mesh", s.mesh}, {"vertexCount", s.vertex_count()}, {"influences", std::move(influences)}};
     if (side) {
-      skin["block"] = Json{{"offset", side->size()}, {"entries", s.joints.size()}};
-      for (std::size_t v = 0; v + 1 < s.offsets.size(); ++v) put_u32(*side, static_cast<std::uint64_t>(s.offsets[v + 1] - s.offsets[v]));
-      for (std::int64_t j : s.joints) put_u32(*side, static_cast<std::uint64_t>(j));
-      for (double w : s.weights) put_f64(*side, w);
+      skin["block"] = Json{{"offset", offset}, {"entries", s.joints.size()}};
+      offset += 4 * s.vertex_count() + 12 * s.joints.size();
     } else {
       Json vertices = Json::array();
       for (std::size_t v = 0; v + 1 < s.offsets.size(); ++v) {
@@ -201,7 +215,7 @@ std::string weights_json(const std::vector<SkinWeights>& skins, std::string* sid
     list.push_back(std::move(skin));
   }
   Json top{{"rigelWeights", kWeightsFormat}};
-  if (side) top["binary"] = Json{{"file", side_name}, {"bytes", side->size()}, {"checksum", io::checksum_of(*side)}};
+  if (side) top["binary"] = Json{{"file", side->name}, {"bytes", side->bytes}, {"checksum", side->checksum}};
   top["skins"] = std::move(list);
   io::DiffableJsonOptions o;
   o.inline_flat_objects_in_arrays = true;
@@ -243,21 +257,22 @@ Status read_block(const std::string& source, const std::string& at, const Json& 
 
 }  // namespace
 
-std::string skin_weights_to_json(const std::vector<SkinWeights>& skins) { return weights_json(skins, nullptr, ""); }
+std::string skin_weights_to_json(const std::vector<SkinWeights>& skins) { return weights_json(skins, nullptr); }
 
 WeightsFiles skin_weights_to_files(const std::vector<SkinWeights>& skins, WeightsFormat format, const std::string& stem) {
   WeightsFiles out;
   if (format == WeightsFormat::kJson) {
-    out.json = weights_json(skins, nullptr, "");
+    out.json = weights_json(skins, nullptr);
     return out;
   }
   // The side file's name holds its checksum: a new export never overwrites
   // the file an older weights file names, so replacing the pair is atomic
   // (the JSON is written last).
-  std::string side;
-  weights_json(skins, &side, "");
-  out.side_name = stem + "." + io::checksum_of(side).substr(std::string_view("fnv1a64:").size(), 8) + ".bin";
-  out.json = weights_json(skins, &out.side, out.side_name);
+  out.side = side_file(skins);
+  const std::string checksum = io::checksum_of(out.side);
+  out.side_name = stem + "." + checksum.substr(std::string_view("fnv1a64:").size(), 8) + ".bin";
+  const SideRef ref{out.side_name, checksum, out.side.size()};
+  out.json = weights_json(skins, &ref);
   return out;
 }
 
