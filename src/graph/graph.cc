@@ -110,6 +110,7 @@ Result<NodeId> Graph::create_node_impl(const NodeType& type, std::string name, U
   n->order_ = order;
   n->values_.reserve(type.attr_count());
   n->dirty_.assign(type.attr_count(), 0);
+  n->versions_.assign(type.attr_count(), 0);
   for (AttrIndex i = 0; i < type.attr_count(); ++i) n->values_.push_back(type.default_value(i));
   for (AttrIndex o : type.outputs()) n->dirty_[o] = 1;
   NodeId id = n->id_;
@@ -312,6 +313,7 @@ Status Graph::set_value(const Plug& plug, Value value) {
   edit.dst = PlugRef{n->uuid_, plug.attr, -1};
   edit.before = std::move(n->values_[plug.attr]);
   n->values_[plug.attr] = whole;
+  n->versions_[plug.attr] = ++n->clock_;
   edit.after = std::move(whole);
   dirty_downstream(plug.node, plug.attr);
   if (!observers_.empty()) {

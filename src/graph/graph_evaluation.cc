@@ -65,6 +65,7 @@ void Graph::update_node(Node& n) {
     if (!n.dirty_[c.dst.attr]) continue;
     const Node& src = *slots_[c.src.node.index];
     Value& dst = n.values_[c.dst.attr];
+    n.versions_[c.dst.attr] = ++n.clock_;
     if (c.dst.element < 0 && c.src.element < 0 && c.dst.component < 0 && c.src.component < 0) {
       dst = src.values_[c.src.attr];
     } else {

@@ -40,6 +40,7 @@ void Graph::apply(const Edit& e, bool forward) {
     assert(id.is_ok());
     Node& n = *node_mut(*id);
     n.values_ = s.values;
+    for (std::uint64_t& v : n.versions_) v = ++n.clock_;
     for (AttrIndex o : n.type_->outputs()) n.dirty_[o] = 1;
     n.tags_ = s.tags;
     notify([&](Observer& o) { o.node_added(*this, *id); });
@@ -56,6 +57,7 @@ void Graph::apply(const Edit& e, bool forward) {
     Plug p = plug_of(r);
     Node& n = *node_mut(p.node);
     n.values_[p.attr] = v;
+    n.versions_[p.attr] = ++n.clock_;
     // `v` was recorded when the edit was made, when elements of this array
     // fed by other connections may have been stale (dirty, not yet pulled).
     // Mark the attribute dirty so that those elements are pulled again

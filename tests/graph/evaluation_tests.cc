@@ -416,5 +416,51 @@ TEST(Evaluation, evaluate_all__after_many_pulls_still_finds_every_dirty_node) {
   EXPECT_EQ(g_add_computes.load() - before, 1) << "a second evaluate_all finds nothing dirty";
 }
 
+
+// A node's cache (ComputeContext::cache) is rebuilt from its inputs only
+// when their versions change: a set, an undo or redo of one, and a
+// connection's refresh each give a new version; evaluating again, or an
+// edit elsewhere, does not.
+TEST(Evaluation, version__changes_on_every_write_of_the_input_and_only_then) {
+  Graph graph(test_registry());
+  const NodeId v = make(graph, "versioned", "v");
+  const NodeId other = make(graph, "add", "other");
+  auto builds = [&] { return std::get<std::int64_t>(*graph.evaluate(plug(graph, v, "builds"))); };
+  auto version = [&] { return std::get<std::int64_t>(*graph.evaluate(plug(graph, v, "aVersion"))); };
+  EXPECT_EQ(builds(), 1) << "first evaluation builds the cache";
+  const std::int64_t v0 = version();
+  ASSERT_TRUE(graph.set_value(plug(graph, other, "a"), 5.0).is_ok());
+  EXPECT_EQ(eval_double(graph, other, "sum"), 5.0);
+  EXPECT_EQ(builds(), 1) << "an edit elsewhere keeps it";
+
+  ASSERT_TRUE(graph.set_value(plug(graph, v, "a"), 2.0).is_ok());
+  EXPECT_EQ(builds(), 2) << "a set gives a new version";
+  const std::int64_t v1 = version();
+  EXPECT_NE(v1, v0);
+  ASSERT_TRUE(graph.set_value(plug(graph, v, "a"), 2.0).is_ok());
+  EXPECT_EQ(builds(), 2) << "setting the same value is no write";
+
+  ASSERT_TRUE(graph.undo());
+  EXPECT_EQ(builds(), 3) << "undo writes the old value back: a new version";
+  EXPECT_NE(version(), v1);
+  ASSERT_TRUE(graph.redo());
+  EXPECT_EQ(builds(), 4) << "so does redo";
+
+  ASSERT_TRUE(link(graph, other, "sum", v, "a").is_ok());
+  EXPECT_EQ(builds(), 5) << "a new connection refreshes the input";
+  EXPECT_EQ(builds(), 5) << "evaluating again changes nothing";
+  ASSERT_TRUE(graph.set_value(plug(graph, other, "b"), 1.0).is_ok());
+  EXPECT_EQ(builds(), 6) << "the source changed: the refreshed input has a new version";
+  ASSERT_TRUE(graph.undo());
+  EXPECT_EQ(builds(), 7) << "undoing the source's change refreshes it again";
+
+  ASSERT_TRUE(graph.delete_node(v).is_ok());
+  ASSERT_TRUE(graph.undo());
+  const NodeId back = graph.find("v");
+  ASSERT_TRUE(graph.node(back) != nullptr);
+  EXPECT_EQ(std::get<std::int64_t>(*graph.evaluate(plug(graph, back, "builds"))), 1)
+      << "a node brought back by undo starts with no cache";
+}
+
 }  // namespace
 }  // namespace rigel::graph

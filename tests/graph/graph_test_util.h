@@ -103,6 +103,30 @@ inline void compute_xf(ComputeContext& c) {
   bump_count(c, xf_attr::kCount);
 }
 
+// ---- "versioned": what a compute sees of its input's version -----------------
+// aVersion = version(a); builds counts the times the node's cache saw a new
+// version of `a` (what a compiled cache such as a skin's would rebuild).
+namespace versioned_attr {
+enum : AttrIndex { kA, kAVersion, kBuilds, kCount };
+}
+struct VersionedCache final : NodeCache {
+  std::uint64_t seen = 0;
+  bool any = false;
+  std::int64_t builds = 0;
+};
+inline void compute_versioned(ComputeContext& c) {
+  VersionedCache& cache = c.cache<VersionedCache>();
+  const std::uint64_t v = c.version(versioned_attr::kA);
+  if (!cache.any || v != cache.seen) {
+    cache.any = true;
+    cache.seen = v;
+    ++cache.builds;
+  }
+  c.set(versioned_attr::kAVersion, static_cast<std::int64_t>(v));
+  c.set(versioned_attr::kBuilds, cache.builds);
+  bump_count(c, versioned_attr::kCount);
+}
+
 // ---- "kinds": one input and one output of each value type ----------------------
 // Inputs are named "in" + suffix, outputs "out" + suffix, for the suffixes
 // below. The compute writes nothing: outputs keep their defaults.
@@ -180,6 +204,14 @@ inline std::shared_ptr<const Registry> test_registry() {
       s.compute = compute_xf;
       s.parent_input = "parentMatrix";
       s.world_output = "world";
+      add_type_or_die(*r, std::move(s));
+    }
+    {
+      NodeTypeSpec s;
+      s.name = "versioned";
+      s.attrs = {in_spec("a", kDoubleT, {"aVersion", "builds"}), out_spec("aVersion", kIntT),
+                 out_spec("builds", kIntT), out_spec("count", kIntT)};
+      s.compute = compute_versioned;
       add_type_or_die(*r, std::move(s));
     }
     {

@@ -48,6 +48,17 @@ struct Connection {
 
 class Graph;
 
+// What a node's compute derives from its inputs and keeps between
+// evaluations, such as a skin's compiled influences in float: owned by the
+// node (it goes with it), built and checked by the compute, which compares
+// the versions of the inputs it was built from (ComputeContext::version)
+// with the current ones. A compute only touches its own node's cache, so
+// nodes still compute in parallel.
+class NodeCache {
+ public:
+  virtual ~NodeCache() = default;
+};
+
 class Node {
  public:
   NodeId id() const { return id_; }
@@ -76,6 +87,11 @@ class Node {
   const NodeType* type_ = nullptr;
   std::vector<Value> values_;
   std::vector<std::uint8_t> dirty_;
+  // Per attribute: the node's write clock when the value was last written
+  // by a set, an undo/redo or a connection's refresh (0: the default).
+  std::vector<std::uint64_t> versions_;
+  std::uint64_t clock_ = 0;
+  std::unique_ptr<NodeCache> cache_;
   std::map<std::string, std::string> tags_;
   std::uint64_t order_ = 0;
   std::vector<Connection> inputs_;
@@ -97,6 +113,20 @@ class ComputeContext {
   template <typename T>
   void set(AttrIndex attr, T&& value) { node_.values_[attr] = std::forward<T>(value); }
   Value& output(AttrIndex attr) { return node_.values_[attr]; }
+  // Changes whenever the input's value is written (set, undo, redo, or
+  // refreshed from its connection); equal versions mean the same value.
+  std::uint64_t version(AttrIndex attr) const { return node_.versions_[attr]; }
+  // The node's cache as a T, made (default-constructed) on first use.
+  template <typename T>
+  T& cache() {
+    T* held = dynamic_cast<T*>(node_.cache_.get());
+    if (!held) {
+      auto made = std::make_unique<T>();
+      held = made.get();
+      node_.cache_ = std::move(made);
+    }
+    return *held;
+  }
 
  private:
   Node& node_;

@@ -155,6 +155,66 @@ TEST(SkinClusterNode, a_new_skin_cluster_outputs_nothing) {
   EXPECT_TRUE(std::get<std::vector<Vec3>>(scene.graph().evaluate(skin, sc::kOutPoints)).empty());
 }
 
+// The node keeps its compiled skin and bind points between evaluations: every
+// way its inputs can change after a first evaluation (a set, an undo, a redo,
+// a connection feeding them) must show in the next result.
+TEST(SkinClusterNode, edits_after_an_evaluation_rebuild_what_the_node_keeps) {
+  TwoJointRig rig;
+  ASSERT_TRUE(rig.g.set_value({rig.j1, scene::xform::kRotate}, Vec3(0, 0, 90)).is_ok());
+  const std::vector<Vec3> posed = {Vec3(1, 0, 0), Vec3(2, 1, 0), Vec3(2.25, 0.25, 0), Vec3(2, 0, 1)};
+  ASSERT_TRUE(points_near(rig.out_points(), posed, 1e-6));
+
+  // Point 0 moves from j0 to j1: (1, 0, 0) is (-1, 0, 0) from j1, turned to (2, -1, 0).
+  ASSERT_TRUE(rig.g.set_value({rig.skin, sc::kInfluenceJoints}, std::vector<std::int64_t>{1, 1, 0, 1, 0, 1}).is_ok());
+  std::vector<Vec3> moved = posed;
+  moved[0] = Vec3(2, -1, 0);
+  EXPECT_TRUE(points_near(rig.out_points(), moved, 1e-6)) << "new influence joints";
+  ASSERT_TRUE(rig.g.undo());
+  EXPECT_TRUE(points_near(rig.out_points(), posed, 1e-6)) << "undo of the joints";
+  ASSERT_TRUE(rig.g.redo());
+  EXPECT_TRUE(points_near(rig.out_points(), moved, 1e-6)) << "redo of the joints";
+  ASSERT_TRUE(rig.g.undo());
+
+  ASSERT_TRUE(rig.g.set_value({rig.skin, sc::kInfluenceWeights}, std::vector<double>{1, 1, 1, 0, 0.5, 0.5}).is_ok());
+  std::vector<Vec3> reweighted = posed;
+  reweighted[2] = Vec3(2.5, 0, 0);
+  EXPECT_TRUE(points_near(rig.out_points(), reweighted, 1e-6)) << "new weights";
+  // Point 1 half on each joint, point 2 on j1 alone.
+  ASSERT_TRUE(rig.g.set_value({rig.skin, sc::kInfluenceOffsets}, std::vector<std::int64_t>{0, 1, 3, 4, 5}).is_ok());
+  ASSERT_TRUE(rig.g.set_value({rig.skin, sc::kInfluenceJoints}, std::vector<std::int64_t>{0, 0, 1, 1, 0}).is_ok());
+  ASSERT_TRUE(rig.g.set_value({rig.skin, sc::kInfluenceWeights}, std::vector<double>{1, 0.5, 0.5, 1, 1}).is_ok());
+  const std::vector<Vec3> reshaped = {Vec3(1, 0, 0), Vec3(2.5, 0.5, 0), Vec3(2, 0.5, 0), Vec3(2, 0, 1)};
+  EXPECT_TRUE(points_near(rig.out_points(), reshaped, 1e-6)) << "new offsets";
+
+  ASSERT_TRUE(rig.g.set_value({rig.skin, sc::kBindPoints}, std::vector<Vec3>{Vec3(1, 0, 0), Vec3(4, 0, 0),
+                                                                              Vec3(2.5, 0, 0), Vec3(2, 0, 1)})
+                  .is_ok());
+  std::vector<Vec3> rebound = reshaped;
+  rebound[1] = Vec3(3, 1, 0);  // half (4, 0, 0), half (2, 2, 0)
+  EXPECT_TRUE(points_near(rig.out_points(), rebound, 1e-6)) << "new bind points";
+  ASSERT_TRUE(rig.g.undo());
+  EXPECT_TRUE(points_near(rig.out_points(), reshaped, 1e-6)) << "undo of the bind points";
+}
+
+TEST(SkinClusterNode, bind_points_fed_by_a_blend_shape_follow_its_weights) {
+  TwoJointRig rig;
+  const NodeId blend = rig.g.create_node(kBlendShapeType, "shapes").value();
+  ASSERT_TRUE(rig.g.set_value({blend, bs::kBasePoints}, rig.bind).is_ok());
+  ASSERT_TRUE(rig.g.set_value({blend, bs::kTargetDeltas}, std::vector<Vec3>{Vec3(0, 0, 1)}).is_ok());
+  ASSERT_TRUE(rig.g.set_value({blend, bs::kTargetOffsets}, std::vector<std::int64_t>{0, 1}).is_ok());
+  ASSERT_TRUE(rig.g.set_value({blend, bs::kTargetIndices}, std::vector<std::int64_t>{1}).is_ok());
+  ASSERT_TRUE(rig.g.connect({blend, bs::kOutPoints}, {rig.skin, sc::kBindPoints}).is_ok());
+  ASSERT_TRUE(rig.g.set_value({rig.j1, scene::xform::kRotate}, Vec3(0, 0, 90)).is_ok());
+  const std::vector<Vec3> posed = {Vec3(1, 0, 0), Vec3(2, 1, 0), Vec3(2.25, 0.25, 0), Vec3(2, 0, 1)};
+  EXPECT_TRUE(points_near(rig.out_points(), posed, 1e-6)) << "weight 0: the base";
+  ASSERT_TRUE(rig.g.set_value({blend, bs::kWeights}, std::vector<double>{2.0}).is_ok());
+  std::vector<Vec3> lifted = posed;
+  lifted[1] = Vec3(2, 1, 2);  // (3, 0, 2) on j1, turned about z at (2, 0, 0)
+  EXPECT_TRUE(points_near(rig.out_points(), lifted, 1e-6)) << "the shape moves the skinned point";
+  ASSERT_TRUE(rig.g.undo());
+  EXPECT_TRUE(points_near(rig.out_points(), posed, 1e-6)) << "undo of the weight";
+}
+
 struct BlendShapeRig {
   scene::Scene scene{deform_registry()};
   graph::Graph& g = scene.graph();
@@ -201,6 +261,28 @@ TEST(BlendShapeNode, passes_points_through_on_bad_targets) {
       << "a dense target of 3 deltas for 2 points does not build: the base shows";
   ASSERT_TRUE(rig.g.set_value({rig.node, bs::kTargetOffsets}, std::vector<std::int64_t>{0, 2, 5}).is_ok());
   EXPECT_TRUE(points_near(rig.out(), {Vec3(1, 1, 1), Vec3(1, 1, 1)}, 0.0)) << "offsets past the deltas";
+}
+
+// The node keeps its compiled targets: changing them after a first
+// evaluation (a set, an undo, a new base size) must show in the next result.
+TEST(BlendShapeNode, edits_after_an_evaluation_rebuild_the_targets) {
+  BlendShapeRig rig;
+  ASSERT_TRUE(rig.g.set_value({rig.node, bs::kWeights}, std::vector<double>{1.0, 0.5}).is_ok());
+  EXPECT_TRUE(points_near(rig.out(), {Vec3(3, 1, 5), Vec3(1, 3, 1)}, 0.0));
+  ASSERT_TRUE(rig.g.set_value({rig.node, bs::kTargetDeltas},
+                              std::vector<Vec3>{Vec3(4, 0, 0), Vec3(0, 0, 0), Vec3(0, 0, 8), Vec3(0, 4, 0)})
+                  .is_ok());
+  EXPECT_TRUE(points_near(rig.out(), {Vec3(5, 1, 5), Vec3(1, 3, 1)}, 0.0)) << "new deltas";
+  ASSERT_TRUE(rig.g.undo());
+  EXPECT_TRUE(points_near(rig.out(), {Vec3(3, 1, 5), Vec3(1, 3, 1)}, 0.0)) << "undo of the deltas";
+  ASSERT_TRUE(rig.g.set_value({rig.node, bs::kTargetOffsets}, std::vector<std::int64_t>{0, 4}).is_ok());
+  EXPECT_TRUE(points_near(rig.out(), {Vec3(1, 1, 1), Vec3(1, 1, 1)}, 0.0))
+      << "offsets that no longer fit the base: passed through";
+  ASSERT_TRUE(rig.g.set_value({rig.node, bs::kBasePoints},
+                              std::vector<Vec3>{Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(0, 0, 0), Vec3(0, 0, 0)})
+                  .is_ok());
+  EXPECT_TRUE(points_near(rig.out(), {Vec3(3, 1, 1), Vec3(1, 1, 1), Vec3(0, 0, 8), Vec3(0, 4, 0)}, 0.0))
+      << "a base of 4 points: the one 4-delta target now fits (weight 1)";
 }
 
 }  // namespace
