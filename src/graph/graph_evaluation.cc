@@ -49,13 +49,40 @@ void Graph::dirty_downstream(NodeId start, AttrIndex attr) {
 }
 
 // A time change: every output of a time-dependent node but its
-// time-invariant ones.
-void Graph::dirty_outputs(Node& n) {
-  for (AttrIndex o : n.type_->outputs()) {
-    if (n.dirty_[o] || (n.type_->attr(o).flags & kTimeInvariant)) continue;
-    n.dirty_[o] = 1;
-    queue(n);
-    dirty_downstream(n.id_, o);
+// time-invariant ones, and everything downstream. The set of those plugs
+// depends only on the topology, so it is listed once per topology
+// generation and then marked in one pass. Marking plugs already dirty is a
+// no-op, and everything downstream of a dirty plug is dirty, so the result
+// is the one walking from each output would give.
+void Graph::dirty_for_time() {
+  if (time_closure_generation_ != topology_generation_) {
+    time_closure_.clear();
+    std::vector<std::vector<std::uint8_t>> seen(slots_.size());
+    std::vector<std::pair<Node*, AttrIndex>>& work = dirty_work_;
+    work.clear();
+    for (NodeId id : time_dependent_) {
+      Node& n = *node_mut(id);
+      for (AttrIndex o : n.type_->outputs())
+        if (!(n.type_->attr(o).flags & kTimeInvariant)) work.emplace_back(&n, o);
+    }
+    while (!work.empty()) {
+      auto [n, a] = work.back();
+      work.pop_back();
+      std::vector<std::uint8_t>& marks = seen[n->id_.index];
+      if (marks.empty()) marks.assign(n->type_->attr_count(), 0);
+      if (marks[a]) continue;
+      marks[a] = 1;
+      time_closure_.emplace_back(n, a);
+      for (AttrIndex o : n->type_->affected_outputs(a)) work.emplace_back(n, o);
+      for (const Connection& c : n->outputs_)
+        if (c.src.attr == a) work.emplace_back(slots_[c.dst.node.index].get(), c.dst.attr);
+    }
+    time_closure_generation_ = topology_generation_;
+  }
+  for (auto [n, a] : time_closure_) {
+    if (n->dirty_[a]) continue;
+    n->dirty_[a] = 1;
+    queue(*n);
   }
 }
 

@@ -13,7 +13,7 @@ namespace rigel::graph {
 void Graph::set_time(double seconds) {
   if (seconds == time_) return;
   time_ = seconds;
-  for (NodeId id : time_dependent_) dirty_outputs(*node_mut(id));
+  dirty_for_time();
   notify([&](Observer& o) { o.time_changed(*this); });
 }
 

@@ -739,6 +739,43 @@ TEST(Graph, set_time__recomputes_time_dependent_nodes_only) {
   EXPECT_EQ(eval_double(graph, back, "out"), 8.0) << "and keeps following it";
 }
 
+// What a time change dirties is listed once per topology: connecting,
+// disconnecting, creating and deleting between time changes must each
+// change what the next time change reaches.
+TEST(Graph, set_time__follows_topology_edits_between_time_changes) {
+  Graph graph(test_registry());
+  NodeId clock = make(graph, "clock", "clock");
+  NodeId a = make(graph, "add", "a");
+  NodeId b = make(graph, "add", "b");
+  ASSERT_TRUE(graph.connect(plug(graph, clock, "out"), plug(graph, a, "a")).is_ok());
+  graph.set_time(1.0);
+  EXPECT_EQ(eval_double(graph, a, "sum"), 1.0);
+  EXPECT_EQ(eval_double(graph, b, "sum"), 0.0);
+
+  ASSERT_TRUE(graph.connect(plug(graph, a, "sum"), plug(graph, b, "a")).is_ok()) << "clock -> a -> b";
+  graph.set_time(2.0);
+  EXPECT_TRUE(graph.node(b)->is_dirty(testing::add_attr::kSum)) << "a new downstream node is reached";
+  EXPECT_EQ(eval_double(graph, b, "sum"), 2.0);
+
+  ASSERT_TRUE(graph.disconnect(plug(graph, clock, "out"), plug(graph, a, "a")).is_ok());
+  EXPECT_EQ(eval_double(graph, b, "sum"), 2.0) << "clean again after the disconnect";
+  graph.set_time(3.0);
+  EXPECT_FALSE(graph.node(a)->is_dirty(testing::add_attr::kSum)) << "a disconnected node is no longer reached";
+  EXPECT_EQ(eval_double(graph, b, "sum"), 2.0) << "it keeps the last value it had";
+
+  NodeId second = make(graph, "clock", "second");
+  ASSERT_TRUE(graph.connect(plug(graph, second, "out"), plug(graph, a, "b")).is_ok());
+  graph.set_time(4.0);
+  EXPECT_EQ(eval_double(graph, b, "sum"), 6.0) << "a new clock drives a and b: 2 (kept) + 4";
+  ASSERT_TRUE(graph.delete_node(second).is_ok());
+  EXPECT_EQ(eval_double(graph, b, "sum"), 6.0) << "clean again after the delete";
+  graph.set_time(5.0);  // must not touch the deleted node
+  EXPECT_FALSE(graph.node(b)->is_dirty(testing::add_attr::kSum)) << "nothing time-dependent feeds b now";
+  ASSERT_TRUE(graph.undo()) << "undo the delete (and its connection)";
+  graph.set_time(6.0);
+  EXPECT_EQ(eval_double(graph, b, "sum"), 8.0) << "the restored clock drives them again: 2 + 6";
+}
+
 // A time-invariant output (kTimeInvariant) of a time-dependent node stays
 // clean when the time changes, so a compute can keep what it derived from
 // the inputs alone (animation curves keep the check of their keys); an

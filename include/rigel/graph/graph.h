@@ -297,7 +297,7 @@ class Graph {
   void record(Edit edit);
   void apply(const Edit& edit, bool forward);
   void dirty_downstream(NodeId node, AttrIndex attr);
-  void dirty_outputs(Node& node);
+  void dirty_for_time();
   void update_node(Node& node);
   void queue(Node& node);
   void push_undo(std::unique_ptr<Step> step);
@@ -328,7 +328,13 @@ class Graph {
   std::unique_ptr<Step> pending_;
   std::unique_ptr<Step> spare_;
   std::size_t last_step_edits_ = 0;
-  std::vector<std::pair<Node*, AttrIndex>> dirty_work_;  // dirty_downstream's worklist  // edits of the last committed transaction  // a merged step's emptied buffer, reused by the next transaction
+  std::vector<std::pair<Node*, AttrIndex>> dirty_work_;  // dirty_downstream's worklist
+  // Every plug a time change dirties (the outputs of time-dependent nodes
+  // but their time-invariant ones, and all downstream of them), listed once
+  // per topology generation: a frame change marks them in one flat pass
+  // instead of walking the graph's connections.
+  std::vector<std::pair<Node*, AttrIndex>> time_closure_;
+  std::uint64_t time_closure_generation_ = ~std::uint64_t{0};
   std::vector<std::size_t> open_;
   bool replaying_ = false;
   std::uint64_t visit_epoch_ = 0;
