@@ -1,6 +1,8 @@
 #include "rigel/ops/anim/nodes.h"
 
 #include <algorithm>
+#include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -160,8 +162,10 @@ Result<std::optional<ClipKeys>> clip_keys(std::span<const std::int64_t> offsets,
   return std::optional<ClipKeys>(ClipKeys{first, count});
 }
 
-// Evaluates the curve in the node's attributes at `x` (time or input).
-void compute_curve_at(ComputeContext& c, double x) {
+// The key and setting attributes of a curve: kKeyTimes .. kPostInfinity.
+constexpr AttrIndex kCurveInputs = curve_attr::kPostInfinity + 1;
+
+CurveArrays read_curve_arrays(const ComputeContext& c) {
   namespace a = curve_attr;
   CurveArrays arrays;
   arrays.times = c.get<std::vector<double>>(a::kKeyTimes);
@@ -175,74 +179,113 @@ void compute_curve_at(ComputeContext& c, double x) {
   arrays.settings.weighted = c.get<bool>(a::kWeighted);
   arrays.settings.pre_infinity = read_enum<Infinity>(c, a::kPreInfinity, kInfinityCount);
   arrays.settings.post_infinity = read_enum<Infinity>(c, a::kPostInfinity, kInfinityCount);
-  const bool check = must_check(c, a::kError);
-  const Status status = check ? arrays.validate() : checked(c, a::kError);
-  c.output(a::kOutput) = status.is_ok() ? evaluate_arrays(arrays, x) : 0.0;
-  if (check) write_error(c, a::kError, status);
+  return arrays;
 }
 
-void compute_anim_curve(ComputeContext& c) {
-  namespace a = curve_attr;
-  const auto& offsets = c.get<std::vector<std::int64_t>>(anim_curve_attr::kClipOffsets);
-  if (offsets.empty()) {
-    compute_curve_at(c, c.time());
-    return;
-  }
-  CurveArrays all;
-  all.times = c.get<std::vector<double>>(a::kKeyTimes);
-  all.values = c.get<std::vector<double>>(a::kKeyValues);
-  all.in_types = c.get<std::vector<std::int64_t>>(a::kInTangentType);
-  all.out_types = c.get<std::vector<std::int64_t>>(a::kOutTangentType);
-  all.in_slopes = c.get<std::vector<double>>(a::kInSlope);
-  all.out_slopes = c.get<std::vector<double>>(a::kOutSlope);
-  all.in_weights = c.get<std::vector<double>>(a::kInWeight);
-  all.out_weights = c.get<std::vector<double>>(a::kOutWeight);
-  all.settings.weighted = c.get<bool>(a::kWeighted);
-  all.settings.pre_infinity = read_enum<Infinity>(c, a::kPreInfinity, kInfinityCount);
-  all.settings.post_infinity = read_enum<Infinity>(c, a::kPostInfinity, kInfinityCount);
+// Keys [first, first + count) of every per-key array.
+CurveArrays slice_curve(const CurveArrays& all, std::size_t first, std::size_t count) {
+  CurveArrays part = all;
+  part.times = cut(all.times, first, count);
+  part.values = cut(all.values, first, count);
+  part.in_types = cut(all.in_types, first, count);
+  part.out_types = cut(all.out_types, first, count);
+  part.in_slopes = cut(all.in_slopes, first, count);
+  part.out_slopes = cut(all.out_slopes, first, count);
+  part.in_weights = cut(all.in_weights, first, count);
+  part.out_weights = cut(all.out_weights, first, count);
+  return part;
+}
+
+// The check of every key, as `error` reports it: one clip of all keys when
+// `offsets` is empty, else each clip's keys on their own.
+Status check_curve(const CurveArrays& all, std::span<const std::int64_t> offsets) {
+  if (offsets.empty()) return all.validate();
   const std::size_t key_count = all.times.size();
-  const bool check = must_check(c, a::kError);
-  Status status = check ? check_clip_offsets(offsets, key_count) : checked(c, a::kError);
-  if (check) {
-    for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
-                                      std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
-                                      std::pair{all.out_weights, "outWeight"}}) {
-      if (status) status = check_per_key(array, key_count, name);
-    }
-    if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
-    if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
+  Status status = check_clip_offsets(offsets, key_count);
+  for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
+                                    std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
+                                    std::pair{all.out_weights, "outWeight"}}) {
+    if (status) status = check_per_key(array, key_count, name);
   }
-  const auto slice = [&all](std::size_t first, std::size_t count) {
-    CurveArrays part = all;
-    part.times = cut(all.times, first, count);
-    part.values = cut(all.values, first, count);
-    part.in_types = cut(all.in_types, first, count);
-    part.out_types = cut(all.out_types, first, count);
-    part.in_slopes = cut(all.in_slopes, first, count);
-    part.out_slopes = cut(all.out_slopes, first, count);
-    part.in_weights = cut(all.in_weights, first, count);
-    part.out_weights = cut(all.out_weights, first, count);
-    return part;
-  };
-  double value = 0.0;
-  if (status) {
-    auto keys = clip_keys(offsets, c.get<std::int64_t>(anim_curve_attr::kClip), key_count,
-                          [&](std::size_t first, std::size_t count) {
-                            return check ? slice(first, count).validate() : Status::ok();
-                          });
-    if (!keys) {
-      status = keys.status();
-    } else if (!keys.value()) {
-      value = c.get<double>(anim_curve_attr::kRestValue);
-    } else {
-      value = evaluate_arrays(slice(keys.value()->first, keys.value()->count), c.time());
+  if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
+  if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
+  if (!status) return status;
+  auto keys = clip_keys(offsets, -1, key_count, [&](std::size_t first, std::size_t count) {
+    return slice_curve(all, first, count).validate();
+  });
+  return keys ? Status::ok() : keys.status();
+}
+
+// An animCurve's or drivenKey's keys compiled into an AnimCurve (the active
+// clip's), kept between evaluations with a playback cursor: playing a frame
+// costs a cursor check and a cubic instead of reading the key arrays and
+// searching them. Rebuilt when a key, setting, clipOffsets or clip changes
+// (their versions); the check's result is kept with it, so `error` is
+// written from it and a time change checks nothing.
+struct CurveCache final : graph::NodeCache {
+  static constexpr std::size_t kVersions = kCurveInputs + 2;
+  std::array<std::uint64_t, kVersions> versions{};
+  bool built = false;
+  Status status = Status::ok();
+  bool rest = false;  // the active clip has no keys: the output is restValue
+  AnimCurve curve;
+  Cursor cursor;
+};
+
+// The node's compiled curve, rebuilt if its inputs changed. `clips`: an
+// animCurve (clipOffsets, clip); a drivenKey has neither.
+CurveCache& compiled_curve(ComputeContext& c, bool clips) {
+  std::array<std::uint64_t, CurveCache::kVersions> now{};
+  for (AttrIndex a = 0; a < kCurveInputs; ++a) now[a] = c.version(a);
+  if (clips) {
+    now[kCurveInputs] = c.version(anim_curve_attr::kClipOffsets);
+    now[kCurveInputs + 1] = c.version(anim_curve_attr::kClip);
+  }
+  CurveCache& cache = c.cache<CurveCache>();
+  if (cache.built && cache.versions == now) return cache;
+  cache.versions = now;
+  cache.built = true;
+  cache.rest = false;
+  cache.curve = AnimCurve();
+  cache.cursor = Cursor{};
+  const CurveArrays all = read_curve_arrays(c);
+  const std::span<const std::int64_t> offsets =
+      clips ? std::span<const std::int64_t>(c.get<std::vector<std::int64_t>>(anim_curve_attr::kClipOffsets))
+            : std::span<const std::int64_t>();
+  cache.status = check_curve(all, offsets);
+  if (!cache.status) return cache;
+  CurveArrays active = all;
+  if (!offsets.empty()) {
+    auto keys = clip_keys(offsets, c.get<std::int64_t>(anim_curve_attr::kClip), all.times.size(),
+                          [](std::size_t, std::size_t) { return Status::ok(); });
+    if (!keys.value()) {
+      cache.rest = true;
+      return cache;
     }
+    active = slice_curve(all, keys.value()->first, keys.value()->count);
+  }
+  auto built = AnimCurve::build(active.keys(), active.settings);
+  if (built) cache.curve = std::move(built).value();
+  else cache.status = built.status();
+  return cache;
+}
+
+// Evaluates the node's curve at `x` (time or input) and writes `error` when
+// it is dirty.
+void compute_curve_at(ComputeContext& c, double x, bool clips) {
+  namespace a = curve_attr;
+  CurveCache& cache = compiled_curve(c, clips);
+  double value = 0.0;
+  if (cache.status.is_ok()) {
+    value = cache.rest ? c.get<double>(anim_curve_attr::kRestValue) : cache.curve.evaluate(x, cache.cursor);
   }
   c.output(a::kOutput) = value;
-  if (check) write_error(c, a::kError, status);
+  if (c.node().is_dirty(a::kError)) write_error(c, a::kError, cache.status);
 }
 
-void compute_driven_key(ComputeContext& c) { compute_curve_at(c, c.get<double>(driven_key_attr::kInput)); }
+void compute_anim_curve(ComputeContext& c) { compute_curve_at(c, c.time(), true); }
+
+void compute_driven_key(ComputeContext& c) { compute_curve_at(c, c.get<double>(driven_key_attr::kInput), false); }
 
 template <typename T>
 void compute_track(ComputeContext& c) {

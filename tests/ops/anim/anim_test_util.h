@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -42,6 +43,24 @@ inline AnimCurve make_curve(std::vector<Key> keys, CurveSettings settings = {}) 
   EXPECT_TRUE(succeeded(curve.status()));
   return curve ? std::move(curve).value() : AnimCurve();
 }
+
+// Keys as an animCurve node's per-key arrays (CurveArrays' storage).
+struct KeyColumns {
+  std::vector<double> times, values, in_slopes, out_slopes, in_weights, out_weights;
+  std::vector<std::int64_t> in_types, out_types;
+  void append(const std::vector<Key>& keys) {
+    for (const Key& k : keys) {
+      times.push_back(k.time);
+      values.push_back(k.value);
+      in_types.push_back(static_cast<std::int64_t>(k.in_type));
+      out_types.push_back(static_cast<std::int64_t>(k.out_type));
+      in_slopes.push_back(k.in_slope);
+      out_slopes.push_back(k.out_slope);
+      in_weights.push_back(k.in_weight);
+      out_weights.push_back(k.out_weight);
+    }
+  }
+};
 
 // Cubic Hermite on [t0, t1] with end slopes m0, m1 (per time unit).
 inline double hermite(double t0, double v0, double m0, double t1, double v1, double m1, double t) {

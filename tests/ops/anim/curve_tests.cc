@@ -16,6 +16,7 @@ using testing::bernstein;
 using testing::fails_with;
 using testing::hermite;
 using testing::key;
+using testing::KeyColumns;
 using testing::make_curve;
 using testing::Random;
 using testing::succeeded;
@@ -511,18 +512,9 @@ TEST(CurveArrays, validate__agrees_with_validate_keys_on_corrupted_data) {
   for (int c = 0; c < 2000; ++c) {
     const int n = 1 + random.index(8);
     std::vector<Key> keys = random.keys(n);
-    std::vector<double> times, values, in_slopes, out_slopes, in_weights, out_weights;
-    std::vector<std::int64_t> in_types, out_types;
-    for (const Key& k : keys) {
-      times.push_back(k.time);
-      values.push_back(k.value);
-      in_types.push_back(static_cast<std::int64_t>(k.in_type));
-      out_types.push_back(static_cast<std::int64_t>(k.out_type));
-      in_slopes.push_back(k.in_slope);
-      out_slopes.push_back(k.out_slope);
-      in_weights.push_back(k.in_weight);
-      out_weights.push_back(k.out_weight);
-    }
+    KeyColumns columns;
+    columns.append(keys);
+    auto& [times, values, in_slopes, out_slopes, in_weights, out_weights, in_types, out_types] = columns;
     std::vector<double>* doubles[] = {&times, &values, &in_slopes, &out_slopes, &in_weights, &out_weights};
     const int corruptions = random.index(3);
     for (int k = 0; k < corruptions; ++k) {
@@ -552,19 +544,9 @@ TEST(CurveArrays, evaluate_arrays__equals_compiled_curve) {
     const std::vector<Key> keys = random.keys(1 + random.index(20));
     const CurveSettings settings = random.settings(c % 2 == 0);
     const AnimCurve curve = make_curve(keys, settings);
-    std::vector<double> times, values, in_slopes, out_slopes, in_weights, out_weights;
-    std::vector<std::int64_t> in_types, out_types;
-    for (const Key& k : keys) {
-      times.push_back(k.time);
-      values.push_back(k.value);
-      in_types.push_back(static_cast<std::int64_t>(k.in_type));
-      out_types.push_back(static_cast<std::int64_t>(k.out_type));
-      in_slopes.push_back(k.in_slope);
-      out_slopes.push_back(k.out_slope);
-      in_weights.push_back(k.in_weight);
-      out_weights.push_back(k.out_weight);
-    }
-    const CurveArrays arrays{times, values, in_types, out_types, in_slopes, out_slopes, in_weights, out_weights, settings};
+    KeyColumns k;
+    k.append(keys);
+    const CurveArrays arrays{k.times, k.values, k.in_types, k.out_types, k.in_slopes, k.out_slopes, k.in_weights, k.out_weights, settings};
     ASSERT_TRUE(succeeded(arrays.validate()));
     for (int i = 0; i < 200; ++i) {
       const double t = random.uniform(keys.front().time - 4, keys.back().time + 4);

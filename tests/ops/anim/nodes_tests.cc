@@ -55,6 +55,17 @@ class AnimNodes : public ::testing::Test {
   void connect(NodeId src, graph::AttrIndex src_attr, NodeId dst, graph::AttrIndex dst_attr) {
     ASSERT_TRUE(succeeded(graph().connect(Plug{src, src_attr, -1}, Plug{dst, dst_attr, -1})));
   }
+  // Every per-key array of an animCurve or drivenKey.
+  void set_keys(NodeId curve, const testing::KeyColumns& k) {
+    set(curve, curve_attr::kKeyTimes, k.times);
+    set(curve, curve_attr::kKeyValues, k.values);
+    set(curve, curve_attr::kInTangentType, k.in_types);
+    set(curve, curve_attr::kOutTangentType, k.out_types);
+    set(curve, curve_attr::kInSlope, k.in_slopes);
+    set(curve, curve_attr::kOutSlope, k.out_slopes);
+    set(curve, curve_attr::kInWeight, k.in_weights);
+    set(curve, curve_attr::kOutWeight, k.out_weights);
+  }
   template <typename T>
   T value(NodeId node, graph::AttrIndex attr) {
     return std::get<T>(graph().evaluate(node, attr));
@@ -157,26 +168,9 @@ TEST_F(AnimNodes, anim_curve__equals_compiled_curve) {
   Result<AnimCurve> compiled = AnimCurve::build(keys, settings);
   ASSERT_TRUE(succeeded(compiled.status()));
   const NodeId curve = create(kAnimCurveType, "curve");
-  std::vector<double> times, values, in_slopes, out_slopes, in_weights, out_weights;
-  std::vector<std::int64_t> in_types, out_types;
-  for (const Key& k : keys) {
-    times.push_back(k.time);
-    values.push_back(k.value);
-    in_types.push_back(static_cast<std::int64_t>(k.in_type));
-    out_types.push_back(static_cast<std::int64_t>(k.out_type));
-    in_slopes.push_back(k.in_slope);
-    out_slopes.push_back(k.out_slope);
-    in_weights.push_back(k.in_weight);
-    out_weights.push_back(k.out_weight);
-  }
-  set(curve, curve_attr::kKeyTimes, times);
-  set(curve, curve_attr::kKeyValues, values);
-  set(curve, curve_attr::kInTangentType, in_types);
-  set(curve, curve_attr::kOutTangentType, out_types);
-  set(curve, curve_attr::kInSlope, in_slopes);
-  set(curve, curve_attr::kOutSlope, out_slopes);
-  set(curve, curve_attr::kInWeight, in_weights);
-  set(curve, curve_attr::kOutWeight, out_weights);
+  testing::KeyColumns columns;
+  columns.append(keys);
+  set_keys(curve, columns);
   set(curve, curve_attr::kWeighted, true);
   set(curve, curve_attr::kPreInfinity, std::int64_t{static_cast<int>(settings.pre_infinity)});
   set(curve, curve_attr::kPostInfinity, std::int64_t{static_cast<int>(settings.post_infinity)});
@@ -298,6 +292,91 @@ TEST_F(AnimNodes, driven_key__input_leaves_the_check_clean) {
   set(sdk, driven_key_attr::kInput, 7.0);
   EXPECT_EQ(value<double>(sdk, curve_attr::kOutput), 0.0);
   EXPECT_FALSE(value<std::string>(sdk, curve_attr::kError).empty());
+}
+
+
+// An animCurve keeps its keys compiled (and a playback cursor) between
+// evaluations: whatever the edits (new keys, one value changed, clips cut
+// and switched, the rest value, undo and redo) and however time moves
+// (forward, backward, jumps), its output is exactly the curve its current
+// keys make.
+TEST_F(AnimNodes, anim_curve__compiled_keys_follow_every_edit_undo_and_time) {
+  struct State {
+    std::vector<std::vector<Key>> clips;  // one clip without offsets when `cut` is false
+    bool cut = false;
+    std::int64_t clip = 0;
+    double rest = 0.0;
+    CurveSettings settings;
+  };
+  testing::Random random(29);
+  const NodeId curve = create(kAnimCurveType, "curve");
+  const auto write = [&](const State& st) {
+    testing::KeyColumns columns;
+    std::vector<std::int64_t> offsets{0};
+    for (const std::vector<Key>& keys : st.clips) {
+      columns.append(keys);
+      offsets.push_back(static_cast<std::int64_t>(columns.times.size()));
+    }
+    if (!st.cut) offsets.clear();
+    graph::Transaction step(graph(), "keys");
+    set_keys(curve, columns);
+    set(curve, curve_attr::kWeighted, st.settings.weighted);
+    set(curve, curve_attr::kPreInfinity, std::int64_t{static_cast<int>(st.settings.pre_infinity)});
+    set(curve, curve_attr::kPostInfinity, std::int64_t{static_cast<int>(st.settings.post_infinity)});
+    set(curve, anim_curve_attr::kClipOffsets, offsets);
+    set(curve, anim_curve_attr::kClip, st.clip);
+    set(curve, anim_curve_attr::kRestValue, st.rest);
+  };
+  const auto expected = [](const State& st, double t) {
+    if (st.clip < 0 || static_cast<std::size_t>(st.clip) >= st.clips.size()) return st.cut ? st.rest : 0.0;
+    const std::vector<Key>& keys = st.clips[static_cast<std::size_t>(st.clip)];
+    if (keys.empty() && st.cut) return st.rest;
+    return testing::make_curve(keys, st.settings).evaluate(t);
+  };
+  std::vector<State> done{State{{{}}, false, 0, 0.0, {}}};
+  std::vector<State> undone;
+  double t = 0.0;
+  for (int round = 0; round < 300; ++round) {
+    SCOPED_TRACE("round " + std::to_string(round));
+    const int action = random.index(8);
+    if (action == 0 && done.size() > 1) {
+      ASSERT_TRUE(graph().undo());
+      undone.push_back(done.back());
+      done.pop_back();
+    } else if (action == 1 && !undone.empty()) {
+      ASSERT_TRUE(graph().redo());
+      done.push_back(undone.back());
+      undone.pop_back();
+    } else {
+      State st = done.back();
+      if (action <= 3) {  // new keys: one clip, or several cut by offsets
+        st.cut = random.index(2) == 1;
+        st.clips.assign(st.cut ? 1 + random.index(3) : 1, {});
+        for (std::vector<Key>& keys : st.clips) keys = random.keys(random.index(6), random.uniform(-1, 1));
+        st.settings = random.settings(random.index(2) == 1);
+        st.clip = st.cut ? random.index(4) - 1 : 0;
+      } else if (action == 4 && !st.clips[0].empty()) {  // one key's value
+        st.clips[0][static_cast<std::size_t>(random.index(static_cast<int>(st.clips[0].size())))].value = random.uniform(-5, 5);
+      } else if (action == 5 && st.cut) {
+        st.clip = random.index(static_cast<int>(st.clips.size()) + 2) - 1;
+      } else {
+        st.rest = random.uniform(-3, 3);
+      }
+      write(st);
+      done.push_back(st);
+      undone.clear();
+    }
+    for (int k = 0; k < 6; ++k) {
+      // Mostly frame steps either way (the cursor's sequential case), sometimes a jump.
+      t = random.index(5) == 0 ? random.uniform(-2, 6) : t + random.uniform(-0.1, 0.1) * (random.index(3) == 0 ? -1 : 1);
+      graph().set_time(t);
+      const double v = value<double>(curve, curve_attr::kOutput);
+      const double want = expected(done.back(), t);
+      if (std::isnan(want)) EXPECT_TRUE(std::isnan(v)) << "t " << t;
+      else EXPECT_EQ(v, want) << "t " << t;
+      ASSERT_TRUE(value<std::string>(curve, curve_attr::kError).empty()) << value<std::string>(curve, curve_attr::kError);
+    }
+  }
 }
 
 }  // namespace
