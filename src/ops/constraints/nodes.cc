@@ -1,6 +1,7 @@
 #include "rigel/ops/constraints/nodes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -149,16 +150,44 @@ void write_error(ComputeContext& c, AttrIndex a, const std::string& message) {
   std::get<std::string>(c.output(a)) = message;
 }
 
-Quat joint_orient(const ComputeContext& c) {
-  return math::euler_to_quat(math::to_radians(c.get<Vec3>(attr::kJointOrient)), RotateOrder::kXYZ);
+// What a blending constraint derives from its rest inputs (rotateOrder,
+// jointOrient, restTranslate, restRotate, restScale), which a rig sets once
+// at build: kept between evaluations (their versions), so playback does not
+// convert the same Euler angles to quaternions and matrices every frame.
+struct RestCache final : graph::NodeCache {
+  static constexpr AttrIndex kFirst = attr::kRotateOrder;
+  static constexpr std::size_t kCount = attr::kRestScale - attr::kRotateOrder + 1;
+  std::array<std::uint64_t, kCount> versions{};
+  bool built = false;
+  RotateOrder order = RotateOrder::kXYZ;
+  Quat joint_orient = Quat::Identity();
+  Quat rest_rotation = Quat::Identity();  // the rest rotation as the local rotation (joint orient included)
+  Mat4 rest_local = Mat4::Identity();
+};
+
+const RestCache& rest(ComputeContext& c) {
+  std::array<std::uint64_t, RestCache::kCount> now{};
+  for (std::size_t i = 0; i < RestCache::kCount; ++i) now[i] = c.version(RestCache::kFirst + static_cast<AttrIndex>(i));
+  RestCache& cache = c.cache<RestCache>();
+  if (cache.built && cache.versions == now) return cache;
+  cache.versions = now;
+  cache.built = true;
+  cache.order = read_enum<RotateOrder>(c, attr::kRotateOrder, math::kRotateOrderCount);
+  cache.joint_orient = math::euler_to_quat(math::to_radians(c.get<Vec3>(attr::kJointOrient)), RotateOrder::kXYZ);
+  cache.rest_rotation =
+      cache.joint_orient * math::euler_to_quat(math::to_radians(c.get<Vec3>(attr::kRestRotate)), cache.order);
+  cache.rest_local =
+      math::trs_matrix(c.get<Vec3>(attr::kRestTranslate), cache.rest_rotation, c.get<Vec3>(attr::kRestScale));
+  return cache;
 }
 
 // Writes a local rotation as Euler degrees in the driven's rotate order,
 // with the joint orient taken out, closest to the previous output (no flips
 // of 360 degrees between evaluations).
 void write_rotate(ComputeContext& c, AttrIndex out, const Quat& local_rotation) {
-  const RotateOrder order = read_enum<RotateOrder>(c, attr::kRotateOrder, math::kRotateOrderCount);
-  const Quat r = joint_orient(c).conjugate() * local_rotation;
+  const RestCache& r_cache = rest(c);
+  const RotateOrder order = r_cache.order;
+  const Quat r = r_cache.joint_orient.conjugate() * local_rotation;
   Vec3& rotate = std::get<Vec3>(c.output(out));
   const Vec3 previous = math::to_radians(rotate);
   Vec3 euler = math::quat_to_euler(r.normalized(), order);
@@ -166,20 +195,12 @@ void write_rotate(ComputeContext& c, AttrIndex out, const Quat& local_rotation) 
   rotate = math::to_degrees(euler);
 }
 
-// The rest rotation as the local rotation (joint orient included).
-Quat rest_rotation(const ComputeContext& c) {
-  const RotateOrder order = read_enum<RotateOrder>(c, attr::kRotateOrder, math::kRotateOrderCount);
-  return joint_orient(c) * math::euler_to_quat(math::to_radians(c.get<Vec3>(attr::kRestRotate)), order);
-}
-
 void compute_parent(ComputeContext& c) {
   namespace a = parent_attr;
-  const Vec3 rest_t = c.get<Vec3>(attr::kRestTranslate);
-  const Vec3 rest_s = c.get<Vec3>(attr::kRestScale);
   ParentConstraintJob job;
   job.targets = read_targets(c);
   job.parent_inverse = c.get<Mat4>(attr::kParentInverseMatrix);
-  job.rest_local = math::trs_matrix(rest_t, rest_rotation(c), rest_s);
+  job.rest_local = rest(c).rest_local;
   job.rigid = c.get<bool>(a::kRigid);
   Mat4 local;
   job.output = &local;
@@ -211,7 +232,7 @@ void compute_orient(ComputeContext& c) {
   OrientConstraintJob job;
   job.targets = read_targets(c);
   job.parent_inverse = c.get<Mat4>(attr::kParentInverseMatrix);
-  job.rest_rotation = rest_rotation(c);
+  job.rest_rotation = rest(c).rest_rotation;
   Quat out;
   job.output = &out;
   const bool ok = job.run();
@@ -236,7 +257,7 @@ void compute_aim(ComputeContext& c) {
   AimConstraintJob job;
   job.targets = read_targets(c);
   job.parent_inverse = c.get<Mat4>(attr::kParentInverseMatrix);
-  job.rest_rotation = rest_rotation(c);
+  job.rest_rotation = rest(c).rest_rotation;
   job.aim_vector = c.get<Vec3>(a::kAimVector);
   job.up_vector = c.get<Vec3>(a::kUpVector);
   job.world_up_type = read_enum<WorldUpType>(c, a::kWorldUpType, kWorldUpTypeCount);
