@@ -14,9 +14,15 @@
 namespace rigel::graph {
 namespace {
 
-// Levels smaller than this run serially: spawning tasks costs more.
-constexpr std::size_t kParallelMinLevel = 64;
+// Levels (and whole evaluations) smaller than this run serially: spawning
+// tasks costs more.
+constexpr std::size_t kParallelMinLevel = 256;
 constexpr std::size_t kParallelGrain = 32;
+
+// A connection that copies a whole value (no element or component on either side).
+bool whole_connection(const Connection& c) {
+  return c.dst.element < 0 && c.src.element < 0 && c.dst.component < 0 && c.src.component < 0;
+}
 
 }  // namespace
 
@@ -88,28 +94,39 @@ void Graph::dirty_for_time() {
 
 void Graph::update_node(Node& n) {
   // Refresh connected inputs that are dirty, then compute if an output is.
-  for (const Connection& c : n.inputs_) {
-    if (!n.dirty_[c.dst.attr]) continue;
-    const Node& src = *slots_[c.src.node.index];
-    Value& dst = n.values_[c.dst.attr];
-    n.versions_[c.dst.attr] = ++n.clock_;
-    if (c.dst.element < 0 && c.src.element < 0 && c.dst.component < 0 && c.src.component < 0) {
-      dst = src.values_[c.src.attr];
-    } else {
-      write_part(dst, n.type_->attr(c.dst.attr).type, c.dst, plug_value(c.src));
+  // Two passes: several connections may write parts of one attribute, so
+  // dirty flags are cleared (and enums clamped) after every refresh.
+  const auto refresh = [&](const Node& src, AttrIndex src_attr, AttrIndex dst_attr, bool whole, const Connection& c) {
+    n.versions_[dst_attr] = ++n.clock_;
+    if (whole) n.values_[dst_attr] = src.values_[src_attr];
+    else write_part(n.values_[dst_attr], n.type_->attr(dst_attr).type, c.dst, plug_value(c.src));
+  };
+  // An int may feed an enum: keep the enum within its names, as set_value does.
+  const auto clamp_enum = [&](AttrIndex attr) {
+    const auto top = static_cast<std::int64_t>(n.type_->attr(attr).enum_names.size()) - 1;
+    Value& v = n.values_[attr];
+    if (auto* one = std::get_if<std::int64_t>(&v)) *one = std::clamp<std::int64_t>(*one, 0, top);
+    else if (auto* many = std::get_if<std::vector<std::int64_t>>(&v))
+      for (std::int64_t& e : *many) e = std::clamp<std::int64_t>(e, 0, top);
+  };
+  if (schedule_ && schedule_->generation == topology_generation_) {
+    const auto [first, last] = schedule_->input_range[n.id_.index];
+    const Schedule::Input* begin = schedule_->inputs.data() + first;
+    const Schedule::Input* end = schedule_->inputs.data() + last;
+    for (const Schedule::Input* in = begin; in != end; ++in)
+      if (n.dirty_[in->dst_attr]) refresh(*in->src, in->src_attr, in->dst_attr, in->whole, *in->connection);
+    for (const Schedule::Input* in = begin; in != end; ++in) {
+      if (!n.dirty_[in->dst_attr]) continue;
+      n.dirty_[in->dst_attr] = 0;
+      if (in->enum_dst) clamp_enum(in->dst_attr);
     }
-  }
-  for (const Connection& c : n.inputs_) {
-    if (!n.dirty_[c.dst.attr]) continue;
-    n.dirty_[c.dst.attr] = 0;
-    // An int may feed an enum: keep the enum within its names, as set_value does.
-    const AttrSpec& spec = n.type_->attr(c.dst.attr);
-    if (spec.type.value == ValueType::kEnum) {
-      const auto top = static_cast<std::int64_t>(spec.enum_names.size()) - 1;
-      Value& v = n.values_[c.dst.attr];
-      if (auto* one = std::get_if<std::int64_t>(&v)) *one = std::clamp<std::int64_t>(*one, 0, top);
-      else if (auto* many = std::get_if<std::vector<std::int64_t>>(&v))
-        for (std::int64_t& e : *many) e = std::clamp<std::int64_t>(e, 0, top);
+  } else {
+    for (const Connection& c : n.inputs_)
+      if (n.dirty_[c.dst.attr]) refresh(*slots_[c.src.node.index], c.src.attr, c.dst.attr, whole_connection(c), c);
+    for (const Connection& c : n.inputs_) {
+      if (!n.dirty_[c.dst.attr]) continue;
+      n.dirty_[c.dst.attr] = 0;
+      if (n.type_->attr(c.dst.attr).type.value == ValueType::kEnum) clamp_enum(c.dst.attr);
     }
   }
   // Every attribute is clean after this: connected inputs were refreshed,
@@ -175,8 +192,7 @@ const Graph::Schedule& Graph::schedule() {
   if (!schedule_) schedule_ = std::make_unique<Schedule>();
   Schedule& s = *schedule_;
   if (s.generation == topology_generation_) return s;
-  // Kahn's algorithm by levels: a node's level is one more than its deepest
-  // source, so nodes of one level never read each other and run in parallel.
+  // Kahn's algorithm by levels: a node's level is one more than its deepest source.
   std::vector<NodeId> all = nodes();
   std::unordered_map<std::uint32_t, std::size_t> position;
   position.reserve(all.size());
@@ -187,6 +203,13 @@ const Graph::Schedule& Graph::schedule() {
   std::deque<std::size_t> ready;
   for (std::size_t i = 0; i < all.size(); ++i)
     if (pending[i] == 0) ready.push_back(i);
+  // Connected components by union-find over the connections.
+  std::vector<std::size_t> root(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) root[i] = i;
+  const auto find = [&](std::size_t i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
   std::uint32_t max_level = 0;
   while (!ready.empty()) {
     std::size_t i = ready.front();
@@ -196,27 +219,53 @@ const Graph::Schedule& Graph::schedule() {
       std::size_t j = position[c.dst.node.index];
       level[j] = std::max(level[j], level[i] + 1);
       if (--pending[j] == 0) ready.push_back(j);
+      const std::size_t ri = find(i), rj = find(j);
+      if (ri != rj) root[std::max(ri, rj)] = std::min(ri, rj);
     }
   }
-  // Counting sort by level, creation order within a level.
-  s.level_begin.assign(all.empty() ? 1 : max_level + 2, 0);
-  for (std::size_t i = 0; i < all.size(); ++i) ++s.level_begin[level[i] + 1];
-  for (std::size_t l = 1; l < s.level_begin.size(); ++l) s.level_begin[l] += s.level_begin[l - 1];
+  // Components numbered by their first node in creation order; sort by
+  // (component, level), creation order within.
+  std::vector<std::uint32_t> component(all.size(), 0);
+  std::vector<std::uint32_t> number(all.size(), ~std::uint32_t{0});
+  std::uint32_t components = 0;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::uint32_t& n = number[find(i)];
+    if (n == ~std::uint32_t{0}) n = components++;
+    component[i] = n;
+  }
+  std::vector<std::uint32_t> sorted(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) sorted[i] = static_cast<std::uint32_t>(i);
+  std::stable_sort(sorted.begin(), sorted.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return component[x] != component[y] ? component[x] < component[y] : level[x] < level[y];
+  });
+  s.level_count = all.empty() ? 0 : max_level + 1;
   s.order.assign(all.size(), NodeId{});
-  std::vector<std::size_t> fill(s.level_begin.begin(), s.level_begin.end() - 1);
   s.position.assign(slots_.size(), 0);
   s.level.assign(all.size(), 0);
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    std::size_t at = fill[level[i]]++;
+  s.component.assign(all.size(), 0);
+  for (std::size_t at = 0; at < sorted.size(); ++at) {
+    const std::uint32_t i = sorted[at];
     s.order[at] = all[i];
     s.position[all[i].index] = static_cast<std::uint32_t>(at);
     s.level[at] = level[i];
+    s.component[at] = component[i];
+  }
+  s.inputs.clear();
+  s.input_range.assign(slots_.size(), {0, 0});
+  for (NodeId id : s.order) {
+    const Node& n = *slots_[id.index];
+    const auto first = static_cast<std::uint32_t>(s.inputs.size());
+    for (const Connection& c : n.inputs_) {
+      const bool is_enum = n.type_->attr(c.dst.attr).type.value == ValueType::kEnum;
+      s.inputs.push_back({slots_[c.src.node.index].get(), &c, c.src.attr, c.dst.attr, whole_connection(c), is_enum});
+    }
+    s.input_range[id.index] = {first, static_cast<std::uint32_t>(s.inputs.size())};
   }
   s.generation = topology_generation_;
   return s;
 }
 
-std::size_t Graph::schedule_level_count() { return schedule().level_begin.size() - 1; }
+std::size_t Graph::schedule_level_count() { return schedule().level_count; }
 
 void Graph::evaluate_all(Execution execution) {
   if (dirty_nodes_.empty()) return;
@@ -238,24 +287,42 @@ void Graph::evaluate_all(Execution execution) {
     work.erase(std::unique(work.begin(), work.end()), work.end());
   }
   dirty_nodes_.clear();
-  auto run = [&](std::size_t k) {
+  const bool parallel = execution == Execution::kParallel;
+  const auto run = [&](std::size_t k) {
     Node& n = *slots_[s.order[work[k]].index];
     if (n.queued_) update_node(n);
   };
-  // Queued nodes of one level never read each other: run a large level in parallel.
-  for (std::size_t begin = 0; begin < work.size();) {
-    std::size_t end = begin + 1;
-    while (end < work.size() && s.level[work[end]] == s.level[work[begin]]) ++end;
-    if (execution == Execution::kSerial || end - begin < kParallelMinLevel) {
-      for (std::size_t k = begin; k < end; ++k) run(k);
-    } else {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, kParallelGrain),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t k = r.begin(); k != r.end(); ++k) run(k);
-                        });
+  // One component's work [begin, end), level by level: queued nodes of one
+  // level never read each other, so a wide level runs in parallel.
+  const auto run_component = [&](std::size_t begin, std::size_t end) {
+    while (begin < end) {
+      std::size_t level_end = begin + 1;
+      while (level_end < end && s.level[work[level_end]] == s.level[work[begin]]) ++level_end;
+      if (!parallel || level_end - begin < kParallelMinLevel) {
+        for (std::size_t k = begin; k < level_end; ++k) run(k);
+      } else {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, level_end, kParallelGrain),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            for (std::size_t k = r.begin(); k != r.end(); ++k) run(k);
+                          });
+      }
+      begin = level_end;
     }
-    begin = end;
+  };
+  // Where each component's work starts, plus a final end.
+  std::vector<std::size_t> starts;
+  for (std::size_t k = 0; k < work.size(); ++k)
+    if (k == 0 || s.component[work[k]] != s.component[work[k - 1]]) starts.push_back(k);
+  starts.push_back(work.size());
+  const std::size_t count = starts.size() - 1;
+  if (!parallel || count < 2 || work.size() < kParallelMinLevel) {
+    for (std::size_t c = 0; c < count; ++c) run_component(starts[c], starts[c + 1]);
+    return;
   }
+  // Independent components (characters) as parallel tasks.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t c = r.begin(); c != r.end(); ++c) run_component(starts[c], starts[c + 1]);
+  });
 }
 
 void Graph::topology_changed() { ++topology_generation_; }

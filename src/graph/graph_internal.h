@@ -99,12 +99,35 @@ struct Graph::Step {
   }
 };
 
+// The compiled schedule: nodes grouped by connected component (nodes joined
+// by connections either way; two components never read each other, such as
+// two characters), each component's nodes by level (a node's level is one
+// more than its deepest source's, so nodes of one level of a component never
+// read each other), creation order within a level. Components run as
+// parallel tasks, wide levels of a large component in parallel too, and a
+// component's nodes run together, while its values are in cache.
 struct Graph::Schedule {
   std::uint64_t generation = ~std::uint64_t{0};
-  std::vector<NodeId> order;             // parents before children, grouped by level
-  std::vector<std::size_t> level_begin;  // offsets into order, plus a final end
-  std::vector<std::uint32_t> position;   // node slot index -> index in order
-  std::vector<std::uint32_t> level;      // index in order -> level
+  std::vector<NodeId> order;              // by component, then level, then creation
+  std::size_t level_count = 0;            // the deepest level + 1
+  std::vector<std::uint32_t> position;    // node slot index -> index in order
+  std::vector<std::uint32_t> level;       // index in order -> level
+  std::vector<std::uint32_t> component;   // index in order -> component, increasing
+  // Every node's input connections, flattened in schedule order with what
+  // refreshing them needs resolved (the source node, whether the whole value
+  // is copied, whether the destination is an enum to clamp): evaluation
+  // reads one contiguous array instead of each node's connection vector,
+  // the source's slot and the destination's attribute spec.
+  struct Input {
+    const Node* src = nullptr;
+    const Connection* connection = nullptr;  // into the destination's inputs_
+    AttrIndex src_attr = 0;
+    AttrIndex dst_attr = 0;
+    bool whole = true;  // no element or component on either side: copy the value
+    bool enum_dst = false;
+  };
+  std::vector<Input> inputs;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> input_range;  // node slot index -> [begin, end) in inputs
 };
 
 template <typename Fn>

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <string>
 #include <vector>
@@ -239,7 +240,7 @@ TEST(Evaluation, connect__dirties_the_destination_and_element_connections_flow) 
 // Builds `count` nodes of the test types with random values and random
 // connections from earlier nodes (so no cycles). The same seed builds the
 // same graph, node for node.
-std::vector<NodeId> build_random_dag(Graph& graph, std::uint32_t seed, int count) {
+std::vector<NodeId> build_random_dag(Graph& graph, std::uint32_t seed, int count, std::string_view prefix = "n") {
   std::mt19937 rng(seed);
   auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
   auto chance = [&](double p) { return std::bernoulli_distribution(p)(rng); };
@@ -250,7 +251,7 @@ std::vector<NodeId> build_random_dag(Graph& graph, std::uint32_t seed, int count
   static const char* kTypes[] = {"add", "split", "gather"};
   for (int i = 0; i < count; ++i) {
     const char* type = kTypes[std::uniform_int_distribution<int>(0, 2)(rng)];
-    NodeId id = make(graph, type, testing::numbered("n", i));
+    NodeId id = make(graph, type, testing::numbered(prefix, i));
     ids.push_back(id);
     const NodeType& t = graph.node(id)->type();
     for (AttrIndex a = 0; a < t.attr_count(); ++a) {
@@ -367,6 +368,49 @@ TEST(Evaluation, evaluate_all__serial_parallel_and_pull_agree_bit_for_bit) {
     EXPECT_GT(parallel.schedule_level_count(), 2u) << "a random DAG has several levels";
     EXPECT_LT(parallel.schedule_level_count(), static_cast<std::size_t>(kCount / 64))
         << "so some level is wide enough to run in parallel (the parallel path is exercised)";
+  }
+}
+
+// Independent parts of a graph (characters: no connection between them)
+// are scheduled as separate components and run as parallel tasks, each level
+// by level; the result is the serial one, bit for bit, edits included.
+TEST(Evaluation, evaluate_all__independent_components_in_parallel_agree_with_serial) {
+  constexpr int kParts = 12;
+  constexpr int kCount = 400;
+  Graph serial(test_registry()), parallel(test_registry()), pulled(test_registry());
+  std::vector<NodeId> ids;
+  for (int part = 0; part < kParts; ++part) {
+    const std::string prefix = testing::numbered("p", part) + "_";
+    const auto seed = static_cast<std::uint32_t>(40 + part);
+    const std::vector<NodeId> made = build_random_dag(serial, seed, kCount, prefix);
+    ASSERT_EQ(build_random_dag(parallel, seed, kCount, prefix), made) << "same seed, same graph";
+    ASSERT_EQ(build_random_dag(pulled, seed, kCount, prefix), made) << "same seed, same graph";
+    ids.insert(ids.end(), made.begin(), made.end());
+  }
+  for (int round = 0; round < 4; ++round) {
+    SCOPED_TRACE("round " + std::to_string(round));
+    if (round > 0) {
+      for (Graph* g : {&serial, &parallel, &pulled}) random_edits(*g, ids, 900 + round, 40);
+    }
+    if (round == 2) {  // a topology change between rounds: one part feeds another
+      const auto is_add = [&](NodeId id) { return serial.node(id)->type().name() == "add"; };
+      const auto src = std::find_if(ids.begin(), ids.begin() + kCount, is_add);
+      const auto dst = std::find_if(ids.begin() + kCount, ids.begin() + 2 * kCount, [&](NodeId id) {
+        return is_add(id) && !serial.source(Plug{id, testing::add_attr::kB, -1});
+      });
+      ASSERT_TRUE(src != ids.begin() + kCount && dst != ids.begin() + 2 * kCount) << "test setup";
+      for (Graph* g : {&serial, &parallel, &pulled}) {
+        ASSERT_TRUE(g->connect(Plug{*src, testing::add_attr::kSum, -1}, Plug{*dst, testing::add_attr::kB, -1}).is_ok())
+            << "part 0 feeds part 1";
+      }
+    }
+    serial.evaluate_all(Execution::kSerial);
+    parallel.evaluate_all(Execution::kParallel);
+    for (NodeId id : ids)
+      for (AttrIndex o : pulled.node(id)->type().outputs()) (void)pulled.evaluate(id, o);
+    EXPECT_TRUE(same_outputs(serial, parallel, ids)) << "parallel components must match serial bit for bit";
+    EXPECT_TRUE(same_outputs(serial, pulled, ids)) << "and pull evaluation";
+    EXPECT_EQ(total_computes(serial, ids), total_computes(parallel, ids)) << "the same computes";
   }
 }
 
