@@ -3,8 +3,6 @@
 #include "rigel/graph/graph.h"
 
 #include <algorithm>
-#include <deque>
-#include <unordered_map>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -192,61 +190,77 @@ const Graph::Schedule& Graph::schedule() {
   if (!schedule_) schedule_ = std::make_unique<Schedule>();
   Schedule& s = *schedule_;
   if (s.generation == topology_generation_) return s;
-  // Kahn's algorithm by levels: a node's level is one more than its deepest source.
-  std::vector<NodeId> all = nodes();
-  std::unordered_map<std::uint32_t, std::size_t> position;
-  position.reserve(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) position.emplace(all[i].index, i);
-  std::vector<std::uint32_t> pending(all.size(), 0);
-  std::vector<std::uint32_t> level(all.size(), 0);
-  for (std::size_t i = 0; i < all.size(); ++i) pending[i] = static_cast<std::uint32_t>(node(all[i])->inputs_.size());
-  std::deque<std::size_t> ready;
-  for (std::size_t i = 0; i < all.size(); ++i)
-    if (pending[i] == 0) ready.push_back(i);
-  // Connected components by union-find over the connections.
-  std::vector<std::size_t> root(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) root[i] = i;
-  const auto find = [&](std::size_t i) {
+  // Rebuilt on every topology edit (a constraint added is one), so it is
+  // linear and sort-free: nodes in slot order (dense indices), Kahn's
+  // algorithm by levels (a node's level is one more than its deepest
+  // source), union-find for the components, two counting sorts.
+  std::vector<Node*> all;
+  all.reserve(by_uuid_.size());
+  std::vector<std::uint32_t> dense(slots_.size(), 0);  // slot index -> index in all
+  for (const auto& slot : slots_) {
+    if (!slot) continue;
+    dense[slot->id_.index] = static_cast<std::uint32_t>(all.size());
+    all.push_back(slot.get());
+  }
+  const std::size_t count = all.size();
+  std::vector<std::uint32_t> pending(count, 0);
+  std::vector<std::uint32_t> level(count, 0);
+  std::vector<std::uint32_t> ready;
+  ready.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    pending[i] = static_cast<std::uint32_t>(all[i]->inputs_.size());
+    if (pending[i] == 0) ready.push_back(static_cast<std::uint32_t>(i));
+  }
+  std::vector<std::uint32_t> root(count);
+  for (std::size_t i = 0; i < count; ++i) root[i] = static_cast<std::uint32_t>(i);
+  const auto find = [&](std::uint32_t i) {
     while (root[i] != i) i = root[i] = root[root[i]];
     return i;
   };
   std::uint32_t max_level = 0;
-  while (!ready.empty()) {
-    std::size_t i = ready.front();
-    ready.pop_front();
+  for (std::size_t head = 0; head < ready.size(); ++head) {
+    const std::uint32_t i = ready[head];
     max_level = std::max(max_level, level[i]);
-    for (const Connection& c : node(all[i])->outputs_) {
-      std::size_t j = position[c.dst.node.index];
+    for (const Connection& c : all[i]->outputs_) {
+      const std::uint32_t j = dense[c.dst.node.index];
       level[j] = std::max(level[j], level[i] + 1);
       if (--pending[j] == 0) ready.push_back(j);
-      const std::size_t ri = find(i), rj = find(j);
+      const std::uint32_t ri = find(i), rj = find(j);
       if (ri != rj) root[std::max(ri, rj)] = std::min(ri, rj);
     }
   }
-  // Components numbered by their first node in creation order; sort by
-  // (component, level), creation order within.
-  std::vector<std::uint32_t> component(all.size(), 0);
-  std::vector<std::uint32_t> number(all.size(), ~std::uint32_t{0});
+  // Components numbered by their first node.
+  std::vector<std::uint32_t> component(count, 0);
+  std::vector<std::uint32_t> number(count, ~std::uint32_t{0});
   std::uint32_t components = 0;
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    std::uint32_t& n = number[find(i)];
+  for (std::size_t i = 0; i < count; ++i) {
+    std::uint32_t& n = number[find(static_cast<std::uint32_t>(i))];
     if (n == ~std::uint32_t{0}) n = components++;
     component[i] = n;
   }
-  std::vector<std::uint32_t> sorted(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) sorted[i] = static_cast<std::uint32_t>(i);
-  std::stable_sort(sorted.begin(), sorted.end(), [&](std::uint32_t x, std::uint32_t y) {
-    return component[x] != component[y] ? component[x] < component[y] : level[x] < level[y];
-  });
-  s.level_count = all.empty() ? 0 : max_level + 1;
-  s.order.assign(all.size(), NodeId{});
+  // Stable counting sorts: by level, then by component.
+  const auto counting_sort = [count](const std::vector<std::uint32_t>& in, const std::vector<std::uint32_t>& key,
+                                     std::size_t keys) {
+    std::vector<std::uint32_t> begin(keys + 1, 0);
+    for (std::uint32_t i : in) ++begin[key[i] + 1];
+    for (std::size_t k = 1; k <= keys; ++k) begin[k] += begin[k - 1];
+    std::vector<std::uint32_t> out(count);
+    for (std::uint32_t i : in) out[begin[key[i]]++] = i;
+    return out;
+  };
+  std::vector<std::uint32_t> sorted(count);
+  for (std::size_t i = 0; i < count; ++i) sorted[i] = static_cast<std::uint32_t>(i);
+  sorted = counting_sort(sorted, level, count == 0 ? 0 : max_level + 1);
+  sorted = counting_sort(sorted, component, components);
+  s.level_count = count == 0 ? 0 : max_level + 1;
+  s.order.resize(count);
   s.position.assign(slots_.size(), 0);
-  s.level.assign(all.size(), 0);
-  s.component.assign(all.size(), 0);
-  for (std::size_t at = 0; at < sorted.size(); ++at) {
+  s.level.resize(count);
+  s.component.resize(count);
+  for (std::size_t at = 0; at < count; ++at) {
     const std::uint32_t i = sorted[at];
-    s.order[at] = all[i];
-    s.position[all[i].index] = static_cast<std::uint32_t>(at);
+    s.order[at] = all[i]->id_;
+    s.position[all[i]->id_.index] = static_cast<std::uint32_t>(at);
     s.level[at] = level[i];
     s.component[at] = component[i];
   }

@@ -103,12 +103,12 @@ struct Graph::Step {
 // by connections either way; two components never read each other, such as
 // two characters), each component's nodes by level (a node's level is one
 // more than its deepest source's, so nodes of one level of a component never
-// read each other), creation order within a level. Components run as
+// read each other), slot order within a level. Components run as
 // parallel tasks, wide levels of a large component in parallel too, and a
 // component's nodes run together, while its values are in cache.
 struct Graph::Schedule {
   std::uint64_t generation = ~std::uint64_t{0};
-  std::vector<NodeId> order;              // by component, then level, then creation
+  std::vector<NodeId> order;              // by component, then level, then slot
   std::size_t level_count = 0;            // the deepest level + 1
   std::vector<std::uint32_t> position;    // node slot index -> index in order
   std::vector<std::uint32_t> level;       // index in order -> level
