@@ -170,18 +170,24 @@ NodeId ik_control(const graph::Graph& g) {
   return std::min_element(found.begin(), found.end(), [](const auto& x, const auto& y) { return x.first < y.first; })->second;
 }
 
+// The keyed shot with its mesh and its IK control; no scene (and the
+// benchmark skipped with the reason) when either cannot be made.
+std::pair<std::unique_ptr<scene::Scene>, NodeId> ik_shot(benchmark::State& state) {
+  try {
+    std::unique_ptr<scene::Scene> s = fresh_shot(true);
+    const NodeId control = ik_control(s->graph());
+    return {std::move(s), control};
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return {nullptr, NodeId{}};
+  }
+}
+
 // An animator drags an IK control: its translate set, the scene evaluated
 // (the limb, and the mesh it skins).
 void ik_move(benchmark::State& state) {
-  std::unique_ptr<scene::Scene> s;
-  NodeId control;
-  try {
-    s = fresh_shot(true);
-    control = ik_control(s->graph());
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
+  auto [s, control] = ik_shot(state);
+  if (!s) return;
   graph::Graph& g = s->graph();
   g.evaluate_all();
   const Vec3 rest = std::get<Vec3>(g.node(control)->value(scene::xform::kTranslate));
@@ -203,15 +209,8 @@ void ik_move(benchmark::State& state) {
 // parentConstraint created and connected from a control to a locator, the
 // scene evaluated; then deleted, the scene evaluated. Two topology edits.
 void constraint_add_remove(benchmark::State& state) {
-  std::unique_ptr<scene::Scene> s;
-  NodeId control;
-  try {
-    s = fresh_shot(true);
-    control = ik_control(s->graph());
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
+  auto [s, control] = ik_shot(state);
+  if (!s) return;
   graph::Graph& g = s->graph();
   auto locator = g.create_node(scene::kLocatorType, "bench_driven");
   if (!locator) {
