@@ -3,6 +3,8 @@
 #include "rigel/graph/graph.h"
 
 #include <algorithm>
+#include <span>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -16,11 +18,6 @@ namespace {
 // tasks costs more.
 constexpr std::size_t kParallelMinLevel = 256;
 constexpr std::size_t kParallelGrain = 32;
-
-// A connection that copies a whole value (no element or component on either side).
-bool whole_connection(const Connection& c) {
-  return c.dst.element < 0 && c.src.element < 0 && c.dst.component < 0 && c.src.component < 0;
-}
 
 }  // namespace
 
@@ -92,40 +89,36 @@ void Graph::dirty_for_time() {
 
 void Graph::update_node(Node& n) {
   // Refresh connected inputs that are dirty, then compute if an output is.
+  // The schedule's flattened inputs when it is current; else the node's
+  // connections resolved here (a pull after a topology edit).
+  std::span<const ScheduledInput> inputs;
+  thread_local std::vector<ScheduledInput> resolved;
+  if (schedule_ && schedule_->generation == topology_generation_) {
+    const auto [first, last] = schedule_->input_range[n.id_.index];
+    inputs = std::span<const ScheduledInput>(schedule_->inputs).subspan(first, last - first);
+  } else {
+    resolved.clear();
+    for (const Connection& c : n.inputs_) resolved.push_back(resolve_input(n, *slots_[c.src.node.index], c));
+    inputs = resolved;
+  }
   // Two passes: several connections may write parts of one attribute, so
   // dirty flags are cleared (and enums clamped) after every refresh.
-  const auto refresh = [&](const Node& src, AttrIndex src_attr, AttrIndex dst_attr, bool whole, const Connection& c) {
-    n.versions_[dst_attr] = ++n.clock_;
-    if (whole) n.values_[dst_attr] = src.values_[src_attr];
-    else write_part(n.values_[dst_attr], n.type_->attr(dst_attr).type, c.dst, plug_value(c.src));
-  };
-  // An int may feed an enum: keep the enum within its names, as set_value does.
-  const auto clamp_enum = [&](AttrIndex attr) {
-    const auto top = static_cast<std::int64_t>(n.type_->attr(attr).enum_names.size()) - 1;
-    Value& v = n.values_[attr];
+  for (const ScheduledInput& in : inputs) {
+    if (!n.dirty_[in.dst_attr]) continue;
+    n.versions_[in.dst_attr] = ++n.clock_;
+    if (in.whole) n.values_[in.dst_attr] = in.src->values_[in.src_attr];
+    else write_part(n.values_[in.dst_attr], n.type_->attr(in.dst_attr).type, in.connection->dst, plug_value(in.connection->src));
+  }
+  for (const ScheduledInput& in : inputs) {
+    if (!n.dirty_[in.dst_attr]) continue;
+    n.dirty_[in.dst_attr] = 0;
+    if (!in.enum_dst) continue;
+    // An int may feed an enum: keep the enum within its names, as set_value does.
+    const auto top = static_cast<std::int64_t>(n.type_->attr(in.dst_attr).enum_names.size()) - 1;
+    Value& v = n.values_[in.dst_attr];
     if (auto* one = std::get_if<std::int64_t>(&v)) *one = std::clamp<std::int64_t>(*one, 0, top);
     else if (auto* many = std::get_if<std::vector<std::int64_t>>(&v))
       for (std::int64_t& e : *many) e = std::clamp<std::int64_t>(e, 0, top);
-  };
-  if (schedule_ && schedule_->generation == topology_generation_) {
-    const auto [first, last] = schedule_->input_range[n.id_.index];
-    const Schedule::Input* begin = schedule_->inputs.data() + first;
-    const Schedule::Input* end = schedule_->inputs.data() + last;
-    for (const Schedule::Input* in = begin; in != end; ++in)
-      if (n.dirty_[in->dst_attr]) refresh(*in->src, in->src_attr, in->dst_attr, in->whole, *in->connection);
-    for (const Schedule::Input* in = begin; in != end; ++in) {
-      if (!n.dirty_[in->dst_attr]) continue;
-      n.dirty_[in->dst_attr] = 0;
-      if (in->enum_dst) clamp_enum(in->dst_attr);
-    }
-  } else {
-    for (const Connection& c : n.inputs_)
-      if (n.dirty_[c.dst.attr]) refresh(*slots_[c.src.node.index], c.src.attr, c.dst.attr, whole_connection(c), c);
-    for (const Connection& c : n.inputs_) {
-      if (!n.dirty_[c.dst.attr]) continue;
-      n.dirty_[c.dst.attr] = 0;
-      if (n.type_->attr(c.dst.attr).type.value == ValueType::kEnum) clamp_enum(c.dst.attr);
-    }
   }
   // Every attribute is clean after this: connected inputs were refreshed,
   // unconnected inputs are never dirty, and outputs are computed below.
@@ -269,10 +262,7 @@ const Graph::Schedule& Graph::schedule() {
   for (NodeId id : s.order) {
     const Node& n = *slots_[id.index];
     const auto first = static_cast<std::uint32_t>(s.inputs.size());
-    for (const Connection& c : n.inputs_) {
-      const bool is_enum = n.type_->attr(c.dst.attr).type.value == ValueType::kEnum;
-      s.inputs.push_back({slots_[c.src.node.index].get(), &c, c.src.attr, c.dst.attr, whole_connection(c), is_enum});
-    }
+    for (const Connection& c : n.inputs_) s.inputs.push_back(resolve_input(n, *slots_[c.src.node.index], c));
     s.input_range[id.index] = {first, static_cast<std::uint32_t>(s.inputs.size())};
   }
   s.generation = topology_generation_;

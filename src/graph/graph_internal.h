@@ -99,6 +99,30 @@ struct Graph::Step {
   }
 };
 
+// An input connection of a node with what refreshing it needs resolved: the
+// source node, whether the whole value is copied, whether the destination
+// is an enum to clamp.
+struct ScheduledInput {
+  const Node* src = nullptr;
+  const Connection* connection = nullptr;  // into the destination's inputs_
+  AttrIndex src_attr = 0;
+  AttrIndex dst_attr = 0;
+  bool whole = true;  // no element or component on either side: copy the value
+  bool enum_dst = false;
+};
+
+// `c`, an input connection of `dst`, read from `src`.
+inline ScheduledInput resolve_input(const Node& dst, const Node& src, const Connection& c) {
+  ScheduledInput in;
+  in.src = &src;
+  in.connection = &c;
+  in.src_attr = c.src.attr;
+  in.dst_attr = c.dst.attr;
+  in.whole = c.dst.element < 0 && c.src.element < 0 && c.dst.component < 0 && c.src.component < 0;
+  in.enum_dst = dst.type().attr(c.dst.attr).type.value == ValueType::kEnum;
+  return in;
+}
+
 // The compiled schedule: nodes grouped by connected component (nodes joined
 // by connections either way; two components never read each other, such as
 // two characters), each component's nodes by level (a node's level is one
@@ -113,20 +137,10 @@ struct Graph::Schedule {
   std::vector<std::uint32_t> position;    // node slot index -> index in order
   std::vector<std::uint32_t> level;       // index in order -> level
   std::vector<std::uint32_t> component;   // index in order -> component, increasing
-  // Every node's input connections, flattened in schedule order with what
-  // refreshing them needs resolved (the source node, whether the whole value
-  // is copied, whether the destination is an enum to clamp): evaluation
-  // reads one contiguous array instead of each node's connection vector,
-  // the source's slot and the destination's attribute spec.
-  struct Input {
-    const Node* src = nullptr;
-    const Connection* connection = nullptr;  // into the destination's inputs_
-    AttrIndex src_attr = 0;
-    AttrIndex dst_attr = 0;
-    bool whole = true;  // no element or component on either side: copy the value
-    bool enum_dst = false;
-  };
-  std::vector<Input> inputs;
+  // Every node's input connections, flattened in schedule order (see
+  // ScheduledInput): evaluation reads one contiguous array instead of each
+  // node's connection vector, the source's slot and the attribute spec.
+  std::vector<ScheduledInput> inputs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> input_range;  // node slot index -> [begin, end) in inputs
 };
 

@@ -196,24 +196,27 @@ CurveArrays slice_curve(const CurveArrays& all, std::size_t first, std::size_t c
   return part;
 }
 
-// The check of every key, as `error` reports it: one clip of all keys when
-// `offsets` is empty, else each clip's keys on their own.
-Status check_curve(const CurveArrays& all, std::span<const std::int64_t> offsets) {
-  if (offsets.empty()) return all.validate();
+// The check of every key, as `error` reports it (one clip of all keys when
+// `offsets` is empty, else each clip's keys on their own), and the keys of
+// clip `clip` (nullopt: none, the output is restValue).
+Result<std::optional<ClipKeys>> check_curve(const CurveArrays& all, std::span<const std::int64_t> offsets,
+                                            std::int64_t clip) {
   const std::size_t key_count = all.times.size();
-  Status status = check_clip_offsets(offsets, key_count);
-  for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
-                                    std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
-                                    std::pair{all.out_weights, "outWeight"}}) {
-    if (status) status = check_per_key(array, key_count, name);
+  if (!offsets.empty()) {
+    Status status = check_clip_offsets(offsets, key_count);
+    for (const auto& [array, name] : {std::pair{all.values, "keyValues"}, std::pair{all.in_slopes, "inSlope"},
+                                      std::pair{all.out_slopes, "outSlope"}, std::pair{all.in_weights, "inWeight"},
+                                      std::pair{all.out_weights, "outWeight"}}) {
+      if (status) status = check_per_key(array, key_count, name);
+    }
+    if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
+    if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
+    if (!status) return status;
   }
-  if (status) status = check_per_key(all.in_types, key_count, "inTangentType");
-  if (status) status = check_per_key(all.out_types, key_count, "outTangentType");
-  if (!status) return status;
-  auto keys = clip_keys(offsets, -1, key_count, [&](std::size_t first, std::size_t count) {
-    return slice_curve(all, first, count).validate();
+  // Without offsets the arrays' sizes are not checked yet: validate them whole.
+  return clip_keys(offsets, clip, key_count, [&](std::size_t first, std::size_t count) {
+    return offsets.empty() ? all.validate() : slice_curve(all, first, count).validate();
   });
-  return keys ? Status::ok() : keys.status();
 }
 
 // An animCurve's or drivenKey's keys compiled into an AnimCurve (the active
@@ -252,18 +255,14 @@ CurveCache& compiled_curve(ComputeContext& c, bool clips) {
   const std::span<const std::int64_t> offsets =
       clips ? std::span<const std::int64_t>(c.get<std::vector<std::int64_t>>(anim_curve_attr::kClipOffsets))
             : std::span<const std::int64_t>();
-  cache.status = check_curve(all, offsets);
-  if (!cache.status) return cache;
-  CurveArrays active = all;
-  if (!offsets.empty()) {
-    auto keys = clip_keys(offsets, c.get<std::int64_t>(anim_curve_attr::kClip), all.times.size(),
-                          [](std::size_t, std::size_t) { return Status::ok(); });
-    if (!keys.value()) {
-      cache.rest = true;
-      return cache;
-    }
-    active = slice_curve(all, keys.value()->first, keys.value()->count);
+  const auto keys = check_curve(all, offsets, clips ? c.get<std::int64_t>(anim_curve_attr::kClip) : 0);
+  cache.status = keys ? Status::ok() : keys.status();
+  if (!keys) return cache;
+  if (!keys.value()) {
+    cache.rest = true;
+    return cache;
   }
+  const CurveArrays active = slice_curve(all, keys.value()->first, keys.value()->count);
   auto built = AnimCurve::build(active.keys(), active.settings);
   if (built) cache.curve = std::move(built).value();
   else cache.status = built.status();
