@@ -15,6 +15,8 @@
 //                                        connected) + evaluate_all, then
 //                                        deleted + evaluate_all, per edit
 //                                        (target: at most 100 us)
+//   .../compiled                         each of these with the compiled
+//                                        evaluation (Graph::set_evaluation)
 //   eval/bipeds_64/play_50/threads:N     64 copies of the keyed rig (no mesh)
 //                                        in one scene, 50 frames, on at most
 //                                        N threads (target: 2 threads at
@@ -102,7 +104,7 @@ const Shot& shot() {
   return made;
 }
 
-std::unique_ptr<scene::Scene> fresh_shot(bool mesh) {
+std::unique_ptr<scene::Scene> fresh_shot(bool mesh, graph::Evaluation evaluation = graph::Evaluation::kInterpreted) {
   auto s = io::parse_scene(shot().text, "shot", ephemeral::default_registry());
   if (!s) throw std::runtime_error(s.status().message());
   graph::Graph& g = (*s)->graph();
@@ -115,13 +117,14 @@ std::unique_ptr<scene::Scene> fresh_shot(bool mesh) {
     }
   }
   g.clear_history();
+  g.set_evaluation(evaluation);
   return std::move(*s);
 }
 
-void play(benchmark::State& state, bool mesh, graph::Execution execution) {
+void play(benchmark::State& state, bool mesh, graph::Execution execution, graph::Evaluation evaluation) {
   std::unique_ptr<scene::Scene> s;
   try {
-    s = fresh_shot(mesh);
+    s = fresh_shot(mesh, evaluation);
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return;
@@ -139,20 +142,36 @@ void play(benchmark::State& state, bool mesh, graph::Execution execution) {
   state.counters["vertices"] = mesh ? static_cast<double>(shot().vertices) : 0.0;
 }
 
-BENCHMARK_CAPTURE(play, biped_body_play_1000, true, graph::Execution::kParallel)
+BENCHMARK_CAPTURE(play, biped, true, graph::Execution::kParallel, graph::Evaluation::kInterpreted)
     ->Name("eval/biped_body/play_1000")
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(play, biped_body_play_1000_serial, true, graph::Execution::kSerial)
+BENCHMARK_CAPTURE(play, biped_compiled, true, graph::Execution::kParallel, graph::Evaluation::kCompiled)
+    ->Name("eval/biped_body/play_1000/compiled")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(play, biped_serial, true, graph::Execution::kSerial, graph::Evaluation::kInterpreted)
     ->Name("eval/biped_body/play_1000/serial")
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(play, biped_body_play_1000_no_mesh, false, graph::Execution::kParallel)
+BENCHMARK_CAPTURE(play, biped_serial_compiled, true, graph::Execution::kSerial, graph::Evaluation::kCompiled)
+    ->Name("eval/biped_body/play_1000/serial/compiled")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(play, biped_no_mesh, false, graph::Execution::kParallel, graph::Evaluation::kInterpreted)
     ->Name("eval/biped_body/play_1000/no_mesh")
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(play, biped_body_play_1000_no_mesh_serial, false, graph::Execution::kSerial)
+BENCHMARK_CAPTURE(play, biped_no_mesh_compiled, false, graph::Execution::kParallel, graph::Evaluation::kCompiled)
+    ->Name("eval/biped_body/play_1000/no_mesh/compiled")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(play, biped_no_mesh_serial, false, graph::Execution::kSerial, graph::Evaluation::kInterpreted)
     ->Name("eval/biped_body/play_1000/no_mesh/serial")
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(play, biped_no_mesh_serial_compiled, false, graph::Execution::kSerial, graph::Evaluation::kCompiled)
+    ->Name("eval/biped_body/play_1000/no_mesh/serial/compiled")
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
@@ -172,9 +191,9 @@ NodeId ik_control(const graph::Graph& g) {
 
 // The keyed shot with its mesh and its IK control; no scene (and the
 // benchmark skipped with the reason) when either cannot be made.
-std::pair<std::unique_ptr<scene::Scene>, NodeId> ik_shot(benchmark::State& state) {
+std::pair<std::unique_ptr<scene::Scene>, NodeId> ik_shot(benchmark::State& state, graph::Evaluation evaluation) {
   try {
-    std::unique_ptr<scene::Scene> s = fresh_shot(true);
+    std::unique_ptr<scene::Scene> s = fresh_shot(true, evaluation);
     const NodeId control = ik_control(s->graph());
     return {std::move(s), control};
   } catch (const std::exception& e) {
@@ -185,8 +204,8 @@ std::pair<std::unique_ptr<scene::Scene>, NodeId> ik_shot(benchmark::State& state
 
 // An animator drags an IK control: its translate set, the scene evaluated
 // (the limb, and the mesh it skins).
-void ik_move(benchmark::State& state) {
-  auto [s, control] = ik_shot(state);
+void ik_move(benchmark::State& state, graph::Evaluation evaluation) {
+  auto [s, control] = ik_shot(state, evaluation);
   if (!s) return;
   graph::Graph& g = s->graph();
   g.evaluate_all();
@@ -208,8 +227,8 @@ void ik_move(benchmark::State& state) {
 // A rigger or animator adds a constraint and takes it away: a
 // parentConstraint created and connected from a control to a locator, the
 // scene evaluated; then deleted, the scene evaluated. Two topology edits.
-void constraint_add_remove(benchmark::State& state) {
-  auto [s, control] = ik_shot(state);
+void constraint_add_remove(benchmark::State& state, graph::Evaluation evaluation) {
+  auto [s, control] = ik_shot(state, evaluation);
   if (!s) return;
   graph::Graph& g = s->graph();
   auto locator = g.create_node(scene::kLocatorType, "bench_driven");
@@ -241,9 +260,20 @@ void constraint_add_remove(benchmark::State& state) {
   state.counters["nodes"] = static_cast<double>(g.node_count());
 }
 
-BENCHMARK(ik_move)->Name("eval/biped_body/ik_move")->UseRealTime()->Unit(benchmark::kMicrosecond);
-BENCHMARK(constraint_add_remove)
+BENCHMARK_CAPTURE(ik_move, interpreted, graph::Evaluation::kInterpreted)
+    ->Name("eval/biped_body/ik_move")
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(ik_move, compiled, graph::Evaluation::kCompiled)
+    ->Name("eval/biped_body/ik_move/compiled")
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(constraint_add_remove, interpreted, graph::Evaluation::kInterpreted)
     ->Name("eval/biped_body/constraint_add_remove")
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(constraint_add_remove, compiled, graph::Evaluation::kCompiled)
+    ->Name("eval/biped_body/constraint_add_remove/compiled")
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
@@ -285,13 +315,14 @@ const std::string& crowd_text() {
 
 constexpr int kCrowdFrames = 50;
 
-void play_crowd(benchmark::State& state) {
+void play_crowd(benchmark::State& state, graph::Evaluation evaluation) {
   const auto threads = static_cast<std::size_t>(state.range(0));
   std::unique_ptr<scene::Scene> s;
   try {
     auto parsed = io::parse_scene(crowd_text(), "crowd", ephemeral::default_registry());
     if (!parsed) throw std::runtime_error(parsed.status().message());
     s = std::move(*parsed);
+    s->graph().set_evaluation(evaluation);
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return;
@@ -313,8 +344,15 @@ void play_crowd(benchmark::State& state) {
   state.counters["levels"] = static_cast<double>(s->graph().schedule_level_count());
 }
 
-BENCHMARK(play_crowd)
+BENCHMARK_CAPTURE(play_crowd, interpreted, graph::Evaluation::kInterpreted)
     ->Name("eval/bipeds_64/play_50")
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(play_crowd, compiled, graph::Evaluation::kCompiled)
+    ->Name("eval/bipeds_64/play_50/compiled")
     ->ArgName("threads")
     ->Arg(1)
     ->Arg(2)

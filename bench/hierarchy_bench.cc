@@ -9,7 +9,8 @@
 //   hierarchy/set               only the set (dirty propagation + undo
 //                               record); the evaluation that cleans the graph
 //                               again runs untimed
-// The ns_per_node counter divides by the number of nodes.
+// The ns_per_node counter divides by the number of nodes. set+evaluate_all
+// also runs with the compiled evaluation (".../compiled").
 
 #include <benchmark/benchmark.h>
 
@@ -29,7 +30,7 @@ enum class Measure { kSetAndEvaluate, kEvaluate, kSet };
 graph::Plug root_translate(const Hierarchy& h) { return graph::Plug{h.nodes.front(), scene::xform::kTranslate, -1}; }
 
 void run_hierarchy(benchmark::State& state, Shape shape, std::size_t count, graph::Execution execution,
-                   Measure measure) {
+                   Measure measure, graph::Evaluation evaluation) {
   std::string error;
   Hierarchy* h = hierarchy_ensure(shape, count, &error);
   if (!h) {
@@ -37,6 +38,7 @@ void run_hierarchy(benchmark::State& state, Shape shape, std::size_t count, grap
     return;
   }
   graph::Graph& g = h->scene->graph();
+  g.set_evaluation(evaluation);  // the scene is shared between benchmarks: each sets its own
   const graph::Plug plug = root_translate(*h);
   HistoryTrim trim(state, g);
   for (auto _ : state) {
@@ -79,16 +81,20 @@ bool register_hierarchy_benchmarks() {
       for (graph::Execution execution : {graph::Execution::kSerial, graph::Execution::kParallel}) {
         const std::string exec = execution == graph::Execution::kSerial ? "/serial" : "/parallel";
         benchmark::RegisterBenchmark(("hierarchy/set+evaluate_all" + suffix + exec).c_str(), run_hierarchy, shape,
-                                     count, execution, Measure::kSetAndEvaluate)
+                                     count, execution, Measure::kSetAndEvaluate, graph::Evaluation::kInterpreted)
+            ->UseRealTime()
+            ->Unit(benchmark::kMicrosecond);
+        benchmark::RegisterBenchmark(("hierarchy/set+evaluate_all" + suffix + exec + "/compiled").c_str(), run_hierarchy,
+                                     shape, count, execution, Measure::kSetAndEvaluate, graph::Evaluation::kCompiled)
             ->UseRealTime()
             ->Unit(benchmark::kMicrosecond);
         benchmark::RegisterBenchmark(("hierarchy/evaluate_all" + suffix + exec).c_str(), run_hierarchy, shape, count,
-                                     execution, Measure::kEvaluate)
+                                     execution, Measure::kEvaluate, graph::Evaluation::kInterpreted)
             ->UseManualTime()
             ->Unit(benchmark::kMicrosecond);
       }
       benchmark::RegisterBenchmark(("hierarchy/set" + suffix).c_str(), run_hierarchy, shape, count,
-                                   graph::Execution::kSerial, Measure::kSet)
+                                   graph::Execution::kSerial, Measure::kSet, graph::Evaluation::kInterpreted)
           ->UseManualTime()
           ->Unit(benchmark::kMicrosecond);
     }

@@ -31,6 +31,22 @@ std::string vec(double x, double y, double z) {
 
 void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << "\n"; }
 
+// --eval: the evaluation the command runs the scene with (CLI11 has checked
+// the name).
+void use_evaluation(scene::Scene& s, const std::string& name) {
+  if (auto evaluation = graph::evaluation_from_name(name)) s.graph().set_evaluation(*evaluation);
+}
+
+// Adds --eval to a command that evaluates a scene.
+void add_evaluation_option(CLI::App* command, std::string& target) {
+  command
+      ->add_option("--eval", target,
+                   "Evaluation: interpreted (the reference) or compiled (a program made from the graph; the same "
+                   "values)")
+      ->check(CLI::IsMember({"interpreted", "compiled"}))
+      ->default_str("interpreted");
+}
+
 // ---- inspect -----------------------------------------------------------------
 
 struct InspectArgs {
@@ -78,6 +94,7 @@ int run_inspect(const InspectArgs& args) {
 // ---- eval --------------------------------------------------------------------
 
 struct EvalArgs {
+  std::string evaluation = "interpreted";  // --eval
   std::string scene;
   std::optional<double> frame;
   std::optional<double> time;
@@ -93,6 +110,7 @@ int run_eval(const EvalArgs& args) {
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
   scene::Scene& s = **scene;
+  use_evaluation(s, args.evaluation);
   if (args.frame) s.set_frame(*args.frame);
   if (args.time) s.graph().set_time(*args.time);
   // The clip that plays: --clip picks one of the scene's animClips (an
@@ -167,6 +185,7 @@ int run_import(const ImportArgs& args) {
 // ---- export ------------------------------------------------------------------
 
 struct ExportArgs {
+  std::string evaluation = "interpreted";  // --eval
   std::string scene;
   std::string output;
   std::string frames;  // "FIRST:LAST"; empty when not given
@@ -186,6 +205,7 @@ int run_export(const ExportArgs& args) {
   if (Status st = app::check_export_path(args.output); !st) return fail(st);
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
+  use_evaluation(**scene, args.evaluation);
   // Baking long ranges takes a while: show how far it got, on a terminal only.
   TerminalProgress progress("baking");
   options.progress = progress.callback();
@@ -220,6 +240,7 @@ int run_export(const ExportArgs& args) {
 // ---- bake --------------------------------------------------------------------
 
 struct BakeArgs {
+  std::string evaluation = "interpreted";  // --eval
   std::string scene;
   std::string frames;
   std::vector<std::string> nodes;  // empty: every joint
@@ -232,6 +253,7 @@ int run_bake(const BakeArgs& args) {
   if (!frames) return usage_error("--frames '" + args.frames + "': " + kFramesExpected);
   auto scene = load(args.scene);
   if (!scene) return fail(scene.status());
+  use_evaluation(**scene, args.evaluation);
   TerminalProgress progress("baking");
   // A command line run has no undo: the bake's undo records (the key arrays
   // before and after) would stay in memory while the file is written.
@@ -287,6 +309,7 @@ void add_scene_commands(CLI::App& app, SceneCommands& commands) {
   CLI::Option* time = s.eval_cmd->add_option("--time", s.eval.time, "Time in seconds to evaluate at");
   frame->excludes(time);
   s.eval_cmd->add_option("--clip", s.eval.clip, "Animation clip to play, by name or index (default: the scene's active clip)");
+  add_evaluation_option(s.eval_cmd, s.eval.evaluation);
   s.eval_cmd->add_flag("--json", s.eval.json, "Print {\"frame\", \"time\", \"nodes\": {NAME: {\"t\", \"q\", \"s\"}}} (world space)");
 
   s.import_cmd = app.add_subcommand("import", "Import a character (.glb, .gltf) or motion (.bvh) into a scene file");
@@ -310,6 +333,7 @@ void add_scene_commands(CLI::App& app, SceneCommands& commands) {
   s.export_cmd->add_flag("--deform-only", s.export_args.deform_only,
                          "Only the deform skeleton (the skins' joints) and the meshes, baked: no controls, rig nodes or "
                          "helper joints (for game engines)");
+  add_evaluation_option(s.export_cmd, s.export_args.evaluation);
   s.export_cmd->add_flag("--json", s.export_args.json, "Print a JSON report on stdout");
 
   s.bake_cmd = app.add_subcommand("bake", "Bake what the rigs make nodes do into keys on the nodes (every joint by default)");
@@ -319,6 +343,7 @@ void add_scene_commands(CLI::App& app, SceneCommands& commands) {
   s.bake_cmd->add_option("--frames", s.bake.frames, "FIRST:LAST, scene frames")->required();
   s.bake_cmd->add_option("--nodes", s.bake.nodes, "Transforms to bake (default: every joint)")->delimiter(',');
   s.bake_cmd->add_option("-o,--output", s.bake.output, "Scene file to write (.rigel)")->required();
+  add_evaluation_option(s.bake_cmd, s.bake.evaluation);
   s.bake_cmd->add_flag("--json", s.bake.json, "Print a JSON report on stdout");
 }
 

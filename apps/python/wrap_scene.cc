@@ -225,6 +225,13 @@ void def_evaluation(SceneClass& cls) {
           "local_matrix", [](const SceneRef& s, const NodeArg& n) { return matrix_to_python(s->local_matrix(resolve(s, n))); },
           py::arg("node"))
       .def_property(
+          "evaluation", [](const SceneRef& s) { return std::string(graph::evaluation_name(s->graph().evaluation())); },
+          [](const SceneRef& s, const std::string& name) {
+            s->graph().set_evaluation(unwrap(graph::evaluation_from_name(name)));
+          },
+          "How evaluate() runs the dirty nodes: 'interpreted' (the reference) or 'compiled' (a program made "
+          "from the graph on each topology change; the same values). Not saved, not undoable.")
+      .def_property(
           "time", [](const SceneRef& s) { return s->graph().time(); },
           [](const SceneRef& s, double seconds) { s->graph().set_time(seconds); }, "Current time in seconds.")
       .def_property(

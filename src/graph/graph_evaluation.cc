@@ -18,6 +18,8 @@ namespace {
 // tasks costs more.
 constexpr std::size_t kParallelMinLevel = 256;
 constexpr std::size_t kParallelGrain = 32;
+// How many steps ahead the compiled evaluation prefetches a node's storage.
+constexpr std::size_t kPrefetchAhead = 8;
 
 }  // namespace
 
@@ -112,13 +114,7 @@ void Graph::update_node(Node& n) {
   for (const ScheduledInput& in : inputs) {
     if (!n.dirty_[in.dst_attr]) continue;
     n.dirty_[in.dst_attr] = 0;
-    if (!in.enum_dst) continue;
-    // An int may feed an enum: keep the enum within its names, as set_value does.
-    const auto top = static_cast<std::int64_t>(n.type_->attr(in.dst_attr).enum_names.size()) - 1;
-    Value& v = n.values_[in.dst_attr];
-    if (auto* one = std::get_if<std::int64_t>(&v)) *one = std::clamp<std::int64_t>(*one, 0, top);
-    else if (auto* many = std::get_if<std::vector<std::int64_t>>(&v))
-      for (std::int64_t& e : *many) e = std::clamp<std::int64_t>(e, 0, top);
+    if (in.enum_dst) clamp_enum(n.values_[in.dst_attr], n.type_->attr(in.dst_attr));
   }
   // Every attribute is clean after this: connected inputs were refreshed,
   // unconnected inputs are never dirty, and outputs are computed below.
@@ -175,6 +171,11 @@ void Graph::pull(NodeId start) {
     }
     order.push_back(n);
     stack.pop_back();
+  }
+  if (evaluation_ == Evaluation::kCompiled) {
+    const Program& p = program();
+    for (Node* n : order) run_step(p, schedule_->position[n->id_.index]);
+    return;
   }
   for (Node* n : order) update_node(*n);
 }
@@ -274,10 +275,22 @@ std::size_t Graph::schedule_level_count() { return schedule().level_count; }
 void Graph::evaluate_all(Execution execution) {
   if (dirty_nodes_.empty()) return;
   const Schedule& s = schedule();
+  const Program* compiled = evaluation_ == Evaluation::kCompiled ? &program() : nullptr;
   // Only queued nodes, in schedule order: an edit costs what it dirtied,
   // not the size of the graph.
   std::vector<std::uint32_t> work;
-  if (dirty_nodes_.size() * 8 > s.order.size()) {
+  if (compiled) {
+    // Marks by schedule position, then one pass in order: no sort, and no
+    // node touched before it runs (a stale id is dropped by its generation;
+    // a node pulled clean since it was queued is skipped when it runs).
+    std::vector<std::uint8_t>& marks = program_->marks;
+    marks.assign(s.order.size(), 0);
+    for (NodeId id : dirty_nodes_)
+      if (node(id)) marks[s.position[id.index]] = 1;
+    work.reserve(dirty_nodes_.size());
+    for (std::size_t i = 0; i < marks.size(); ++i)
+      if (marks[i]) work.push_back(static_cast<std::uint32_t>(i));
+  } else if (dirty_nodes_.size() * 8 > s.order.size()) {
     for (std::size_t i = 0; i < s.order.size(); ++i) {
       if (slots_[s.order[i].index]->queued_) work.push_back(static_cast<std::uint32_t>(i));
     }
@@ -293,6 +306,11 @@ void Graph::evaluate_all(Execution execution) {
   dirty_nodes_.clear();
   const bool parallel = execution == Execution::kParallel;
   const auto run = [&](std::size_t k) {
+    if (compiled) {
+      if (k + kPrefetchAhead < work.size()) compiled->prefetch(work[k + kPrefetchAhead]);
+      if (compiled->steps[work[k]].node->queued_) run_step(*compiled, work[k]);
+      return;
+    }
     Node& n = *slots_[s.order[work[k]].index];
     if (n.queued_) update_node(n);
   };

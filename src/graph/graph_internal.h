@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <span>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,6 +35,15 @@ inline void write_part(Value& whole, AttrType type, const Plug& plug, const Valu
   if (plug.component >= 0) std::get<Vec3>(whole)[plug.component] = std::get<double>(part);
   else if (plug.element >= 0) array_set_element(whole, type, static_cast<std::size_t>(plug.element), part);
   else whole = part;
+}
+
+// An int fed into an enum attribute (or elements of an enum array) kept
+// within the enum's names, as set_value does.
+inline void clamp_enum(Value& v, const AttrSpec& spec) {
+  const auto top = static_cast<std::int64_t>(spec.enum_names.size()) - 1;
+  if (auto* one = std::get_if<std::int64_t>(&v)) *one = std::clamp<std::int64_t>(*one, 0, top);
+  else if (auto* many = std::get_if<std::vector<std::int64_t>>(&v))
+    for (std::int64_t& e : *many) e = std::clamp<std::int64_t>(e, 0, top);
 }
 
 // A node by UUID, so that undo/redo survive the node being deleted and
@@ -142,6 +152,58 @@ struct Graph::Schedule {
   // node's connection vector, the source's slot and the attribute spec.
   std::vector<ScheduledInput> inputs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> input_range;  // node slot index -> [begin, end) in inputs
+};
+
+// The compiled evaluation's program (Evaluation::kCompiled), made from the
+// schedule for one topology generation: a step per node in schedule order
+// (step k is the schedule's order[k]) and its input refreshes resolved into
+// typed copies between the values' storage. A scalar value (double,
+// double3, quaternion, matrix, int) lives inside its Value for the node's
+// lifetime (a node's values never change alternative), so a copy holds
+// pointers to it; arrays, strings and element plugs keep the interpreted
+// refresh (kGeneric).
+enum class ProgramCopy : std::uint8_t {
+  kDouble,   // double -> double, either may be one component of a double3
+  kDouble3,  // double3 -> double3
+  kQuat,     // quaternion -> quaternion
+  kMatrix,   // matrix -> matrix
+  kInt,      // int or enum -> int or enum (clamped after, as interpreted)
+  kBool,     // bool -> bool
+  kGeneric,  // the interpreted refresh of `input`
+};
+
+struct ProgramOp {
+  ProgramCopy copy = ProgramCopy::kGeneric;
+  AttrIndex dst_attr = 0;
+  const void* src = nullptr;
+  void* dst = nullptr;
+  const ScheduledInput* input = nullptr;  // into Schedule::inputs
+};
+
+struct ProgramStep {
+  Node* node = nullptr;
+  ComputeFn compute = nullptr;
+  std::uint32_t ops_begin = 0, ops_end = 0;
+  bool enums = false;  // some input is an enum fed by a connection: clamp after refresh
+  // The node's storage, for prefetching a step ahead of running it (the
+  // node's vectors never change size, so their data stays put).
+  const Value* values = nullptr;
+  const std::uint8_t* dirty = nullptr;
+  const std::uint64_t* versions = nullptr;
+  std::span<const AttrIndex> outputs;
+};
+
+struct Graph::Program {
+  std::uint64_t generation = ~std::uint64_t{0};
+  std::vector<ProgramStep> steps;
+  std::vector<ProgramOp> ops;
+  // Asks the memory system for what step `k` reads and writes (its node,
+  // dirty flags, versions, refreshed inputs and outputs) while earlier
+  // steps run: a large graph's nodes are spread over the heap, and their
+  // cache misses, not their computes, are most of its evaluation.
+  void prefetch(std::uint32_t k) const;
+  // Scratch for evaluate_all: schedule positions of the queued nodes.
+  std::vector<std::uint8_t> marks;
 };
 
 template <typename Fn>

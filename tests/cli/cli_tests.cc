@@ -173,6 +173,43 @@ TEST(CliEval, eval_json__example_matches_the_library) {
   }
 }
 
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// --eval compiled (issue 19) gives what the interpreted reference gives:
+// eval's JSON at frames on and between frames, the scenes bake writes
+// (evaluated again), export's baked glTF byte for byte; a wrong name is a
+// usage error.
+TEST(CliEval, eval_bake_export__compiled_equals_interpreted) {
+  TempDir dir;
+  const std::string scene = example();
+  for (const char* frame : {"0", "7.5", "40"}) {
+    const CliRun a = rigel({"eval", scene, "--frame", frame, "--json"});
+    const CliRun b = rigel({"eval", scene, "--frame", frame, "--json", "--eval", "compiled"});
+    ASSERT_TRUE(exited_with(a, 0) && exited_with(b, 0)) << a << b;
+    EXPECT_EQ(a.out, b.out) << "frame " << frame;
+  }
+  const fs::path baked_i = dir.path() / "baked_i.rigel", baked_c = dir.path() / "baked_c.rigel";
+  ASSERT_TRUE(exited_with(rigel({"bake", scene, "--frames", "0:30", "-o", baked_i.string()}), 0));
+  ASSERT_TRUE(exited_with(rigel({"bake", scene, "--frames", "0:30", "-o", baked_c.string(), "--eval", "compiled"}), 0));
+  for (const char* frame : {"3", "12.25", "30"}) {
+    const CliRun a = rigel({"eval", baked_i.string(), "--frame", frame, "--json"});
+    const CliRun b = rigel({"eval", baked_c.string(), "--frame", frame, "--json"});
+    ASSERT_TRUE(exited_with(a, 0) && exited_with(b, 0)) << a << b;
+    EXPECT_EQ(a.out, b.out) << "the baked keys, frame " << frame;
+  }
+  const fs::path glb_i = dir.path() / "i.glb", glb_c = dir.path() / "c.glb";
+  ASSERT_TRUE(exited_with(rigel({"export", scene, "-o", glb_i.string(), "--frames", "0:30"}), 0));
+  ASSERT_TRUE(exited_with(rigel({"export", scene, "-o", glb_c.string(), "--frames", "0:30", "--eval", "compiled"}), 0));
+  EXPECT_FALSE(file_bytes(glb_i).empty());
+  EXPECT_EQ(file_bytes(glb_i), file_bytes(glb_c)) << "the same glTF, byte for byte";
+  const CliRun bad = rigel({"eval", scene, "--eval", "fast"});
+  EXPECT_TRUE(exited_with(bad, 2)) << bad;
+  EXPECT_TRUE(contains(bad.err, "--eval")) << "the option named: " << bad;
+}
+
 TEST(CliEval, eval_json__frame_12_at_24_fps_is_half_a_second) {
   const CliRun r = rigel({"eval", fixture("two_joint_chain.rigel"), "--frame", "12", "--json"});
   ASSERT_TRUE(r.exited && r.exit_code == 0) << "eval --frame should succeed: " << r;

@@ -220,6 +220,30 @@ def test_serial_and_parallel_evaluation_agree(metarig):
     assert serial == [n.world_matrix for n in metarig.nodes("joint")]
 
 
+def test_compiled_evaluation_equals_the_interpreted(metarig):
+    assert metarig.evaluation == "interpreted"
+    joints = metarig.nodes("joint")[:40]
+    for i, j in enumerate(joints):
+        j["rotate"] = (i * 0.5, -i * 0.25, 3.0)
+    metarig.evaluate()
+    interpreted = [n.world_matrix for n in metarig.nodes("joint")]
+    metarig.evaluation = "compiled"
+    assert metarig.evaluation == "compiled"
+    for j in joints:
+        j["rotate"] = (0.0, 0.0, 0.0)
+    metarig.evaluate()
+    for i, j in enumerate(joints):
+        j["rotate"] = (i * 0.5, -i * 0.25, 3.0)
+    joints[0]["rotate"] = (90.0, 0.0, 0.0)
+    metarig.evaluate()
+    metarig.undo()  # joints[0] back
+    metarig.evaluate()
+    assert [n.world_matrix for n in metarig.nodes("joint")] == interpreted
+    with pytest.raises(rigel.InvalidArgumentError, match="'fast'.*interpreted or compiled"):
+        metarig.evaluation = "fast"
+    assert metarig.evaluation == "compiled"
+
+
 # ---- undo ------------------------------------------------------------------------------
 
 

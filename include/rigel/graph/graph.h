@@ -155,6 +155,20 @@ class Observer {
 
 enum class Execution { kSerial, kParallel };
 
+// How evaluate_all() runs the dirty nodes. kInterpreted refreshes each
+// node's inputs through its connections (variants copied, parts resolved
+// per plug) and calls its compute. kCompiled runs a program made from the
+// schedule on each topology change: one step per node in schedule order,
+// its input refreshes resolved into typed copies between the values'
+// storage (a double, a double3, one component, a matrix), no connection
+// walk, lookup or variant dispatch per frame. Both run the same computes
+// in the same order and give bit-identical values; the interpreted one
+// stays the reference the compiled one is tested against.
+enum class Evaluation { kInterpreted, kCompiled };
+// "interpreted" / "compiled", and back (an error naming the choices).
+const char* evaluation_name(Evaluation evaluation);
+Result<Evaluation> evaluation_from_name(std::string_view name);
+
 class Graph {
  public:
   explicit Graph(std::shared_ptr<const Registry> registry);
@@ -247,6 +261,10 @@ class Graph {
   std::uint64_t topology_generation() const { return topology_generation_; }
   // Number of levels and nodes of the compiled schedule (compiles if needed).
   std::size_t schedule_level_count();
+  // The evaluation evaluate_all() uses (kInterpreted by default). Not an
+  // edit: not undoable, not saved; results are the same either way.
+  void set_evaluation(Evaluation evaluation) { evaluation_ = evaluation; }
+  Evaluation evaluation() const { return evaluation_; }
 
   // ---- undo ----------------------------------------------------------------
   // Groups edits into one undo step; nests (the outermost commit closes it).
@@ -287,6 +305,7 @@ class Graph {
   struct Edit;
   struct Step;
   struct Schedule;
+  struct Program;
   Node* node_mut(NodeId id);
   Result<NodeId> create_node_impl(const NodeType& type, std::string name, Uuid uuid, std::uint64_t order);
   Status delete_node_impl(NodeId id);
@@ -305,6 +324,8 @@ class Graph {
   Value plug_value(const Plug& plug) const;
   void topology_changed();
   const Schedule& schedule();
+  const Program& program();
+  void run_step(const Program& program, std::uint32_t step);
   template <typename Fn>
   void notify(Fn&& fn);
 
@@ -318,6 +339,8 @@ class Graph {
   std::uint64_t next_order_ = 0;
   std::uint64_t topology_generation_ = 0;
   std::unique_ptr<Schedule> schedule_;
+  std::unique_ptr<Program> program_;
+  Evaluation evaluation_ = Evaluation::kInterpreted;
   double time_ = 0.0;
   double fps_ = 24.0;
   std::vector<NodeId> selection_;

@@ -1,0 +1,168 @@
+// Graph: the compiled evaluation (Evaluation::kCompiled). The program is
+// made from the schedule once per topology generation; a step refreshes its
+// node's dirty inputs by typed copies between the values' storage and runs
+// the node's compute, exactly as update_node() does through the
+// connections, so the two evaluations give bit-identical values.
+#include <algorithm>
+#include <string>
+
+#include "graph_internal.h"
+
+namespace rigel::graph {
+namespace {
+
+// Where a plug's scalar storage is inside its node's value: the value
+// itself, or one component of a double3; nullptr for arrays and elements.
+void* storage(Value& value, std::int8_t component) {
+  if (component >= 0) {
+    auto* v = std::get_if<Vec3>(&value);
+    return v ? &(*v)[component] : nullptr;
+  }
+  return std::visit(
+      [](auto& held) -> void* {
+        using T = std::decay_t<decltype(held)>;
+        if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::int64_t> || std::is_same_v<T, double> ||
+                      std::is_same_v<T, Vec3> || std::is_same_v<T, Quat> || std::is_same_v<T, Mat4>)
+          return &held;
+        return nullptr;
+      },
+      value);
+}
+
+// The typed copy for a connection between two scalar plugs whose storage
+// holds the same alternative; kGeneric when they do not.
+ProgramCopy copy_kind(const Value& src, std::int8_t src_component, const Value& dst, std::int8_t dst_component) {
+  if (src_component >= 0 || dst_component >= 0) {
+    const bool src_double = src_component >= 0 ? std::holds_alternative<Vec3>(src) : std::holds_alternative<double>(src);
+    const bool dst_double = dst_component >= 0 ? std::holds_alternative<Vec3>(dst) : std::holds_alternative<double>(dst);
+    return src_double && dst_double ? ProgramCopy::kDouble : ProgramCopy::kGeneric;
+  }
+  if (src.index() != dst.index()) return ProgramCopy::kGeneric;
+  if (std::holds_alternative<double>(src)) return ProgramCopy::kDouble;
+  if (std::holds_alternative<Vec3>(src)) return ProgramCopy::kDouble3;
+  if (std::holds_alternative<Quat>(src)) return ProgramCopy::kQuat;
+  if (std::holds_alternative<Mat4>(src)) return ProgramCopy::kMatrix;
+  if (std::holds_alternative<std::int64_t>(src)) return ProgramCopy::kInt;
+  if (std::holds_alternative<bool>(src)) return ProgramCopy::kBool;
+  return ProgramCopy::kGeneric;
+}
+
+template <typename T>
+void copy_value(const ProgramOp& op) {
+  *static_cast<T*>(op.dst) = *static_cast<const T*>(op.src);
+}
+
+}  // namespace
+
+const char* evaluation_name(Evaluation evaluation) {
+  return evaluation == Evaluation::kCompiled ? "compiled" : "interpreted";
+}
+
+Result<Evaluation> evaluation_from_name(std::string_view name) {
+  if (name == "interpreted") return Evaluation::kInterpreted;
+  if (name == "compiled") return Evaluation::kCompiled;
+  return error(ErrorCode::kInvalidArgument,
+               "unknown evaluation '" + std::string(name) + "' (expected interpreted or compiled)");
+}
+
+const Graph::Program& Graph::program() {
+  const Schedule& s = schedule();
+  if (!program_) program_ = std::make_unique<Program>();
+  Program& p = *program_;
+  if (p.generation == topology_generation_) return p;
+  p.steps.clear();
+  p.ops.clear();
+  p.steps.reserve(s.order.size());
+  p.ops.reserve(s.inputs.size());
+  for (NodeId id : s.order) {
+    Node& n = *slots_[id.index];
+    ProgramStep step;
+    step.node = &n;
+    step.compute = n.type_->compute();
+    step.ops_begin = static_cast<std::uint32_t>(p.ops.size());
+    const auto [first, last] = s.input_range[id.index];
+    for (std::uint32_t i = first; i < last; ++i) {
+      const ScheduledInput& in = s.inputs[i];
+      const Connection& c = *in.connection;
+      ProgramOp op;
+      op.dst_attr = in.dst_attr;
+      op.input = &in;
+      step.enums |= in.enum_dst;
+      if (c.src.element < 0 && c.dst.element < 0) {
+        // Computes never change a value's alternative, so these pointers
+        // hold until the topology changes (a node created or deleted).
+        Value& src = const_cast<Node*>(in.src)->values_[c.src.attr];
+        Value& dst = n.values_[c.dst.attr];
+        op.copy = copy_kind(src, c.src.component, dst, c.dst.component);
+        op.src = storage(src, c.src.component);
+        op.dst = storage(dst, c.dst.component);
+        if (!op.src || !op.dst) op.copy = ProgramCopy::kGeneric;
+      }
+      p.ops.push_back(op);
+    }
+    step.ops_end = static_cast<std::uint32_t>(p.ops.size());
+    step.values = n.values_.data();
+    step.dirty = n.dirty_.data();
+    step.versions = n.versions_.data();
+    step.outputs = n.type_->outputs();
+    p.steps.push_back(step);
+  }
+  p.generation = topology_generation_;
+  return p;
+}
+
+void Graph::Program::prefetch(std::uint32_t k) const {
+  const ProgramStep& step = steps[k];
+  constexpr std::size_t kLine = 64;
+  const auto lines = [](const void* at, std::size_t bytes) {
+    const char* first = static_cast<const char*>(at);
+    for (std::size_t b = 0; b < bytes; b += kLine) __builtin_prefetch(first + b);
+  };
+  lines(step.node, sizeof(Node));
+  __builtin_prefetch(step.dirty);
+  __builtin_prefetch(step.versions);
+  for (std::uint32_t i = step.ops_begin; i < step.ops_end; ++i)
+    if (ops[i].dst) lines(ops[i].dst, kLine + 1);
+  for (AttrIndex o : step.outputs) lines(step.values + o, sizeof(Value));
+}
+
+void Graph::run_step(const Program& p, std::uint32_t k) {
+  const ProgramStep& step = p.steps[k];
+  Node& n = *step.node;
+  const ProgramOp* first = p.ops.data() + step.ops_begin;
+  const ProgramOp* last = p.ops.data() + step.ops_end;
+  // As update_node(): refresh the dirty connected inputs, then clear their
+  // flags (several connections may write parts of one attribute).
+  for (const ProgramOp* op = first; op != last; ++op) {
+    if (!n.dirty_[op->dst_attr]) continue;
+    n.versions_[op->dst_attr] = ++n.clock_;
+    switch (op->copy) {
+      case ProgramCopy::kDouble: copy_value<double>(*op); break;
+      case ProgramCopy::kDouble3: copy_value<Vec3>(*op); break;
+      case ProgramCopy::kQuat: copy_value<Quat>(*op); break;
+      case ProgramCopy::kMatrix: copy_value<Mat4>(*op); break;
+      case ProgramCopy::kInt: copy_value<std::int64_t>(*op); break;
+      case ProgramCopy::kBool: copy_value<bool>(*op); break;
+      default: {
+        const ScheduledInput& in = *op->input;
+        if (in.whole) n.values_[in.dst_attr] = in.src->values_[in.src_attr];
+        else write_part(n.values_[in.dst_attr], n.type_->attr(in.dst_attr).type, in.connection->dst, plug_value(in.connection->src));
+      }
+    }
+  }
+  for (const ProgramOp* op = first; op != last; ++op) {
+    if (!n.dirty_[op->dst_attr]) continue;
+    n.dirty_[op->dst_attr] = 0;
+    if (step.enums && op->input->enum_dst) clamp_enum(n.values_[op->dst_attr], n.type_->attr(op->dst_attr));
+  }
+  n.queued_ = false;
+  const std::span<const AttrIndex> outputs = n.type_->outputs();
+  bool compute = false;
+  for (AttrIndex o : outputs) compute |= n.dirty_[o] != 0;
+  if (!compute) return;
+  ComputeContext context(n, time_);
+  step.compute(context);
+  for (AttrIndex o : outputs) n.dirty_[o] = 0;
+}
+
+}  // namespace rigel::graph
