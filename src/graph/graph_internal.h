@@ -169,6 +169,13 @@ enum class ProgramCopy : std::uint8_t {
   kMatrix,   // matrix -> matrix
   kInt,      // int or enum -> int or enum (clamped after, as interpreted)
   kBool,     // bool -> bool
+  // A scalar into one element of an array (a constraint's target matrix, a
+  // blend's weight): `dst` is the whole array value, `element` the index;
+  // an element past the array's end takes the interpreted refresh (which
+  // grows the array).
+  kDoubleElement,
+  kDouble3Element,
+  kMatrixElement,
   kGeneric,  // the interpreted refresh of `input`
 };
 
@@ -178,6 +185,7 @@ struct ProgramOp {
   const void* src = nullptr;
   void* dst = nullptr;
   const ScheduledInput* input = nullptr;  // into Schedule::inputs
+  std::int32_t element = -1;              // the k*Element copies
 };
 
 struct ProgramStep {

@@ -47,9 +47,29 @@ ProgramCopy copy_kind(const Value& src, std::int8_t src_component, const Value& 
   return ProgramCopy::kGeneric;
 }
 
+// The typed copy of a scalar plug into an element of an array.
+ProgramCopy element_copy_kind(const Value& src, std::int8_t src_component, const Value& dst) {
+  if (src_component >= 0 || std::holds_alternative<double>(src))
+    return (src_component < 0 || std::holds_alternative<Vec3>(src)) && std::holds_alternative<std::vector<double>>(dst)
+               ? ProgramCopy::kDoubleElement
+               : ProgramCopy::kGeneric;
+  if (std::holds_alternative<Vec3>(src) && std::holds_alternative<std::vector<Vec3>>(dst)) return ProgramCopy::kDouble3Element;
+  if (std::holds_alternative<Mat4>(src) && std::holds_alternative<std::vector<Mat4>>(dst)) return ProgramCopy::kMatrixElement;
+  return ProgramCopy::kGeneric;
+}
+
 template <typename T>
 void copy_value(const ProgramOp& op) {
   *static_cast<T*>(op.dst) = *static_cast<const T*>(op.src);
+}
+
+// False when the element is past the array's end (the caller grows it).
+template <typename T>
+bool copy_element(const ProgramOp& op) {
+  std::vector<T>& array = std::get<std::vector<T>>(*static_cast<Value*>(op.dst));
+  if (static_cast<std::size_t>(op.element) >= array.size()) return false;
+  array[static_cast<std::size_t>(op.element)] = *static_cast<const T*>(op.src);
+  return true;
 }
 
 }  // namespace
@@ -88,7 +108,15 @@ const Graph::Program& Graph::program() {
       op.dst_attr = in.dst_attr;
       op.input = &in;
       step.enums |= in.enum_dst;
-      if (c.src.element < 0 && c.dst.element < 0) {
+      if (c.src.element < 0 && c.dst.element >= 0 && c.dst.component < 0) {
+        Value& src = const_cast<Node*>(in.src)->values_[c.src.attr];
+        Value& dst = n.values_[c.dst.attr];
+        op.copy = element_copy_kind(src, c.src.component, dst);
+        op.src = storage(src, c.src.component);
+        op.dst = &dst;
+        op.element = c.dst.element;
+        if (!op.src) op.copy = ProgramCopy::kGeneric;
+      } else if (c.src.element < 0 && c.dst.element < 0) {
         // Computes never change a value's alternative, so these pointers
         // hold until the topology changes (a node created or deleted).
         Value& src = const_cast<Node*>(in.src)->values_[c.src.attr];
@@ -131,6 +159,11 @@ void Graph::run_step(const Program& p, std::uint32_t k) {
   Node& n = *step.node;
   const ProgramOp* first = p.ops.data() + step.ops_begin;
   const ProgramOp* last = p.ops.data() + step.ops_end;
+  // The interpreted refresh, for what has no typed copy.
+  const auto refresh = [&](const ScheduledInput& in) {
+    if (in.whole) n.values_[in.dst_attr] = in.src->values_[in.src_attr];
+    else write_part(n.values_[in.dst_attr], n.type_->attr(in.dst_attr).type, in.connection->dst, plug_value(in.connection->src));
+  };
   // As update_node(): refresh the dirty connected inputs, then clear their
   // flags (several connections may write parts of one attribute).
   for (const ProgramOp* op = first; op != last; ++op) {
@@ -143,11 +176,16 @@ void Graph::run_step(const Program& p, std::uint32_t k) {
       case ProgramCopy::kMatrix: copy_value<Mat4>(*op); break;
       case ProgramCopy::kInt: copy_value<std::int64_t>(*op); break;
       case ProgramCopy::kBool: copy_value<bool>(*op); break;
-      default: {
-        const ScheduledInput& in = *op->input;
-        if (in.whole) n.values_[in.dst_attr] = in.src->values_[in.src_attr];
-        else write_part(n.values_[in.dst_attr], n.type_->attr(in.dst_attr).type, in.connection->dst, plug_value(in.connection->src));
-      }
+      case ProgramCopy::kDoubleElement:
+        if (!copy_element<double>(*op)) refresh(*op->input);
+        break;
+      case ProgramCopy::kDouble3Element:
+        if (!copy_element<Vec3>(*op)) refresh(*op->input);
+        break;
+      case ProgramCopy::kMatrixElement:
+        if (!copy_element<Mat4>(*op)) refresh(*op->input);
+        break;
+      default: refresh(*op->input); break;
     }
   }
   for (const ProgramOp* op = first; op != last; ++op) {
