@@ -32,9 +32,12 @@ std::string vec(double x, double y, double z) {
 void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump(2) << "\n"; }
 
 // --eval: the evaluation the command runs the scene with (CLI11 has checked
-// the name).
+// the name). The scene is evaluated once here, so a compiled program exists
+// before the command's own evaluations (a bake's pulls, inside its
+// transaction, use the program when it is current).
 void use_evaluation(scene::Scene& s, const std::string& name) {
   if (auto evaluation = graph::evaluation_from_name(name)) s.graph().set_evaluation(*evaluation);
+  s.graph().evaluate_all();
 }
 
 // Adds --eval to a command that evaluates a scene.

@@ -172,7 +172,13 @@ void Graph::pull(NodeId start) {
     order.push_back(n);
     stack.pop_back();
   }
-  if (evaluation_ == Evaluation::kCompiled) {
+  // Compiled: on the program when it is current, or can be made current
+  // outside a transaction. Inside one (a delete breaking its connections,
+  // a build step connecting a rig) each connection edit would recompile
+  // for the pull that follows it, so the pull takes the interpreted
+  // refresh (the same values) and the program is made once, afterwards.
+  if (evaluation_ == Evaluation::kCompiled &&
+      ((program_ && program_->generation == topology_generation_) || open_.empty())) {
     const Program& p = program();
     for (Node* n : order) run_step(p, schedule_->position[n->id_.index]);
     return;
