@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -212,6 +213,9 @@ struct Graph::Program {
   void prefetch(std::uint32_t k) const;
   // Scratch for evaluate_all: schedule positions of the queued nodes.
   std::vector<std::uint8_t> marks;
+  // Per step: resolved (Graph::resolve_step, on its first run), so a
+  // topology edit costs a program that touches no node.
+  std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
 };
 
 template <typename Fn>

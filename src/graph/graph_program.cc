@@ -4,7 +4,9 @@
 // the node's compute, exactly as update_node() does through the
 // connections, so the two evaluations give bit-identical values.
 #include <algorithm>
+#include <atomic>
 #include <string>
+#include <tuple>
 
 #include "graph_internal.h"
 
@@ -90,23 +92,53 @@ const Graph::Program& Graph::program() {
   if (!program_) program_ = std::make_unique<Program>();
   Program& p = *program_;
   if (p.generation == topology_generation_) return p;
-  p.steps.clear();
-  p.ops.clear();
-  p.steps.reserve(s.order.size());
-  p.ops.reserve(s.inputs.size());
-  for (NodeId id : s.order) {
-    Node& n = *slots_[id.index];
-    ProgramStep step;
-    step.node = &n;
+  // Made on every topology edit (a constraint added is one), so it touches
+  // no node: each step's copies are resolved when it first runs.
+  p.steps.assign(s.order.size(), ProgramStep{});
+  p.ops.resize(s.inputs.size());
+  p.ready = std::make_unique<std::atomic<std::uint8_t>[]>(s.order.size());
+  for (std::size_t k = 0; k < s.order.size(); ++k) {
+    const NodeId id = s.order[k];
+    ProgramStep& step = p.steps[k];
+    step.node = slots_[id.index].get();
+    std::tie(step.ops_begin, step.ops_end) = s.input_range[id.index];
+  }
+  for (std::size_t i = 0; i < s.inputs.size(); ++i) p.ops[i] = ProgramOp{ProgramCopy::kGeneric, s.inputs[i].dst_attr, nullptr, nullptr, &s.inputs[i], -1};
+  p.generation = topology_generation_;
+  return p;
+}
+
+void Graph::Program::prefetch(std::uint32_t k) const {
+  const ProgramStep& step = steps[k];
+  constexpr std::size_t kLine = 64;
+  const auto lines = [](const void* at, std::size_t bytes) {
+    const char* first = static_cast<const char*>(at);
+    for (std::size_t b = 0; b < bytes; b += kLine) __builtin_prefetch(first + b);
+  };
+  lines(step.node, sizeof(Node));
+  // Another thread may be resolving the step (a parallel evaluation): its
+  // pointers are read only once it has published them.
+  if (!ready[k].load(std::memory_order_acquire)) return;
+  __builtin_prefetch(step.dirty);
+  __builtin_prefetch(step.versions);
+  for (std::uint32_t i = step.ops_begin; i < step.ops_end; ++i)
+    if (ops[i].dst) lines(ops[i].dst, kLine + 1);
+  for (AttrIndex o : step.outputs) lines(step.values + o, sizeof(Value));
+}
+
+void Graph::run_step(const Program& p, std::uint32_t k) {
+  // On the step's first run: the typed copy of each input connection and
+  // where the node's values are. Only this step's own entries are written,
+  // by the one thread running it.
+  Program& own = const_cast<Program&>(p);
+  const auto resolve = [&] {
+    ProgramStep& step = own.steps[k];
+    Node& n = *step.node;
     step.compute = n.type_->compute();
-    step.ops_begin = static_cast<std::uint32_t>(p.ops.size());
-    const auto [first, last] = s.input_range[id.index];
-    for (std::uint32_t i = first; i < last; ++i) {
-      const ScheduledInput& in = s.inputs[i];
+    for (std::uint32_t i = step.ops_begin; i < step.ops_end; ++i) {
+      ProgramOp& op = own.ops[i];
+      const ScheduledInput& in = *op.input;
       const Connection& c = *in.connection;
-      ProgramOp op;
-      op.dst_attr = in.dst_attr;
-      op.input = &in;
       step.enums |= in.enum_dst;
       if (c.src.element < 0 && c.dst.element >= 0 && c.dst.component < 0) {
         Value& src = const_cast<Node*>(in.src)->values_[c.src.attr];
@@ -126,35 +158,14 @@ const Graph::Program& Graph::program() {
         op.dst = storage(dst, c.dst.component);
         if (!op.src || !op.dst) op.copy = ProgramCopy::kGeneric;
       }
-      p.ops.push_back(op);
     }
-    step.ops_end = static_cast<std::uint32_t>(p.ops.size());
     step.values = n.values_.data();
     step.dirty = n.dirty_.data();
     step.versions = n.versions_.data();
     step.outputs = n.type_->outputs();
-    p.steps.push_back(step);
-  }
-  p.generation = topology_generation_;
-  return p;
-}
-
-void Graph::Program::prefetch(std::uint32_t k) const {
-  const ProgramStep& step = steps[k];
-  constexpr std::size_t kLine = 64;
-  const auto lines = [](const void* at, std::size_t bytes) {
-    const char* first = static_cast<const char*>(at);
-    for (std::size_t b = 0; b < bytes; b += kLine) __builtin_prefetch(first + b);
+    own.ready[k].store(1, std::memory_order_release);
   };
-  lines(step.node, sizeof(Node));
-  __builtin_prefetch(step.dirty);
-  __builtin_prefetch(step.versions);
-  for (std::uint32_t i = step.ops_begin; i < step.ops_end; ++i)
-    if (ops[i].dst) lines(ops[i].dst, kLine + 1);
-  for (AttrIndex o : step.outputs) lines(step.values + o, sizeof(Value));
-}
-
-void Graph::run_step(const Program& p, std::uint32_t k) {
+  if (!p.ready[k].load(std::memory_order_relaxed)) resolve();
   const ProgramStep& step = p.steps[k];
   Node& n = *step.node;
   const ProgramOp* first = p.ops.data() + step.ops_begin;
