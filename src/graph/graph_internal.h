@@ -213,9 +213,20 @@ struct Graph::Program {
   void prefetch(std::uint32_t k) const;
   // Scratch for evaluate_all: schedule positions of the queued nodes.
   std::vector<std::uint8_t> marks;
-  // Per step: resolved (Graph::resolve_step, on its first run), so a
-  // topology edit costs a program that touches no node.
+  // Per step: resolved (its copies, on its first run), so a topology edit
+  // costs a program that touches no node.
   std::unique_ptr<std::atomic<std::uint8_t>[]> ready;
+  // The plugs a time change dirties (Graph::time_closure_) in schedule
+  // order, made on the first time change of the program: marked in the
+  // order the evaluation then runs them, each node's flags prefetched a few
+  // entries ahead (the closure's own order is a graph walk's).
+  struct TimeMark {
+    Node* node = nullptr;
+    std::uint8_t* dirty = nullptr;
+    AttrIndex attr = 0;
+  };
+  std::vector<TimeMark> time_marks;
+  bool time_marks_made = false;
 };
 
 template <typename Fn>

@@ -104,6 +104,7 @@ const Graph::Program& Graph::program() {
     std::tie(step.ops_begin, step.ops_end) = s.input_range[id.index];
   }
   for (std::size_t i = 0; i < s.inputs.size(); ++i) p.ops[i] = ProgramOp{ProgramCopy::kGeneric, s.inputs[i].dst_attr, nullptr, nullptr, &s.inputs[i], -1};
+  p.time_marks_made = false;
   p.generation = topology_generation_;
   return p;
 }
