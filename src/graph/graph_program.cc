@@ -103,7 +103,11 @@ const Graph::Program& Graph::program() {
     step.node = slots_[id.index].get();
     std::tie(step.ops_begin, step.ops_end) = s.input_range[id.index];
   }
-  for (std::size_t i = 0; i < s.inputs.size(); ++i) p.ops[i] = ProgramOp{ProgramCopy::kGeneric, s.inputs[i].dst_attr, nullptr, nullptr, &s.inputs[i], -1};
+  for (std::size_t i = 0; i < s.inputs.size(); ++i) {
+    p.ops[i] = ProgramOp{};
+    p.ops[i].dst_attr = s.inputs[i].dst_attr;
+    p.ops[i].input = &s.inputs[i];
+  }
   p.time_marks_made = false;
   p.generation = topology_generation_;
   return p;
@@ -166,7 +170,7 @@ void Graph::run_step(const Program& p, std::uint32_t k) {
     step.outputs = n.type_->outputs();
     own.ready[k].store(1, std::memory_order_release);
   };
-  if (!p.ready[k].load(std::memory_order_relaxed)) resolve();
+  if (!p.ready[k].load(std::memory_order_acquire)) resolve();
   const ProgramStep& step = p.steps[k];
   Node& n = *step.node;
   const ProgramOp* first = p.ops.data() + step.ops_begin;
