@@ -18,7 +18,8 @@ namespace {
 // tasks costs more.
 constexpr std::size_t kParallelMinLevel = 256;
 constexpr std::size_t kParallelGrain = 32;
-// How many steps ahead the compiled evaluation prefetches a node's storage.
+// How many steps (or time marks) ahead the compiled evaluation prefetches a
+// node's storage.
 constexpr std::size_t kPrefetchAhead = 8;
 
 }  // namespace
@@ -103,12 +104,11 @@ void Graph::dirty_for_time() {
       }
       p.time_marks_made = true;
     }
-    constexpr std::size_t kAhead = 8;
     const std::size_t count = p.time_marks.size();
     for (std::size_t i = 0; i < count; ++i) {
-      if (i + kAhead < count) {
-        __builtin_prefetch(p.time_marks[i + kAhead].node);
-        __builtin_prefetch(p.time_marks[i + kAhead].dirty);
+      if (i + kPrefetchAhead < count) {
+        __builtin_prefetch(p.time_marks[i + kPrefetchAhead].node);
+        __builtin_prefetch(p.time_marks[i + kPrefetchAhead].dirty);
       }
       const Program::TimeMark& m = p.time_marks[i];
       if (m.dirty[m.attr]) continue;
