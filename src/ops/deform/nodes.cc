@@ -21,9 +21,13 @@ using graph::ValueType;
 using math::Mat4;
 using math::Vec3;
 
-// Below this many vertices a node skins on its own thread: the graph
-// already runs independent nodes in parallel.
-constexpr std::size_t kParallelVertices = 16384;
+// From this many vertices a node splits its mesh into tasks of
+// kParallelGrain vertices (oneTBB): a mesh is usually skinned after its
+// whole rig, alone, so the other cores are idle then. Below it one task is
+// cheaper than waking others (a task costs about a microsecond; 2,048
+// vertices with normals, about five).
+constexpr std::size_t kParallelVertices = 4096;
+constexpr std::size_t kParallelGrain = 2048;
 
 AttrSpec input(std::string name, AttrType type, Value value, std::uint32_t extra = 0) {
   return graph::input_attr(std::move(name), type, std::move(value), {}, extra);
@@ -145,7 +149,7 @@ void compute_skin_cluster(ComputeContext& c) {
     job.out_positions = cache.out_points;
     job.in_normals = cache.in_normals;
     job.out_normals = cache.out_normals;
-    ok = parallel ? job.run_parallel() : job.run();
+    ok = parallel ? job.run_parallel(kParallelGrain) : job.run();
   } else {
     LinearBlendSkinningJob job;
     job.skin = skin;
@@ -154,7 +158,7 @@ void compute_skin_cluster(ComputeContext& c) {
     job.out_positions = cache.out_points;
     job.in_normals = cache.in_normals;
     job.out_normals = cache.out_normals;
-    ok = parallel ? job.run_parallel() : job.run();
+    ok = parallel ? job.run_parallel(kParallelGrain) : job.run();
   }
   if (!ok) {
     pass_through_skin(c);
@@ -243,7 +247,7 @@ void compute_blend_shape(ComputeContext& c) {
   job.base = cache.points;
   job.weights = cache.weights;
   job.out = cache.points;  // in place
-  const bool ok = base.size() >= kParallelVertices ? job.run_parallel() : job.run();
+  const bool ok = base.size() >= kParallelVertices ? job.run_parallel(kParallelGrain) : job.run();
   if (!ok) {  // a weight that is NaN or infinite
     pass_through();
     return;
