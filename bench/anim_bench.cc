@@ -20,9 +20,11 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bench_util.h"
@@ -207,5 +209,131 @@ void BM_anim_curve_nodes(benchmark::State& state) {
   state.counters["ns_per_channel"] = rigel::bench::per_item(kChannels);
 }
 BENCHMARK(BM_anim_curve_nodes)->Name("anim/nodes/set_time+evaluate_all/500")->UseRealTime();
+
+// ---- a joint's translate, rotate and scale (glTF tracks) ---------------------
+//
+// 500 joints of a baked clip (a key every 1/30 s over 10 s, as glTF and BVH
+// exports write them): each a linear Vec3Track translate, QuatTrack rotate
+// (slerp) and Vec3Track scale, sampled at 60 fps (every other sample between
+// two keys). Per joint per frame:
+//   anim/sample/joint_trs/sequential/500   Track::evaluate with cursors
+//   anim/sample/joint_trs/random/500       the same at random times (scrubbing)
+//   anim/sample/joint_trs/arrays/500       evaluate_arrays: a binary search and
+//                                          the keys normalised as read, no
+//                                          prepared slerp (what animCurveVec3 /
+//                                          animCurveQuat nodes did before they
+//                                          kept a Track; the in-run anchor)
+//   anim/nodes/joint_trs/set_time+evaluate_all/500
+//                                          the same tracks as 1,500 nodes
+struct JointTracks {
+  std::vector<rigel::ops::anim::Vec3Track> translate, scale;
+  std::vector<QuatTrack> rotate;
+};
+
+const JointTracks& joint_tracks() {
+  static const JointTracks made = [] {
+    std::mt19937 engine(5);
+    std::uniform_real_distribution<double> step(-0.02, 0.02), angle(-0.05, 0.05);
+    JointTracks out;
+    for (int j = 0; j < kChannels; ++j) {
+      std::vector<double> times;
+      std::vector<rigel::math::Vec3> t_values, s_values;
+      std::vector<Quat> r_values;
+      rigel::math::Vec3 t(0.0, 0.1 * j, 0.0), sc(1.0, 1.0, 1.0);
+      Quat r = Quat::Identity();
+      for (int k = 0; k <= kFrames; ++k) {  // a random walk, as captured motion
+        times.push_back(k / kFps);
+        t += rigel::math::Vec3(step(engine), step(engine), step(engine));
+        sc += 0.1 * rigel::math::Vec3(step(engine), step(engine), step(engine));
+        r = (r * Quat(Eigen::AngleAxisd(angle(engine), rigel::math::Vec3(step(engine), 0.01, step(engine)).normalized())))
+                .normalized();
+        t_values.push_back(t);
+        s_values.push_back(sc);
+        r_values.push_back(r);
+      }
+      out.translate.push_back(
+          std::move(rigel::ops::anim::Vec3Track::build(times, std::move(t_values), Interpolation::kLinear)).value());
+      out.scale.push_back(
+          std::move(rigel::ops::anim::Vec3Track::build(times, std::move(s_values), Interpolation::kLinear)).value());
+      out.rotate.push_back(std::move(QuatTrack::build(times, std::move(r_values), Interpolation::kLinear)).value());
+    }
+    return out;
+  }();
+  return made;
+}
+
+struct JointPose {
+  rigel::math::Vec3 translate, scale;
+  Quat rotate;
+};
+
+void sample_joints(benchmark::State& state, bool random, bool arrays) {
+  const JointTracks& tracks = joint_tracks();
+  std::vector<Cursor> cursors(3 * kChannels);
+  std::vector<JointPose> pose(kChannels);
+  std::mt19937 engine(6);
+  std::uniform_real_distribution<double> when(0.0, kSeconds);
+  std::vector<double> times(4096);
+  for (std::size_t i = 0; i < times.size(); ++i) times[i] = random ? when(engine) : std::fmod(i / 60.0, kSeconds);
+  std::size_t next = 0;
+  for (auto _ : state) {
+    const double t = times[next];
+    next = (next + 1) & (times.size() - 1);
+    for (int j = 0; j < kChannels; ++j) {
+      JointPose& p = pose[j];
+      if (arrays) {
+        p.translate = rigel::ops::anim::evaluate_arrays(tracks.translate[j].arrays(), t);
+        p.rotate = rigel::ops::anim::evaluate_arrays(tracks.rotate[j].arrays(), t);
+        p.scale = rigel::ops::anim::evaluate_arrays(tracks.scale[j].arrays(), t);
+      } else {
+        p.translate = tracks.translate[j].evaluate(t, cursors[3 * j]);
+        p.rotate = tracks.rotate[j].evaluate(t, cursors[3 * j + 1]);
+        p.scale = tracks.scale[j].evaluate(t, cursors[3 * j + 2]);
+      }
+    }
+    benchmark::DoNotOptimize(pose.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["ns_per_joint"] = rigel::bench::per_item(kChannels);
+}
+BENCHMARK_CAPTURE(sample_joints, sequential, false, false)->Name("anim/sample/joint_trs/sequential/500");
+BENCHMARK_CAPTURE(sample_joints, random, true, false)->Name("anim/sample/joint_trs/random/500");
+BENCHMARK_CAPTURE(sample_joints, arrays, false, true)->Name("anim/sample/joint_trs/arrays/500");
+
+// The joints' tracks as animCurveVec3 / animCurveQuat nodes, played at 60 fps.
+void BM_anim_joint_track_nodes(benchmark::State& state) {
+  auto registry = std::make_shared<rigel::graph::Registry>();
+  if (!rigel::scene::register_scene_types(*registry) || !rigel::ops::anim::register_anim_types(*registry)) {
+    state.SkipWithError("registration failed");
+    return;
+  }
+  rigel::graph::Graph graph(registry);
+  namespace a = rigel::ops::anim::track_attr;
+  const JointTracks& tracks = joint_tracks();
+  auto add = [&](const char* type, const std::string& name, const auto& track) {
+    using T = typename std::decay_t<decltype(track.arrays().values)>::element_type;
+    const auto arrays = track.arrays();
+    const rigel::graph::NodeId node = *graph.create_node(type, name);
+    (void)graph.set_value({node, a::kKeyTimes, -1}, std::vector<double>(arrays.times.begin(), arrays.times.end()));
+    (void)graph.set_value({node, a::kKeyValues, -1},
+                          std::vector<std::remove_const_t<T>>(arrays.values.begin(), arrays.values.end()));
+  };
+  for (int j = 0; j < kChannels; ++j) {
+    std::string name = "j";  // not "j" + to_string(j): GCC 12 warns falsely (-Wrestrict) on that
+    name += std::to_string(j);
+    add(rigel::ops::anim::kAnimCurveVec3Type, name + "_t", tracks.translate[j]);
+    add(rigel::ops::anim::kAnimCurveQuatType, name + "_r", tracks.rotate[j]);
+    add(rigel::ops::anim::kAnimCurveVec3Type, name + "_s", tracks.scale[j]);
+  }
+  graph.clear_history();
+  int frame = 0;
+  for (auto _ : state) {
+    graph.set_time(frame / 60.0);
+    graph.evaluate_all(rigel::graph::Execution::kSerial);
+    if (++frame == 2 * kFrames) frame = 0;
+  }
+  state.counters["ns_per_joint"] = rigel::bench::per_item(kChannels);
+}
+BENCHMARK(BM_anim_joint_track_nodes)->Name("anim/nodes/joint_trs/set_time+evaluate_all/500")->UseRealTime();
 
 }  // namespace

@@ -89,12 +89,6 @@ void write_error(ComputeContext& c, AttrIndex attr, const Status& status) {
 // cost N^2).
 bool must_check(const ComputeContext& c, AttrIndex error_attr) { return c.node().is_dirty(error_attr); }
 
-// The check's result as written in `error`.
-Status checked(const ComputeContext& c, AttrIndex error_attr) {
-  const std::string& message = c.get<std::string>(error_attr);
-  return message.empty() ? Status::ok() : error(ErrorCode::kInvalidArgument, message);
-}
-
 // ---- clips ------------------------------------------------------------------
 // (nodes.h, "Clips"): which keys a curve evaluates.
 
@@ -286,8 +280,31 @@ void compute_anim_curve(ComputeContext& c) { compute_curve_at(c, c.time(), true)
 
 void compute_driven_key(ComputeContext& c) { compute_curve_at(c, c.get<double>(driven_key_attr::kInput), false); }
 
+// An animCurveVec3's or animCurveQuat's keys (the active clip's) built into
+// a Track, kept between evaluations with a playback cursor, as CurveCache
+// keeps a curve: playing a frame costs a cursor check and one interpolation
+// (a linear rotation's slerp prepared when built) instead of checking the
+// key arrays and searching them. Rebuilt when a key array, the
+// interpolation, clipOffsets or clip changes (their versions); the check's
+// result is kept with it, so `error` is written from it.
 template <typename T>
-void compute_track(ComputeContext& c) {
+struct TrackCache final : graph::NodeCache {
+  static constexpr std::array<AttrIndex, 7> kInputs = {track_attr::kKeyTimes,      track_attr::kKeyValues,
+                                                      track_attr::kInTangents,    track_attr::kOutTangents,
+                                                      track_attr::kInterpolation, track_attr::kClipOffsets,
+                                                      track_attr::kClip};
+  std::array<std::uint64_t, kInputs.size()> versions{};
+  bool built = false;
+  Status status = Status::ok();
+  bool rest = false;  // the active clip has no keys: the output is restValue
+  Track<T> track;
+  Cursor cursor;
+};
+
+// The check of every key (as `error` reports it) and the active clip's keys
+// built into cache.track.
+template <typename T>
+void build_track(ComputeContext& c, TrackCache<T>& cache) {
   namespace a = track_attr;
   TrackArrays<T> all;
   all.times = c.get<std::vector<double>>(a::kKeyTimes);
@@ -297,13 +314,16 @@ void compute_track(ComputeContext& c) {
   all.interpolation = read_enum<Interpolation>(c, a::kInterpolation, kInterpolationCount);
   const auto& offsets = c.get<std::vector<std::int64_t>>(a::kClipOffsets);
   const std::size_t key_count = all.times.size();
-  const bool check = must_check(c, a::kError);
-  Status status = check ? Status::ok() : checked(c, a::kError);
-  if (check && !offsets.empty()) {
-    status = check_clip_offsets(offsets, key_count);
-    if (status) status = check_per_key(all.values, key_count, "keyValues");
-    if (status) status = check_per_key(all.in_tangents, key_count, "inTangents");
-    if (status) status = check_per_key(all.out_tangents, key_count, "outTangents");
+  cache.status = Status::ok();
+  cache.rest = false;
+  cache.track = Track<T>();
+  cache.cursor = Cursor{};
+  if (!offsets.empty()) {
+    cache.status = check_clip_offsets(offsets, key_count);
+    if (cache.status) cache.status = check_per_key(all.values, key_count, "keyValues");
+    if (cache.status) cache.status = check_per_key(all.in_tangents, key_count, "inTangents");
+    if (cache.status) cache.status = check_per_key(all.out_tangents, key_count, "outTangents");
+    if (!cache.status) return;
   }
   const auto slice = [&all](std::size_t first, std::size_t count) {
     TrackArrays<T> part = all;
@@ -313,25 +333,44 @@ void compute_track(ComputeContext& c) {
     part.out_tangents = cut(all.out_tangents, first, count);
     return part;
   };
-  bool rest = false;
-  TrackArrays<T> arrays = all;
-  if (status) {
-    auto keys = clip_keys(offsets, c.get<std::int64_t>(a::kClip), key_count,
-                          [&](std::size_t first, std::size_t count) {
-                            return check ? slice(first, count).validate() : Status::ok();
-                          });
-    if (!keys) status = keys.status();
-    else if (!keys.value()) rest = true;
-    else arrays = slice(keys.value()->first, keys.value()->count);
+  auto keys = clip_keys(offsets, c.get<std::int64_t>(a::kClip), key_count,
+                        [&](std::size_t first, std::size_t count) { return slice(first, count).validate(); });
+  if (!keys) {
+    cache.status = keys.status();
+    return;
   }
-  if (status.is_ok()) {
-    c.output(a::kOutput) = rest ? c.get<T>(a::kRestValue) : evaluate_arrays(arrays, c.time());
+  if (!keys.value()) {
+    cache.rest = true;
+    return;
+  }
+  const TrackArrays<T> active = slice(keys.value()->first, keys.value()->count);
+  auto built = Track<T>::build(std::vector<double>(active.times.begin(), active.times.end()),
+                               std::vector<T>(active.values.begin(), active.values.end()), active.interpolation,
+                               std::vector<T>(active.in_tangents.begin(), active.in_tangents.end()),
+                               std::vector<T>(active.out_tangents.begin(), active.out_tangents.end()));
+  if (built) cache.track = std::move(built).value();
+  else cache.status = built.status();
+}
+
+template <typename T>
+void compute_track(ComputeContext& c) {
+  namespace a = track_attr;
+  TrackCache<T>& cache = c.cache<TrackCache<T>>();
+  std::array<std::uint64_t, TrackCache<T>::kInputs.size()> now{};
+  for (std::size_t i = 0; i < now.size(); ++i) now[i] = c.version(TrackCache<T>::kInputs[i]);
+  if (!cache.built || cache.versions != now) {
+    build_track(c, cache);
+    cache.versions = now;
+    cache.built = true;
+  }
+  if (cache.status.is_ok()) {
+    c.output(a::kOutput) = cache.rest ? c.get<T>(a::kRestValue) : cache.track.evaluate(c.time(), cache.cursor);
   } else if constexpr (std::is_same_v<T, Quat>) {
     c.output(a::kOutput) = Quat(Quat::Identity());
   } else {
     c.output(a::kOutput) = Vec3(Vec3::Zero());
   }
-  if (check) write_error(c, a::kError, status);
+  if (must_check(c, a::kError)) write_error(c, a::kError, cache.status);
 }
 
 template <typename T>

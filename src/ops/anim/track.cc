@@ -65,6 +65,23 @@ std::string number(double v) {
   return buffer;
 }
 
+// The segment [times[i], times[i + 1]) holding t, for t strictly inside
+// (times[0], times[n - 1]): the cursor's, the next one, or a binary search.
+// The cursor is left on it.
+std::size_t find_segment(const double* times, std::size_t n, double t, Cursor& cursor) {
+  std::size_t i = cursor.key;
+  if (i + 1 < n && t >= times[i] && t < times[i + 1]) {
+    // the cursor's segment
+  } else if (i + 2 < n && t >= times[i + 1] && t < times[i + 2]) {
+    ++i;
+  } else {
+    const double* it = std::upper_bound(times + 1, times + n - 1, t);
+    i = static_cast<std::size_t>(it - times) - 1;
+  }
+  cursor.key = static_cast<std::uint32_t>(i);
+  return i;
+}
+
 // The value at t. `kNormalize`: read keys through TrackTraits::key (rotations
 // from attributes); Track's own keys are normalised already.
 template <typename T, bool kNormalize>
@@ -80,16 +97,7 @@ T sample(const TrackArrays<T>& a, double t, Cursor& cursor) {
   const double* times = a.times.data();
   if (t <= times[0]) return key(0);
   if (t >= times[n - 1]) return key(n - 1);
-  std::size_t i = cursor.key;
-  if (i + 1 < n && t >= times[i] && t < times[i + 1]) {
-    // the cursor's segment
-  } else if (i + 2 < n && t >= times[i + 1] && t < times[i + 2]) {
-    ++i;
-  } else {
-    const double* it = std::upper_bound(times + 1, times + n - 1, t);
-    i = static_cast<std::size_t>(it - times) - 1;
-  }
-  cursor.key = static_cast<std::uint32_t>(i);
+  const std::size_t i = find_segment(times, n, t, cursor);
   switch (a.interpolation) {
     case Interpolation::kStep:
       return key(i);
@@ -131,28 +139,42 @@ bool finite_all(std::span<const T> values, const char* name, Status& status) {
 
 std::span<const std::string_view> interpolation_names() { return kInterpolationNames; }
 
-Quat slerp_shortest(const Quat& a, const Quat& b, double s) {
+namespace detail {
+
+SlerpSpan slerp_span(const Quat& a, const Quat& b) {
+  SlerpSpan span;
   double d = a.dot(b);
-  Eigen::Vector4d end = b.coeffs();
+  span.end = b;
   if (d < 0.0) {  // q and -q are one rotation: go the short way
     d = -d;
-    end = -end;
+    span.end.coeffs() = -span.end.coeffs();
   }
+  // Nearly equal (d > 0.9999): sin(theta) ~ 0; a normalised lerp is exact to
+  // ~1e-9 there, and theta stays negative.
+  if (!(d > 0.9999)) {
+    span.theta = std::acos(d);
+    span.inv_sin = 1.0 / std::sin(span.theta);
+  }
+  return span;
+}
+
+Quat slerp_along(const Quat& a, const SlerpSpan& span, double s) {
   double wa, wb;
-  if (d > 0.9999) {
-    // Nearly equal: sin(theta) ~ 0; a normalised lerp is exact to ~1e-9 here.
+  if (span.theta < 0.0) {
     wa = 1.0 - s;
     wb = s;
   } else {
-    const double theta = std::acos(d);
-    const double inv_sin = 1.0 / std::sin(theta);
-    wa = std::sin((1.0 - s) * theta) * inv_sin;
-    wb = std::sin(s * theta) * inv_sin;
+    wa = std::sin((1.0 - s) * span.theta) * span.inv_sin;
+    wb = std::sin(s * span.theta) * span.inv_sin;
   }
   Quat q;
-  q.coeffs() = wa * a.coeffs() + wb * end;
+  q.coeffs() = wa * a.coeffs() + wb * span.end.coeffs();
   return q.normalized();
 }
+
+}  // namespace detail
+
+Quat slerp_shortest(const Quat& a, const Quat& b, double s) { return detail::slerp_along(a, detail::slerp_span(a, b), s); }
 
 template <typename T>
 Status TrackArrays<T>::validate() const {
@@ -225,6 +247,13 @@ Result<Track<T>> Track<T>::build(std::vector<double> times, std::vector<T> value
   track.in_tangents_ = std::move(in_tangents);
   track.out_tangents_ = std::move(out_tangents);
   track.interpolation_ = interpolation;
+  if constexpr (std::is_same_v<T, Quat>) {
+    if (interpolation == Interpolation::kLinear && track.values_.size() >= 2) {
+      track.slerp_.reserve(track.values_.size() - 1);
+      for (std::size_t i = 0; i + 1 < track.values_.size(); ++i)
+        track.slerp_.push_back(detail::slerp_span(track.values_[i], track.values_[i + 1]));
+    }
+  }
   return track;
 }
 
@@ -256,6 +285,15 @@ Result<Track<T>> Track<T>::from_gltf(std::span<const double> times, std::span<co
 
 template <typename T>
 T Track<T>::evaluate(double t, Cursor& cursor) const {
+  if constexpr (std::is_same_v<T, Quat>) {
+    // A linear rotation: sample()'s result through the prepared slerps.
+    const std::size_t n = times_.size();
+    if (!slerp_.empty() && !std::isnan(t) && t > times_[0] && t < times_[n - 1]) {
+      const std::size_t i = find_segment(times_.data(), n, t, cursor);
+      const double s = (t - times_[i]) / (times_[i + 1] - times_[i]);
+      return detail::slerp_along(values_[i], slerp_[i], s);
+    }
+  }
   return sample<T, false>(arrays(), t, cursor);
 }
 

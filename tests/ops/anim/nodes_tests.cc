@@ -40,6 +40,13 @@ std::shared_ptr<const graph::Registry> registry() {
   return r;
 }
 
+template <typename T>
+Track<T> make_or_die(std::vector<double> times, std::vector<T> values, Interpolation interpolation) {
+  Result<Track<T>> track = Track<T>::build(std::move(times), std::move(values), interpolation);
+  EXPECT_TRUE(succeeded(track.status()));
+  return track ? std::move(track).value() : Track<T>();
+}
+
 class AnimNodes : public ::testing::Test {
  protected:
   AnimNodes() : scene_(registry()) {}
@@ -139,6 +146,48 @@ TEST_F(AnimNodes, anim_curve_quat__drives_joint_rotation_with_set_time) {
   const Mat4 world = scene_.world_matrix(joint);
   const Eigen::Matrix3d expected = Eigen::AngleAxisd(math::kPi / 4, Vec3::UnitZ()).toRotationMatrix();
   EXPECT_NEAR((world.topLeftCorner<3, 3>() - expected).norm(), 0.0, 1e-12) << "slerp midpoint: 45 degrees about Z";
+}
+
+// An animCurveQuat keeps its keys built into a Track with a cursor: forward
+// and backward playback and jumps give the track's values bit for bit, and
+// an edit of the keys, the interpolation or the clip is followed at once.
+TEST_F(AnimNodes, anim_curve_quat__plays_its_track_bit_for_bit_and_follows_edits) {
+  testing::Random random(31);
+  std::vector<double> times;
+  std::vector<Quat> values;
+  for (int i = 0; i < 40; ++i) {
+    times.push_back(i / 24.0);
+    values.push_back(Quat(Eigen::Vector4d(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1),
+                                          random.uniform(-1, 1)))
+                         .normalized());
+  }
+  const NodeId node = create(kAnimCurveQuatType, "rot");
+  set(node, track_attr::kKeyTimes, times);
+  set(node, track_attr::kKeyValues, values);
+  auto check = [&](const QuatTrack& track, const std::string& what) {
+    std::vector<double> samples;
+    for (int f = -5; f < 45 * 2; ++f) samples.push_back(f / 48.0);
+    for (int f = 45 * 2; f > -5; --f) samples.push_back(f / 48.0);
+    for (int i = 0; i < 50; ++i) samples.push_back(random.uniform(-0.5, 2.0));
+    for (double t : samples) {
+      graph().set_time(t);
+      ASSERT_EQ(value<Quat>(node, track_attr::kOutput).coeffs(), track.evaluate(t).coeffs()) << what << ", t " << t;
+    }
+  };
+  check(make_or_die<Quat>(times, values, Interpolation::kLinear), "linear");
+  values[7] = Quat(Eigen::AngleAxisd(1.0, Vec3::UnitY()));
+  set(node, track_attr::kKeyValues, values);
+  check(make_or_die<Quat>(times, values, Interpolation::kLinear), "a key edited");
+  set(node, track_attr::kInterpolation, std::int64_t{static_cast<int>(Interpolation::kStep)});
+  check(make_or_die<Quat>(times, values, Interpolation::kStep), "step");
+  // Two clips: keys 0-19 and 20-39; clip 1 plays the second half's keys.
+  set(node, track_attr::kInterpolation, std::int64_t{static_cast<int>(Interpolation::kLinear)});
+  set(node, track_attr::kClipOffsets, std::vector<std::int64_t>{0, 20, 40});
+  set(node, track_attr::kClip, std::int64_t{1});
+  check(make_or_die<Quat>(std::vector<double>(times.begin() + 20, times.end()),
+                          std::vector<Quat>(values.begin() + 20, values.end()), Interpolation::kLinear),
+        "clip 1");
+  EXPECT_TRUE(value<std::string>(node, track_attr::kError).empty());
 }
 
 TEST_F(AnimNodes, driven_key__follows_its_input_attribute) {

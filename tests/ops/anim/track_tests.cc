@@ -174,6 +174,34 @@ TEST(QuatTrack, cursor__matches_fresh_search_for_any_sequence) {
   }
 }
 
+// A linear rotation track prepares each segment's slerp when built; with a
+// cursor it samples through them. Nearly equal keys (the lerp branch),
+// keys on opposite hemispheres (the short way round) and wide angles all
+// give slerp_shortest's bits.
+TEST(QuatTrack, linear__prepared_slerps_give_slerp_shortest_bit_for_bit) {
+  Random random(22);
+  std::vector<double> times;
+  std::vector<Quat> values;
+  Quat q = Quat::Identity();
+  for (int i = 0; i < 60; ++i) {
+    times.push_back(i / 30.0);
+    const double degrees = i % 3 == 0 ? random.uniform(-0.5, 0.5) : random.uniform(-170, 170);
+    q = (q * Quat(Eigen::AngleAxisd(math::to_radians(degrees), Vec3(random.uniform(-1, 1), 1, 0).normalized())))
+            .normalized();
+    if (i % 4 == 1) q.coeffs() = -q.coeffs();  // the same rotation from the other hemisphere
+    values.push_back(q);
+  }
+  const QuatTrack track = make_track<Quat>(times, values, Interpolation::kLinear);
+  Cursor cursor;
+  for (int i = 0; i < 59 * 7; ++i) {
+    const double t = i / 210.0;
+    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(i / 7), 58);
+    const double s = (t - times[k]) / (times[k + 1] - times[k]);
+    const Quat a = track.arrays().values[k], b = track.arrays().values[k + 1];  // normalised when built
+    ASSERT_EQ(track.evaluate(t, cursor).coeffs(), slerp_shortest(a, b, s).coeffs()) << "t " << t;
+  }
+}
+
 // ---- validation -------------------------------------------------------------------
 
 TEST(TrackArrays, validate__values_size_mismatch) {

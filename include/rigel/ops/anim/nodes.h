@@ -4,17 +4,16 @@
 // glTF tracks (animCurveVec3, animCurveQuat). Each node stores its keys in
 // its own input attributes and calls the kernels of curve.h / track.h.
 //
-// No per-node cache but the check of the keys. The hidden `error` output is
-// time-invariant (graph::kTimeInvariant) and depends on every key array, so
-// it is dirty exactly when the keys (or a driven key's settings) changed
-// since it was written: a compute validates the key arrays (O(keys)) only
-// then, and otherwise takes `error`'s message as the result. A time change
-// therefore costs a binary search over the key times plus the (at most
-// four) keys around the time (evaluate_arrays), not O(keys): playing or
-// baking N frames of an N-key curve is O(N log N), not O(N^2). A hidden
-// cursor attribute was considered and left out: it would save only the
-// O(log keys) search. Playback of many channels at the kernel's speed goes
-// through SampleCurvesJob / SampleTracksJob on compiled curves instead.
+// Each node keeps its keys compiled in a node cache (graph::NodeCache)
+// with a playback cursor: an animCurve or drivenKey an AnimCurve (the
+// active clip's keys, one precomputed segment per key pair), an
+// animCurveVec3 or animCurveQuat a Track (a linear rotation track with its
+// slerps prepared). The cache is rebuilt when a key array, a setting,
+// clipOffsets or clip changes (their versions); the check of the keys runs
+// then (O(keys)), with its result kept for the hidden `error` output, which
+// is time-invariant (graph::kTimeInvariant). A time change therefore costs
+// a cursor check and one interpolation (a binary search after a jump), not
+// O(keys): playing or baking N frames of an N-key curve is O(N).
 //
 // Bad key data never crashes a compute: the node writes 0 (zero / the
 // identity rotation for tracks) to `output` and the reason, naming the key

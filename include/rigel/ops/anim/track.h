@@ -64,7 +64,23 @@ struct TrackArrays {
 template <typename T>
 T evaluate_arrays(const TrackArrays<T>& arrays, double t);
 
-// A track that owns its keys (rotations normalised when built).
+namespace detail {
+// One linear rotation segment's slerp, worked out once when a track is
+// built: the end key on the short way round, the angle between the keys and
+// 1 / sin(angle). `theta` < 0: the keys are nearly equal and the segment is a
+// normalised lerp. slerp_along(a, slerp_span(a, b), s) is
+// slerp_shortest(a, b, s) bit for bit, without its acos, sin and division.
+struct SlerpSpan {
+  math::Quat end = math::Quat::Identity();
+  double theta = -1.0;
+  double inv_sin = 0.0;
+};
+SlerpSpan slerp_span(const math::Quat& a, const math::Quat& b);
+math::Quat slerp_along(const math::Quat& a, const SlerpSpan& span, double s);
+}  // namespace detail
+
+// A track that owns its keys (rotations normalised when built; a linear
+// rotation track's slerps prepared then too).
 template <typename T>
 class Track {
  public:
@@ -96,6 +112,8 @@ class Track {
   std::vector<T> values_;
   std::vector<T> in_tangents_, out_tangents_;
   Interpolation interpolation_ = Interpolation::kLinear;
+  // Linear rotation tracks: one per segment (times_.size() - 1); else empty.
+  std::vector<detail::SlerpSpan> slerp_;
 };
 
 using Vec3Track = Track<math::Vec3>;
