@@ -54,6 +54,11 @@
 //   skinning_matrices/64               4.1 us for 64 joints
 //   node/skin_cluster/100000x4        4.4 ms (conversions and skin build included)
 //
+// 2026-12-06: normals eight vertices per instruction (float, explicit fused
+// operations) instead of one vertex at a time in double: lbs/100000x4/normals
+// 1003 us -> 388 us best, against 166 us for the points alone in the same
+// run (bench/README.md, "Skinning normals and prepared tracks").
+//
 // 2026-12-05, same machine, a fresh-machine test run on the other core: the
 // skinCluster now keeps its compiled skin and float bind points between
 // evaluations (graph::NodeCache, rebuilt when the influence inputs' versions
