@@ -58,8 +58,10 @@ DqsKernel dqs_best_kernel();
 
 // Normal through the blended matrix m (SkinMatrix layout): the cofactor
 // matrix of its 3x3 (the inverse transpose times the determinant) with the
-// determinant's sign, normalised; zero stays zero. In double: this is the
-// part of a kernel that divides.
+// determinant's sign, normalised; zero stays zero. In double, one vertex at
+// a time: the portable variant's. The vector variants do the same
+// arithmetic in float, eight vertices per instruction (normals8 in
+// linear_blend_skinning_x86.cc), so they differ from it in the last bits.
 inline void skin_normal(const float* m, const float* n, float* out) {
   const double a0 = m[0], a1 = m[1], a2 = m[2];
   const double b0 = m[4], b1 = m[5], b2 = m[6];
