@@ -170,12 +170,22 @@ void BM_anim_quat_slerp_sequential(benchmark::State& state) {
 }
 BENCHMARK(BM_anim_quat_slerp_sequential)->Name("anim/quat_slerp/sequential/500");
 
+// Scene and anim node types, registered once; null if registration failed.
+std::shared_ptr<const rigel::graph::Registry> anim_registry() {
+  static const std::shared_ptr<const rigel::graph::Registry> made = [] {
+    auto registry = std::make_shared<rigel::graph::Registry>();
+    const bool ok = rigel::scene::register_scene_types(*registry) && rigel::ops::anim::register_anim_types(*registry);
+    return ok ? std::shared_ptr<const rigel::graph::Registry>(std::move(registry)) : nullptr;
+  }();
+  return made;
+}
+
 // The same 500 curves as animCurve nodes in a graph: set_time, then
-// evaluate_all. Each compute validates its key arrays and binary-searches
-// (no per-node cursor; see nodes.h), plus the graph's per-node overhead.
+// evaluate_all. Each compute evaluates its compiled curve from its cursor
+// (see nodes.h), plus the graph's per-node overhead.
 void BM_anim_curve_nodes(benchmark::State& state) {
-  auto registry = std::make_shared<rigel::graph::Registry>();
-  if (!rigel::scene::register_scene_types(*registry) || !rigel::ops::anim::register_anim_types(*registry)) {
+  const auto registry = anim_registry();
+  if (!registry) {
     state.SkipWithError("registration failed");
     return;
   }
@@ -302,8 +312,8 @@ BENCHMARK_CAPTURE(sample_joints, arrays, false, true)->Name("anim/sample/joint_t
 
 // The joints' tracks as animCurveVec3 / animCurveQuat nodes, played at 60 fps.
 void BM_anim_joint_track_nodes(benchmark::State& state) {
-  auto registry = std::make_shared<rigel::graph::Registry>();
-  if (!rigel::scene::register_scene_types(*registry) || !rigel::ops::anim::register_anim_types(*registry)) {
+  const auto registry = anim_registry();
+  if (!registry) {
     state.SkipWithError("registration failed");
     return;
   }

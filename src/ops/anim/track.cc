@@ -286,7 +286,9 @@ Result<Track<T>> Track<T>::from_gltf(std::span<const double> times, std::span<co
 template <typename T>
 T Track<T>::evaluate(double t, Cursor& cursor) const {
   if constexpr (std::is_same_v<T, Quat>) {
-    // A linear rotation: sample()'s result through the prepared slerps.
+    // A linear rotation: sample()'s result through the prepared slerps. Its
+    // own path: passing the slerps through sample() measured 10-15% slower
+    // per joint (anim/sample/joint_trs).
     const std::size_t n = times_.size();
     if (!slerp_.empty() && !std::isnan(t) && t > times_[0] && t < times_[n - 1]) {
       const std::size_t i = find_segment(times_.data(), n, t, cursor);

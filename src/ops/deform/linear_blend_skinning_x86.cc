@@ -51,7 +51,7 @@ struct Columns8 {
   __m128 a[8], b[8], c[8];
 };
 
-// x y - z w and x y + z w + u t with explicit fused operations, so that
+// x y - z w, and the three-term dot product, with explicit fused operations, so that
 // nothing is left for the compiler to fuse (or not) differently at each
 // place this is inlined: a vertex's bits stay the same in a block and in
 // the tail.
