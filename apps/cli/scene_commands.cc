@@ -44,10 +44,10 @@ void use_evaluation(scene::Scene& s, const std::string& name) {
 void add_evaluation_option(CLI::App* command, std::string& target) {
   command
       ->add_option("--eval", target,
-                   "Evaluation: interpreted (the reference) or compiled (a program made from the graph; the same "
-                   "values)")
+                   "Evaluation: compiled (the default: a program made from the graph) or interpreted (the reference; "
+                   "the same values)")
       ->check(CLI::IsMember({"interpreted", "compiled"}))
-      ->default_str("interpreted");
+      ->default_str("compiled");
 }
 
 // ---- inspect -----------------------------------------------------------------
@@ -97,7 +97,7 @@ int run_inspect(const InspectArgs& args) {
 // ---- eval --------------------------------------------------------------------
 
 struct EvalArgs {
-  std::string evaluation = "interpreted";  // --eval
+  std::string evaluation = "compiled";  // --eval
   std::string scene;
   std::optional<double> frame;
   std::optional<double> time;
@@ -188,7 +188,7 @@ int run_import(const ImportArgs& args) {
 // ---- export ------------------------------------------------------------------
 
 struct ExportArgs {
-  std::string evaluation = "interpreted";  // --eval
+  std::string evaluation = "compiled";  // --eval
   std::string scene;
   std::string output;
   std::string frames;  // "FIRST:LAST"; empty when not given
@@ -243,7 +243,7 @@ int run_export(const ExportArgs& args) {
 // ---- bake --------------------------------------------------------------------
 
 struct BakeArgs {
-  std::string evaluation = "interpreted";  // --eval
+  std::string evaluation = "compiled";  // --eval
   std::string scene;
   std::string frames;
   std::vector<std::string> nodes;  // empty: every joint

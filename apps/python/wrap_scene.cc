@@ -229,8 +229,8 @@ void def_evaluation(SceneClass& cls) {
           [](const SceneRef& s, const std::string& name) {
             s->graph().set_evaluation(unwrap(graph::evaluation_from_name(name)));
           },
-          "How evaluate() runs the dirty nodes: 'interpreted' (the reference) or 'compiled' (a program made "
-          "from the graph on each topology change; the same values). Not saved, not undoable.")
+          "How evaluate() runs the dirty nodes: 'compiled' (the default: a program made from the graph on each "
+          "topology change) or 'interpreted' (the reference; the same values). Not saved, not undoable.")
       .def_property(
           "time", [](const SceneRef& s) { return s->graph().time(); },
           [](const SceneRef& s, double seconds) { s->graph().set_time(seconds); }, "Current time in seconds.")

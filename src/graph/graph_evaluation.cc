@@ -207,13 +207,13 @@ void Graph::pull(NodeId start) {
     order.push_back(n);
     stack.pop_back();
   }
-  // Compiled: on the program when it is current, or can be made current
-  // outside a transaction. Inside one (a delete breaking its connections,
-  // a build step connecting a rig) each connection edit would recompile
-  // for the pull that follows it, so the pull takes the interpreted
-  // refresh (the same values) and the program is made once, afterwards.
-  if (evaluation_ == Evaluation::kCompiled &&
-      ((program_ && program_->generation == topology_generation_) || open_.empty())) {
+  // Compiled: on the program when it is current. A pull never makes it: a
+  // script that creates a node and reads a matrix, a thousand times, would
+  // rebuild the schedule and the program (O(graph)) each time, and inside
+  // a transaction (a delete breaking its connections, a build step
+  // connecting a rig) on every connection edit. It takes the interpreted
+  // refresh (the same values) until evaluate_all() makes the program.
+  if (evaluation_ == Evaluation::kCompiled && program_ && program_->generation == topology_generation_) {
     const Program& p = program();
     for (Node* n : order) run_step(p, schedule_->position[n->id_.index]);
     return;

@@ -87,6 +87,10 @@ Result<Evaluation> evaluation_from_name(std::string_view name) {
                "unknown evaluation '" + std::string(name) + "' (expected interpreted or compiled)");
 }
 
+void Graph::compile() {
+  if (evaluation_ == Evaluation::kCompiled) (void)program();
+}
+
 const Graph::Program& Graph::program() {
   const Schedule& s = schedule();
   if (!program_) program_ = std::make_unique<Program>();

@@ -60,6 +60,7 @@ Result<BakeReport> bake(scene::Scene& scene, const BakeOptions& o) {
     for (auto* v : {&list.translate, &list.scale, &list.euler}) v->reserve(frames.size());
     list.rotation.reserve(frames.size());
   }
+  g.compile();  // the samples are pulls, which use the program but never make it
   for (std::size_t f = 0; f < frames.size(); ++f) {
     scene.set_frame(frames[f]);
     for (std::size_t n = 0; n < nodes.size(); ++n) {

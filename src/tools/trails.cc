@@ -32,6 +32,7 @@ Result<std::vector<std::vector<math::Vec3>>> world_positions(scene::Scene& scene
     return bad("frames", "more than " + std::to_string(kMaxTrailSamples) + " samples: fewer frames or nodes");
   const double time_before = g.time();
   std::vector<std::vector<math::Vec3>> out(frames.size(), std::vector<math::Vec3>(nodes.size()));
+  g.compile();  // the samples are pulls, which use the program but never make it
   for (std::size_t f = 0; f < frames.size(); ++f) {
     scene.set_frame(frames[f]);
     for (std::size_t n = 0; n < nodes.size(); ++n) out[f][n] = scene.world_matrix(nodes[n]).block<3, 1>(0, 3);

@@ -53,6 +53,7 @@ Pair pair_of(const std::string& text, const std::string& name) {
     EXPECT_TRUE(s.is_ok()) << name << ": " << s.status().message();
     if (s) *slot = std::move(*s);
   }
+  if (p.reference) p.reference->graph().set_evaluation(Evaluation::kInterpreted);
   if (p.compiled) p.compiled->graph().set_evaluation(Evaluation::kCompiled);
   return p;
 }

@@ -221,6 +221,8 @@ def test_serial_and_parallel_evaluation_agree(metarig):
 
 
 def test_compiled_evaluation_equals_the_interpreted(metarig):
+    assert metarig.evaluation == "compiled", "the default"
+    metarig.evaluation = "interpreted"
     assert metarig.evaluation == "interpreted"
     joints = metarig.nodes("joint")[:40]
     for i, j in enumerate(joints):

@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <typeinfo>
 #include <unordered_map>
 #include <vector>
 
@@ -119,7 +120,10 @@ class ComputeContext {
   // The node's cache as a T, made (default-constructed) on first use.
   template <typename T>
   T& cache() {
-    T* held = dynamic_cast<T*>(node_.cache_.get());
+    // The exact type, compared by typeid: a cheaper test than dynamic_cast,
+    // on every compute of every node that keeps a cache.
+    NodeCache* now = node_.cache_.get();
+    T* held = now && typeid(*now) == typeid(T) ? static_cast<T*>(now) : nullptr;
     if (!held) {
       auto made = std::make_unique<T>();
       held = made.get();
@@ -162,8 +166,8 @@ enum class Execution { kSerial, kParallel };
 // its input refreshes resolved into typed copies between the values'
 // storage (a double, a double3, one component, a matrix), no connection
 // walk, lookup or variant dispatch per frame. Both run the same computes
-// in the same order and give bit-identical values; the interpreted one
-// stays the reference the compiled one is tested against.
+// in the same order and give bit-identical values; the compiled one is
+// the default, the interpreted one the reference it is tested against.
 enum class Evaluation { kInterpreted, kCompiled };
 // "interpreted" / "compiled", and back (an error naming the choices).
 const char* evaluation_name(Evaluation evaluation);
@@ -261,8 +265,14 @@ class Graph {
   std::uint64_t topology_generation() const { return topology_generation_; }
   // Number of levels and nodes of the compiled schedule (compiles if needed).
   std::size_t schedule_level_count();
-  // The evaluation evaluate_all() uses (kInterpreted by default). Not an
-  // edit: not undoable, not saved; results are the same either way.
+  // In the compiled evaluation, makes its program for the current topology
+  // now (evaluate_all() makes it when it runs; a pull never does, but uses
+  // it while the topology is unchanged: call this before many pulls).
+  // Nothing when it is current or the evaluation is interpreted.
+  void compile();
+  // The evaluation evaluate_all() and pulls use (kCompiled by default; the
+  // interpreted one is the reference it is tested against). Not an edit:
+  // not undoable, not saved; results are the same either way.
   void set_evaluation(Evaluation evaluation) { evaluation_ = evaluation; }
   Evaluation evaluation() const { return evaluation_; }
 
@@ -340,7 +350,7 @@ class Graph {
   std::uint64_t topology_generation_ = 0;
   std::unique_ptr<Schedule> schedule_;
   std::unique_ptr<Program> program_;
-  Evaluation evaluation_ = Evaluation::kInterpreted;
+  Evaluation evaluation_ = Evaluation::kCompiled;
   double time_ = 0.0;
   double fps_ = 24.0;
   std::vector<NodeId> selection_;
