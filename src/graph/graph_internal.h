@@ -199,6 +199,7 @@ struct ProgramStep {
   const Value* values = nullptr;
   const std::uint8_t* dirty = nullptr;
   const std::uint64_t* versions = nullptr;
+  const Connection* connections = nullptr;  // the node's output connections (dirty propagation)
   std::span<const AttrIndex> outputs;
 };
 
@@ -211,6 +212,9 @@ struct Graph::Program {
   // steps run: a large graph's nodes are spread over the heap, and their
   // cache misses, not their computes, are most of its evaluation.
   void prefetch(std::uint32_t k) const;
+  // What dirty propagation reads of step `k`'s node: the node and, once the
+  // step has run, its dirty flags and output connections.
+  void prefetch_flags(std::size_t k) const;
   // Scratch for evaluate_all: schedule positions of the queued nodes.
   std::vector<std::uint8_t> marks;
   // Per step: resolved (its copies, on its first run), so a topology edit

@@ -135,6 +135,14 @@ void Graph::Program::prefetch(std::uint32_t k) const {
   for (AttrIndex o : step.outputs) lines(step.values + o, sizeof(Value));
 }
 
+void Graph::Program::prefetch_flags(std::size_t k) const {
+  const ProgramStep& step = steps[k];
+  for (std::size_t b = 0; b < sizeof(Node); b += 64) __builtin_prefetch(reinterpret_cast<const char*>(step.node) + b);
+  if (!ready[k].load(std::memory_order_acquire)) return;
+  __builtin_prefetch(step.dirty);
+  __builtin_prefetch(step.connections);
+}
+
 void Graph::run_step(const Program& p, std::uint32_t k) {
   // On the step's first run: the typed copy of each input connection and
   // where the node's values are. Only this step's own entries are written,
@@ -171,6 +179,7 @@ void Graph::run_step(const Program& p, std::uint32_t k) {
     step.values = n.values_.data();
     step.dirty = n.dirty_.data();
     step.versions = n.versions_.data();
+    step.connections = n.outputs_.data();
     step.outputs = n.type_->outputs();
     own.ready[k].store(1, std::memory_order_release);
   };
