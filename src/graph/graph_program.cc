@@ -74,6 +74,13 @@ bool copy_element(const ProgramOp& op) {
   return true;
 }
 
+// Prefetches every cache line of `bytes` bytes at `at`.
+void prefetch_lines(const void* at, std::size_t bytes) {
+  constexpr std::size_t kLine = 64;
+  const char* first = static_cast<const char*>(at);
+  for (std::size_t b = 0; b < bytes; b += kLine) __builtin_prefetch(first + b);
+}
+
 }  // namespace
 
 const char* evaluation_name(Evaluation evaluation) {
@@ -119,25 +126,20 @@ const Graph::Program& Graph::program() {
 
 void Graph::Program::prefetch(std::uint32_t k) const {
   const ProgramStep& step = steps[k];
-  constexpr std::size_t kLine = 64;
-  const auto lines = [](const void* at, std::size_t bytes) {
-    const char* first = static_cast<const char*>(at);
-    for (std::size_t b = 0; b < bytes; b += kLine) __builtin_prefetch(first + b);
-  };
-  lines(step.node, sizeof(Node));
+  prefetch_lines(step.node, sizeof(Node));
   // Another thread may be resolving the step (a parallel evaluation): its
   // pointers are read only once it has published them.
   if (!ready[k].load(std::memory_order_acquire)) return;
   __builtin_prefetch(step.dirty);
   __builtin_prefetch(step.versions);
   for (std::uint32_t i = step.ops_begin; i < step.ops_end; ++i)
-    if (ops[i].dst) lines(ops[i].dst, kLine + 1);
-  for (AttrIndex o : step.outputs) lines(step.values + o, sizeof(Value));
+    if (ops[i].dst) prefetch_lines(ops[i].dst, 65);  // a value may straddle two lines
+  for (AttrIndex o : step.outputs) prefetch_lines(step.values + o, sizeof(Value));
 }
 
 void Graph::Program::prefetch_flags(std::size_t k) const {
   const ProgramStep& step = steps[k];
-  for (std::size_t b = 0; b < sizeof(Node); b += 64) __builtin_prefetch(reinterpret_cast<const char*>(step.node) + b);
+  prefetch_lines(step.node, sizeof(Node));
   if (!ready[k].load(std::memory_order_acquire)) return;
   __builtin_prefetch(step.dirty);
   __builtin_prefetch(step.connections);
