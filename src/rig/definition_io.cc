@@ -12,6 +12,7 @@
 
 #include "definition_io_internal.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/rig/build_graph.h"
 
 namespace rigel::rig {
 
@@ -207,7 +208,27 @@ std::optional<std::string> read_file(const std::filesystem::path& path, std::vec
   return std::move(buffer).str();
 }
 
+// A build graph read and compiled: its definition, or every problem.
+ParseResult load_graph(const std::filesystem::path& path, const SchemaRegistry& schemas, bool* fatal) {
+  ParseResult result;
+  result.definition.source = path.string();
+  BuildGraphParse parsed = load_build_graph(path, schemas);
+  if (!parsed.ok()) {
+    result.errors = std::move(parsed.errors);
+    *fatal = true;
+    return result;
+  }
+  BuildGraphCompile compiled = compile_build_graph(parsed.graph, schemas);
+  result.definition = std::move(compiled.definition);
+  result.definition.source = path.string();
+  result.errors = std::move(compiled.errors);
+  // Compiling validated the definition: what it found is all there is.
+  *fatal = true;
+  return result;
+}
+
 ParseResult load_impl(const std::filesystem::path& path, const SchemaRegistry& schemas, bool* fatal) {
+  if (is_build_graph_path(path)) return load_graph(path, schemas, fatal);
   ParseResult result;
   result.definition.source = path.string();
   const auto syntax = syntax_of(path);
@@ -225,6 +246,14 @@ ParseResult load_impl(const std::filesystem::path& path, const SchemaRegistry& s
 }
 
 }  // namespace
+
+BuildGraphParse load_build_graph(const std::filesystem::path& path, const SchemaRegistry& schemas) {
+  BuildGraphParse out;
+  out.graph.source = path.string();
+  const auto text = read_file(path, out.errors);
+  if (!text) return out;
+  return parse_build_graph(*text, path.string(), schemas);
+}
 
 ParseResult parse_definition(std::string_view text, Syntax syntax, const std::string& source,
                              const SchemaRegistry& schemas) {
@@ -254,6 +283,10 @@ std::string write_definition(const Definition& definition, Syntax syntax) {
 }
 
 Status save_definition(const Definition& definition, const std::filesystem::path& path) {
+  if (is_build_graph_path(path))
+    return error(ErrorCode::kInvalidArgument,
+                 path.string() + ": is a build graph: a definition is saved as .rig.xml or .rig.json (a graph is "
+                                 "made from one by `rigel graph convert`)");
   const auto syntax = syntax_of(path);
   if (!syntax)
     return error(ErrorCode::kInvalidArgument,

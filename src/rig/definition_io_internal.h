@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -64,5 +66,48 @@ std::string write_json(const Definition& definition);
 // A parameter value as JSON: bool, integer, number, [x, y, z] or string
 // (the schemas' defaults and `rigel components --json`).
 nlohmann::ordered_json param_value_json(const ParamValue& v);
+
+// The parts of other JSON files that are written as in a `.rig.json` (a
+// rig's settings, a component): read with the same checks and the same
+// places (file:line:column by JSON pointer), and written the same way. The
+// build graph's reader and writer use them (build_graph_json.cc).
+class DefinitionJsonParts {
+ public:
+  // The text, parsed: nullopt (with the error in `errors`) when it nests
+  // deeper than kMaxTextDepth or is not JSON.
+  static std::optional<nlohmann::ordered_json> parse(std::string_view text, const std::string& source,
+                                                     std::vector<Diagnostic>& errors);
+  // `text` is the whole document `parse` read; problems go to `errors`.
+  DefinitionJsonParts(std::string_view text, const std::string& source, const SchemaRegistry& schemas,
+                      std::vector<Diagnostic>& errors);
+  ~DefinitionJsonParts();
+  DefinitionJsonParts(const DefinitionJsonParts&) = delete;
+  DefinitionJsonParts& operator=(const DefinitionJsonParts&) = delete;
+
+  // A rig object ({"name", "version", "geometry", ...}) at `pointer`.
+  void read_rig(const nlohmann::ordered_json& j, const std::string& pointer, Definition& out);
+  // A component object at `pointer`, as a root component.
+  void read_component(const nlohmann::ordered_json& j, const std::string& pointer, std::vector<Component>& out);
+  // A parameter-like value (true/false, a number, a string, [x, y, z]) typed
+  // by `spec` when given, as a component's parameters are.
+  std::optional<ParamValue> read_value(const std::string& name, const nlohmann::ordered_json& j,
+                                       const std::string& pointer, const ParamSpec* spec);
+  // Problems of the caller's own keys, at the value or at the key.
+  void error(const std::string& pointer, std::string message);
+  void key_error(const std::string& pointer, std::string message);
+  SourceLocation at(const std::string& pointer) const;
+  // Reports every key of `object` not in `allowed`.
+  void check_keys(const nlohmann::ordered_json& object, const std::string& pointer,
+                  std::initializer_list<const char*> allowed, const char* what);
+
+  // Writing: the objects the `.rig.json` writer makes, and its scalars.
+  static nlohmann::ordered_json rig_json(const Definition& definition);  // without components
+  static nlohmann::ordered_json component_json(const Component& component);  // with its children
+  static std::string scalar_text(const nlohmann::ordered_json& j);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace rigel::rig::detail

@@ -270,7 +270,8 @@ class JsonReader {
     read_rig(root["rig"], "/rig", d);
   }
 
- private:
+  // The rest is public for DefinitionJsonParts (below), whose readers use
+  // the same members.
   void error(SourceLocation where, std::string message) { errors_.push_back({source_, where, std::move(message)}); }
 
   SourceLocation value_at(const std::string& path) const {
@@ -454,7 +455,8 @@ class JsonReader {
       const std::string p_path = child(path, "params");
       if (expect(params, p_path, params.is_object(), "'params'", "an object {NAME: VALUE}")) {
         for (auto it = params.begin(); it != params.end(); ++it) {
-          if (auto p = read_param(it.key(), it.value(), child(p_path, it.key()), c.type)) c.params.push_back(std::move(*p));
+          const ParamSpec* spec = find_param_spec(schemas_, c.type, it.key());
+          if (auto p = read_param(it.key(), it.value(), child(p_path, it.key()), spec)) c.params.push_back(std::move(*p));
         }
       }
     }
@@ -467,11 +469,10 @@ class JsonReader {
   // parameter becomes a double. Anything else that does not fit the schema
   // is kept as it is for validate() to report.
   std::optional<Param> read_param(const std::string& name, const Json& v, const std::string& path,
-                                  const std::string& type) {
+                                  const ParamSpec* spec) {
     Param p;
     p.name = name;
     p.where = key_at(path);
-    const ParamSpec* spec = find_param_spec(schemas_, type, name);
     if (v.is_boolean()) {
       p.value = v.get<bool>();
     } else if (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
@@ -495,6 +496,7 @@ class JsonReader {
     return p;
   }
 
+ private:
   JsonPositions positions_;
   LineIndex lines_;
   const std::string& source_;
@@ -586,34 +588,75 @@ std::string scalar_text(const Json& j) {
 
 }  // namespace
 
-ParseResult parse_json(std::string_view text, const std::string& source, const SchemaRegistry& schemas, bool* fatal) {
-  ParseResult result;
+std::optional<Json> DefinitionJsonParts::parse(std::string_view text, const std::string& source,
+                                               std::vector<Diagnostic>& errors) {
   if (const std::size_t deep = io::json_too_deep(text, kMaxTextDepth); deep != std::string_view::npos) {
-    result.errors.push_back({source, LineIndex(text).at(deep),
-                             "JSON arrays and objects nest deeper than " + std::to_string(kMaxTextDepth) +
-                                 " levels (the limit)"});
-    *fatal = true;
-    return result;
+    errors.push_back({source, LineIndex(text).at(deep),
+                      "JSON arrays and objects nest deeper than " + std::to_string(kMaxTextDepth) +
+                          " levels (the limit)"});
+    return std::nullopt;
   }
-  Json root;
   try {
-    root = Json::parse(text);
+    return Json::parse(text);
   } catch (const Json::parse_error& e) {
     // e.byte is 1-based: the character where the parser stopped.
     const LineIndex lines(text);
     std::string message = e.what();
     if (const std::size_t colon = message.find(": "); message.rfind("[json.exception", 0) == 0 && colon != std::string::npos)
       message = message.substr(colon + 2);
-    result.errors.push_back({source, lines.at(e.byte > 0 ? e.byte - 1 : 0), "JSON " + message});
+    errors.push_back({source, lines.at(e.byte > 0 ? e.byte - 1 : 0), "JSON " + message});
+    return std::nullopt;
+  }
+}
+
+struct DefinitionJsonParts::Impl {
+  JsonReader reader;
+};
+
+DefinitionJsonParts::DefinitionJsonParts(std::string_view text, const std::string& source,
+                                         const SchemaRegistry& schemas, std::vector<Diagnostic>& errors)
+    : impl_(std::make_unique<Impl>(Impl{JsonReader(text, source, schemas, errors)})) {}
+DefinitionJsonParts::~DefinitionJsonParts() = default;
+
+void DefinitionJsonParts::read_rig(const Json& j, const std::string& pointer, Definition& out) {
+  impl_->reader.read_rig(j, pointer, out);
+}
+void DefinitionJsonParts::read_component(const Json& j, const std::string& pointer, std::vector<Component>& out) {
+  impl_->reader.read_component(j, pointer, out, 1);
+}
+std::optional<ParamValue> DefinitionJsonParts::read_value(const std::string& name, const Json& j,
+                                                          const std::string& pointer, const ParamSpec* spec) {
+  auto p = impl_->reader.read_param(name, j, pointer, spec);
+  if (!p) return std::nullopt;
+  return std::move(p->value);
+}
+void DefinitionJsonParts::error(const std::string& pointer, std::string message) {
+  impl_->reader.error(impl_->reader.value_at(pointer), std::move(message));
+}
+void DefinitionJsonParts::key_error(const std::string& pointer, std::string message) {
+  impl_->reader.error(impl_->reader.key_at(pointer), std::move(message));
+}
+SourceLocation DefinitionJsonParts::at(const std::string& pointer) const { return impl_->reader.value_at(pointer); }
+void DefinitionJsonParts::check_keys(const Json& object, const std::string& pointer,
+                                     std::initializer_list<const char*> allowed, const char* what) {
+  impl_->reader.check_keys(object, pointer, allowed, what);
+}
+Json DefinitionJsonParts::component_json(const Component& component) { return rigel::rig::detail::component_json(component); }
+std::string DefinitionJsonParts::scalar_text(const Json& j) { return rigel::rig::detail::scalar_text(j); }
+
+ParseResult parse_json(std::string_view text, const std::string& source, const SchemaRegistry& schemas, bool* fatal) {
+  ParseResult result;
+  std::optional<Json> root = DefinitionJsonParts::parse(text, source, result.errors);
+  if (!root) {
     *fatal = true;
     return result;
   }
   JsonReader reader(text, source, schemas, result.errors);
-  reader.read_document(root, result.definition);
+  reader.read_document(*root, result.definition);
   return result;
 }
 
-std::string write_json(const Definition& d) {
+Json DefinitionJsonParts::rig_json(const Definition& d) {
   Json rig = Json::object();
   rig["name"] = d.name;
   rig["version"] = d.version;
@@ -638,6 +681,11 @@ std::string write_json(const Definition& d) {
     for (const DataImport& x : d.data) a.push_back(Json{{"kind", x.kind}, {"file", x.file}});
     rig["data"] = std::move(a);
   }
+  return rig;
+}
+
+std::string write_json(const Definition& d) {
+  Json rig = DefinitionJsonParts::rig_json(d);
   if (!d.components.empty()) {
     Json a = Json::array();
     for (const Component& c : d.components) a.push_back(component_json(c));

@@ -1,0 +1,218 @@
+// Build graphs (seed 004 §4.11, Luna's rig builder after Unreal's
+// Blueprints): a rig build drawn as an execution graph. Each node is a
+// component, a constant, a variable's get or set, or a branch; linking
+// exec sockets orders the build (from the one `start` node), and typed data
+// sockets pass values (a data type registry refuses a link between types
+// that do not match, naming both sockets). Graph variables keep a value for
+// later nodes.
+//
+// A build graph compiles to a rig definition (definition.h): its exec
+// chain is run once, data flowing along it, and each component node it
+// reaches becomes a component, its linked inputs (name, side, attach,
+// parameters) taking the values that reach them and its `parent` input
+// nesting it under the component that feeds it, children in exec order.
+// The definition is built by the same procedural build as a `.rig.xml`
+// (build.h): steps, stepping, rebuilds of what changed (components keep
+// their rigIds in the graph), removal, the metadata network and updates
+// work on graph-built rigs as on definition-built ones, and everything that
+// reads a definition file (load_definition) reads a `.build.json`.
+// `convert_definition` makes the graph of a definition: compiling it gives
+// the definition back.
+//
+// The file, `.build.json`, is diffable JSON (docs/BUILD_GRAPH.md): the rig's
+// settings as in a `.rig.json`, the variables, one block per node (stable
+// ids, editor positions; a component node holds its component in the
+// `.rig.json` syntax) and one line per link.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "rigel/base/status.h"
+#include "rigel/rig/definition.h"
+#include "rigel/rig/definition_io.h"
+#include "rigel/rig/schema.h"
+
+namespace rigel::rig {
+
+// ---- data types ---------------------------------------------------------------
+
+// What flows through a socket. "exec" orders nodes and carries no value.
+struct DataType {
+  std::string name;   // "number", "component", ...
+  std::string color;  // the socket's colour in the editor, "#rrggbb"
+  // The parameter type a value of it is (constants, variables, component
+  // parameters); nullopt for types a graph cannot hold as a constant
+  // (exec, component: a component node's output).
+  std::optional<ParamType> value_type;
+  std::string help;
+};
+
+class DataTypeRegistry {
+ public:
+  // Fails (kAlreadyExists) on a name that is taken, (kInvalidArgument) on an
+  // empty name or a colour that is not "#rrggbb".
+  Status add(DataType type);
+  const DataType* find(std::string_view name) const;
+  const std::vector<DataType>& types() const { return types_; }
+  // Whether a value of `from` may flow into a socket of `to`: the same type,
+  // or an int into a number.
+  static bool can_link(std::string_view from, std::string_view to);
+
+ private:
+  std::vector<DataType> types_;
+};
+
+// exec, bool, int, number, string, vector, component.
+const DataTypeRegistry& builtin_data_types();
+// The data type of a component parameter (an enum is a string).
+const char* data_type_of(ParamType type);
+
+// ---- node kinds ---------------------------------------------------------------
+
+struct SocketSpec {
+  std::string name;
+  // A DataType name, or kVariableType: the type of the node's variable.
+  std::string type;
+  std::string help;
+};
+inline constexpr const char* kVariableType = "$variable";
+
+// What a node does, by its kind id:
+//   start                 where the exec chain begins (one per graph)
+//   component:TYPE        builds one component of TYPE
+//   constant:TYPE         a value (bool, int, number, string, vector)
+//   variable:get / :set   reads / writes a graph variable
+//   branch                goes on through `true` or `false` by `condition`
+struct NodeKind {
+  std::string id;
+  std::string nice_name;  // the palette's and the node's title
+  std::string category;   // the palette's group
+  std::vector<SocketSpec> inputs, outputs;
+  std::string help;
+  const SocketSpec* input(std::string_view name) const;
+  const SocketSpec* output(std::string_view name) const;
+  bool has_exec() const;  // it runs on the exec chain (else it is pure data)
+};
+
+class NodeKindRegistry {
+ public:
+  // Fails (kAlreadyExists) on an id that is taken; (kInvalidArgument) on a
+  // socket whose type `types` does not hold or two sockets of one name.
+  Status add(NodeKind kind, const DataTypeRegistry& types = builtin_data_types());
+  const NodeKind* find(std::string_view id) const;
+  const std::vector<NodeKind>& kinds() const { return kinds_; }
+
+ private:
+  std::vector<NodeKind> kinds_;
+};
+
+// The kinds a graph over `schemas` has: start, one component kind per
+// component type (inputs: exec, parent, name, side, attach and every
+// parameter; outputs: then, component), the constants, the variables'
+// get and set, and branch.
+NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas = builtin_schemas());
+
+// ---- the graph ----------------------------------------------------------------
+
+struct GraphVariable {
+  std::string name;
+  std::string type;  // a DataType with a value type
+  ParamValue value;  // its value when the build starts
+  SourceLocation where;
+};
+
+struct GraphNode {
+  std::string id;    // unique in the graph, stable across edits
+  std::string kind;  // a NodeKind id
+  std::optional<std::pair<double, double>> position;  // in the editor
+  // component:TYPE: the component (type TYPE, no children). Its name,
+  // side, attach and parameters are the values of those inputs when they
+  // are not linked.
+  Component component;
+  // Other kinds: the values of inputs that are not linked (a branch's
+  // condition, a set's value) and a constant's `value`.
+  std::vector<Param> values;
+  std::string variable;  // variable:get / :set
+  SourceLocation where;
+  const Param* value(std::string_view name) const;
+};
+
+// node.socket
+struct SocketRef {
+  std::string node;
+  std::string socket;
+  friend bool operator==(const SocketRef&, const SocketRef&) = default;
+};
+
+// From an output to an input: exec then -> exec, or a value.
+struct GraphLink {
+  SocketRef from, to;
+  SourceLocation where;
+};
+
+struct BuildGraph {
+  // The rig's settings (name, version, geometry, features, data); its
+  // components are the component nodes.
+  Definition rig;
+  std::vector<GraphVariable> variables;
+  std::vector<GraphNode> nodes;
+  std::vector<GraphLink> links;
+  std::string source;  // the file it was read from, for messages
+
+  const GraphNode* find(std::string_view id) const;
+  const GraphVariable* variable(std::string_view name) const;
+};
+
+// ---- files --------------------------------------------------------------------
+
+// ".build.json"
+bool is_build_graph_path(const std::filesystem::path& path);
+
+struct BuildGraphParse {
+  BuildGraph graph;
+  std::vector<Diagnostic> errors;  // empty = read
+  bool ok() const { return errors.empty(); }
+};
+// Reads `.build.json` text: every structural problem (unknown key, a value
+// of the wrong kind, a component object as a `.rig.json` reader would
+// refuse it) at file:line:column. What the nodes mean is compile's check.
+BuildGraphParse parse_build_graph(std::string_view text, const std::string& source,
+                                  const SchemaRegistry& schemas = builtin_schemas());
+BuildGraphParse load_build_graph(const std::filesystem::path& path, const SchemaRegistry& schemas = builtin_schemas());
+// Deterministic, diffable text (the same graph gives the same bytes).
+std::string write_build_graph(const BuildGraph& graph);
+// Atomic: written beside the file, then renamed over it.
+Status save_build_graph(const BuildGraph& graph, const std::filesystem::path& path);
+
+// ---- compiling and converting -------------------------------------------------
+
+struct BuildGraphCompile {
+  Definition definition;
+  // Every problem, each naming the node and socket (and the file place):
+  // unknown kinds and sockets, links between types that do not match, two
+  // links into one input or out of one exec output, a cycle in exec or data
+  // flow, a node with exec sockets the chain from start never reaches, an
+  // input read before the node feeding it runs, and what validate() finds
+  // in the definition, at the component's node.
+  std::vector<Diagnostic> errors;
+  // What builds but not as drawn: component nodes the chain runs in an
+  // order the build cannot keep (a build is depth first: a component's
+  // children right after it).
+  std::vector<Diagnostic> warnings;
+  std::vector<std::string> order;  // the ids of the nodes the chain ran, in order
+  bool ok() const { return errors.empty(); }
+};
+BuildGraphCompile compile_build_graph(const BuildGraph& graph, const SchemaRegistry& schemas = builtin_schemas());
+
+// The graph of a definition: start, then one component node per component
+// in build order (depth first) on the exec chain, each child's `parent`
+// linked from its parent's `component`, laid out for the editor.
+// compile_build_graph() of it gives `definition` back.
+BuildGraph convert_definition(const Definition& definition);
+
+}  // namespace rigel::rig

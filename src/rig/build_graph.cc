@@ -1,0 +1,208 @@
+// Build graphs (build_graph.h): the data types, the node kinds, the model's
+// lookups, and the graph of a definition.
+#include "rigel/rig/build_graph.h"
+
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <set>
+
+namespace rigel::rig {
+namespace {
+
+bool is_colour(std::string_view c) {
+  return c.size() == 7 && c[0] == '#' &&
+         std::all_of(c.begin() + 1, c.end(), [](char h) { return std::isxdigit(static_cast<unsigned char>(h)) != 0; });
+}
+
+const SocketSpec* find_socket(const std::vector<SocketSpec>& list, std::string_view name) {
+  for (const SocketSpec& s : list)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+}  // namespace
+
+// ---- data types -----------------------------------------------------------------
+
+Status DataTypeRegistry::add(DataType type) {
+  if (type.name.empty()) return error(ErrorCode::kInvalidArgument, "a data type needs a name");
+  if (!is_colour(type.color))
+    return error(ErrorCode::kInvalidArgument,
+                 "data type '" + type.name + "': colour '" + type.color + "' is not #rrggbb");
+  if (find(type.name)) return error(ErrorCode::kAlreadyExists, "data type '" + type.name + "' is already registered");
+  types_.push_back(std::move(type));
+  return Status::ok();
+}
+
+const DataType* DataTypeRegistry::find(std::string_view name) const {
+  for (const DataType& t : types_)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+bool DataTypeRegistry::can_link(std::string_view from, std::string_view to) {
+  return from == to || (from == "int" && to == "number");
+}
+
+const DataTypeRegistry& builtin_data_types() {
+  static const DataTypeRegistry registry = [] {
+    DataTypeRegistry r;
+    const auto add = [&](DataType t) { (void)r.add(std::move(t)); };
+    add({"exec", "#ffffff", std::nullopt, "orders the build: a node runs after the node whose exec output feeds it"});
+    add({"bool", "#c0392b", ParamType::kBool, "true or false"});
+    add({"int", "#1abc9c", ParamType::kInt, "a whole number"});
+    add({"number", "#7fd857", ParamType::kDouble, "a real number"});
+    add({"string", "#e056fd", ParamType::kString, "text"});
+    add({"vector", "#f5c542", ParamType::kVec3, "three numbers [x, y, z]"});
+    add({"component", "#4aa3ff", std::nullopt, "a component the build made (a component node's output)"});
+    return r;
+  }();
+  return registry;
+}
+
+const char* data_type_of(ParamType type) {
+  switch (type) {
+    case ParamType::kBool: return "bool";
+    case ParamType::kInt: return "int";
+    case ParamType::kDouble: return "number";
+    case ParamType::kVec3: return "vector";
+    case ParamType::kString:
+    case ParamType::kEnum: return "string";
+  }
+  return "string";
+}
+
+// ---- node kinds -----------------------------------------------------------------
+
+const SocketSpec* NodeKind::input(std::string_view name) const { return find_socket(inputs, name); }
+const SocketSpec* NodeKind::output(std::string_view name) const { return find_socket(outputs, name); }
+bool NodeKind::has_exec() const {
+  const auto exec = [](const SocketSpec& s) { return s.type == "exec"; };
+  return std::any_of(inputs.begin(), inputs.end(), exec) || std::any_of(outputs.begin(), outputs.end(), exec);
+}
+
+Status NodeKindRegistry::add(NodeKind kind, const DataTypeRegistry& types) {
+  if (kind.id.empty()) return error(ErrorCode::kInvalidArgument, "a node kind needs an id");
+  if (find(kind.id)) return error(ErrorCode::kAlreadyExists, "node kind '" + kind.id + "' is already registered");
+  for (const auto* list : {&kind.inputs, &kind.outputs}) {
+    std::set<std::string> names;
+    for (const SocketSpec& s : *list) {
+      if (!names.insert(s.name).second)
+        return error(ErrorCode::kInvalidArgument, "node kind '" + kind.id + "' has two sockets named '" + s.name + "'");
+      if (s.type != kVariableType && !types.find(s.type))
+        return error(ErrorCode::kInvalidArgument,
+                     "node kind '" + kind.id + "' socket '" + s.name + "': unknown data type '" + s.type + "'");
+    }
+  }
+  kinds_.push_back(std::move(kind));
+  return Status::ok();
+}
+
+const NodeKind* NodeKindRegistry::find(std::string_view id) const {
+  for (const NodeKind& k : kinds_)
+    if (k.id == id) return &k;
+  return nullptr;
+}
+
+NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas) {
+  NodeKindRegistry r;
+  const auto add = [&](NodeKind k) { (void)r.add(std::move(k)); };
+  add({"start", "Start", "Flow", {}, {{"then", "exec", "the first node of the build"}}, "where the build begins"});
+  for (const std::string& type : schemas.types()) {
+    const ComponentSchema& schema = *schemas.find(type);
+    NodeKind k;
+    k.id = "component:" + type;
+    k.nice_name = type;
+    k.category = "Components";
+    k.help = schema.help;
+    k.inputs = {{"exec", "exec", "builds the component"},
+                {"parent", "component", "the component it hangs from (none: a root)"},
+                {"name", "string", "its name"},
+                {"side", "string", "C, L or R"},
+                {"attach", "string", "the parent's hook it attaches to, or OTHER.HOOK (empty: hook 0)"}};
+    for (const ParamSpec& p : schema.params) k.inputs.push_back({p.name, data_type_of(p.type), p.help});
+    k.outputs = {{"then", "exec", "the next node"}, {"component", "component", "the component, for its children"}};
+    add(std::move(k));
+  }
+  for (const DataType& t : builtin_data_types().types()) {
+    if (!t.value_type) continue;
+    add({"constant:" + t.name, t.name, "Constants", {}, {{"value", t.name, "the node's value"}}, "a " + t.name + " value"});
+  }
+  add({"variable:get", "Get", "Variables", {}, {{"value", kVariableType, "the variable's value when it is read"}},
+       "reads a graph variable"});
+  add({"variable:set", "Set", "Variables", {{"exec", "exec", ""}, {"value", kVariableType, "the new value"}},
+       {{"then", "exec", ""}}, "writes a graph variable: nodes after it read the new value"});
+  add({"branch", "Branch", "Flow", {{"exec", "exec", ""}, {"condition", "bool", "which way to go"}},
+       {{"true", "exec", "runs when the condition is true"}, {"false", "exec", "runs when it is false"}},
+       "goes on one way or the other"});
+  return r;
+}
+
+// ---- the model ------------------------------------------------------------------
+
+const Param* GraphNode::value(std::string_view name) const {
+  for (const Param& p : values)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+const GraphNode* BuildGraph::find(std::string_view id) const {
+  for (const GraphNode& n : nodes)
+    if (n.id == id) return &n;
+  return nullptr;
+}
+
+const GraphVariable* BuildGraph::variable(std::string_view name) const {
+  for (const GraphVariable& v : variables)
+    if (v.name == name) return &v;
+  return nullptr;
+}
+
+bool is_build_graph_path(const std::filesystem::path& path) {
+  const std::string name = path.filename().string();
+  constexpr std::string_view kSuffix = ".build.json";
+  return name.size() > kSuffix.size() && name.compare(name.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0;
+}
+
+// ---- the graph of a definition --------------------------------------------------
+
+BuildGraph convert_definition(const Definition& definition) {
+  BuildGraph g;
+  g.rig = definition;
+  g.rig.components.clear();
+  g.source = definition.source;
+  constexpr double kColumn = 260.0, kRow = 160.0;
+  GraphNode start;
+  start.id = start.kind = "start";
+  start.position = std::pair{0.0, 0.0};
+  g.nodes.push_back(std::move(start));
+  std::set<std::string> ids{"start"};
+  std::string previous = "start";
+  std::string previous_output = "then";
+  int column = 1;
+  // Depth first, parents before children: the order the build runs them.
+  std::function<void(const Component&, const std::string&, int)> walk = [&](const Component& c,
+                                                                           const std::string& parent, int depth) {
+    std::string id = c.full_name().empty() ? c.type : c.full_name();
+    for (int k = 2; !ids.insert(id).second; ++k) id = (c.full_name().empty() ? c.type : c.full_name()) + "_" + std::to_string(k);
+    GraphNode n;
+    n.id = id;
+    n.kind = "component:" + c.type;
+    n.position = c.gui_location ? *c.gui_location : std::pair{kColumn * column, kRow * depth};
+    n.component = c;
+    n.component.children.clear();
+    n.where = c.where;
+    g.nodes.push_back(std::move(n));
+    g.links.push_back(GraphLink{{previous, previous_output}, {id, "exec"}, {}});
+    if (!parent.empty()) g.links.push_back(GraphLink{{parent, "component"}, {id, "parent"}, {}});
+    previous = id;
+    previous_output = "then";
+    ++column;
+    for (const Component& child : c.children) walk(child, id, depth + 1);
+  };
+  for (const Component& root : definition.components) walk(root, "", 0);
+  return g;
+}
+
+}  // namespace rigel::rig

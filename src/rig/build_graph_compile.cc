@@ -1,0 +1,409 @@
+// Compiling a build graph to a rig definition (build_graph.h): check the
+// nodes, links and variables, run the exec chain once from start with
+// values flowing along it, and nest the components it made.
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "rigel/rig/build_graph.h"
+
+namespace rigel::rig {
+namespace {
+
+// What a data socket holds while the chain runs: a value, or a component
+// the chain made (its index in the order made).
+struct Flow {
+  std::optional<ParamValue> value;
+  int component = -1;
+};
+
+bool fits(const ParamValue& v, ParamType t) {
+  switch (t) {
+    case ParamType::kBool: return std::holds_alternative<bool>(v);
+    case ParamType::kInt: return std::holds_alternative<std::int64_t>(v);
+    case ParamType::kDouble: return std::holds_alternative<double>(v) || std::holds_alternative<std::int64_t>(v);
+    case ParamType::kString:
+    case ParamType::kEnum: return std::holds_alternative<std::string>(v);
+    case ParamType::kVec3: return std::holds_alternative<math::Vec3>(v);
+  }
+  return false;
+}
+
+ParamValue zero_of(ParamType t) {
+  switch (t) {
+    case ParamType::kBool: return false;
+    case ParamType::kInt: return std::int64_t{0};
+    case ParamType::kDouble: return 0.0;
+    case ParamType::kVec3: return math::Vec3(math::Vec3::Zero());
+    case ParamType::kString:
+    case ParamType::kEnum: return std::string();
+  }
+  return std::string();
+}
+
+// A value of data type `type` as it goes into a socket of that type (an
+// int into a number becomes a double).
+ParamValue as_type(const ParamValue& v, std::string_view type) {
+  if (type == "number")
+    if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
+  return v;
+}
+
+class Compiler {
+ public:
+  Compiler(const BuildGraph& graph, const SchemaRegistry& schemas, BuildGraphCompile& out)
+      : g_(graph), schemas_(schemas), kinds_(builtin_node_kinds(schemas)), out_(out) {}
+
+  void run() {
+    check_variables();
+    check_nodes();
+    check_links();
+    if (!out_.errors.empty()) return;
+    check_data_cycles();
+    if (!out_.errors.empty()) return;
+    check_reachable();
+    if (!out_.errors.empty()) return;
+    run_chain();
+    if (!out_.errors.empty()) return;
+    assemble();
+    if (!out_.errors.empty()) return;
+    for (Diagnostic& d : validate(out_.definition, schemas_)) out_.errors.push_back(std::move(d));
+  }
+
+ private:
+  void fail(SourceLocation where, std::string message) { out_.errors.push_back({g_.source, where, std::move(message)}); }
+  void fail(std::size_t node, std::string message) {
+    fail(g_.nodes[node].where, "node '" + g_.nodes[node].id + "': " + std::move(message));
+  }
+  static std::string name(const SocketRef& s) { return "'" + s.node + "." + s.socket + "'"; }
+
+  // The data type of a socket of node `n` ("" when it has none).
+  std::string socket_type(std::size_t n, const SocketSpec& s) const {
+    if (s.type != kVariableType) return s.type;
+    const GraphVariable* v = g_.variable(g_.nodes[n].variable);
+    return v ? v->type : "";
+  }
+
+  void check_variables() {
+    std::set<std::string> names;
+    for (const GraphVariable& v : g_.variables) {
+      const std::string who = "variable '" + v.name + "': ";
+      if (v.name.empty()) fail(v.where, "a variable needs a name");
+      else if (!names.insert(v.name).second) fail(v.where, who + "a second variable of that name");
+      const DataType* t = builtin_data_types().find(v.type);
+      if (!t || !t->value_type) {
+        fail(v.where, who + "type '" + v.type + "' is not one a variable holds (bool, int, number, string, vector)");
+        continue;
+      }
+      if (!fits(v.value, *t->value_type)) fail(v.where, who + "its value is not a " + v.type);
+    }
+  }
+
+  void check_nodes() {
+    kind_of_.assign(g_.nodes.size(), nullptr);
+    int starts = 0;
+    for (std::size_t i = 0; i < g_.nodes.size(); ++i) {
+      const GraphNode& n = g_.nodes[i];
+      if (n.id.empty()) {
+        fail(n.where, "a node needs an id");
+        continue;
+      }
+      if (!index_.emplace(n.id, i).second) fail(i, "a second node has this id");
+      const NodeKind* kind = kinds_.find(n.kind);
+      if (!kind) {
+        fail(i, "unknown node kind '" + n.kind + "'");
+        continue;
+      }
+      kind_of_[i] = kind;
+      if (n.kind == "start" && ++starts > 1) fail(i, "a second start node (a graph has one)");
+      if (n.kind.rfind("variable:", 0) == 0 && !g_.variable(n.variable))
+        fail(i, "variable '" + n.variable + "' is not one of the graph's variables");
+      for (const Param& p : n.values) {
+        const bool constant = n.kind.rfind("constant:", 0) == 0 && p.name == "value";
+        const SocketSpec* in = kind->input(p.name);
+        if (!constant && (!in || in->type == "exec")) {
+          fail(p.where, "node '" + n.id + "': '" + p.name + "' is not a data input of " + n.kind);
+          continue;
+        }
+        const std::string type = constant ? kind->outputs.front().type : socket_type(i, *in);
+        const DataType* t = builtin_data_types().find(type);
+        if (t && t->value_type && !fits(p.value, *t->value_type))
+          fail(p.where, "node '" + n.id + "': the value of '" + p.name + "' is not a " + type);
+      }
+    }
+    if (starts == 0) fail(SourceLocation{}, "the graph has no start node: the build begins at one");
+  }
+
+  void check_links() {
+    for (std::size_t i = 0; i < g_.links.size(); ++i) {
+      const GraphLink& l = g_.links[i];
+      const std::string what = "link " + name(l.from) + " -> " + name(l.to) + ": ";
+      const auto from = index_.find(l.from.node), to = index_.find(l.to.node);
+      if (from == index_.end() || to == index_.end()) {
+        fail(l.where, what + "no node '" + (from == index_.end() ? l.from.node : l.to.node) + "'");
+        continue;
+      }
+      const NodeKind* fk = kind_of_[from->second];
+      const NodeKind* tk = kind_of_[to->second];
+      if (!fk || !tk) continue;  // reported with the node
+      const SocketSpec* out = fk->output(l.from.socket);
+      const SocketSpec* in = tk->input(l.to.socket);
+      if (!out) {
+        fail(l.where, what + g_.nodes[from->second].kind + " has no output '" + l.from.socket + "'");
+        continue;
+      }
+      if (!in) {
+        fail(l.where, what + g_.nodes[to->second].kind + " has no input '" + l.to.socket + "'");
+        continue;
+      }
+      const std::string ft = socket_type(from->second, *out), tt = socket_type(to->second, *in);
+      if ((ft == "exec") != (tt == "exec") || !DataTypeRegistry::can_link(ft, tt)) {
+        fail(l.where, what + "a " + ft + " output cannot feed a " + tt + " input");
+        continue;
+      }
+      if (ft == "exec") {
+        const auto [it, fresh] = exec_next_.emplace(std::pair{from->second, l.from.socket}, i);
+        if (!fresh)
+          fail(l.where, "exec output " + name(l.from) + " has two links (to " + name(g_.links[it->second].to) +
+                            " and " + name(l.to) + "): it runs one next node");
+      } else {
+        const auto [it, fresh] = feeds_.emplace(std::pair{to->second, l.to.socket}, i);
+        if (!fresh)
+          fail(l.where, "input " + name(l.to) + " has two links (from " + name(g_.links[it->second].from) + " and " +
+                            name(l.from) + ")");
+      }
+    }
+  }
+
+  void check_data_cycles() {
+    std::vector<std::vector<std::size_t>> next(g_.nodes.size());
+    for (const auto& [to, link] : feeds_) next[index_.at(g_.links[link].from.node)].push_back(to.first);
+    std::vector<int> state(g_.nodes.size(), 0);  // 0 new, 1 on the path, 2 done
+    std::vector<std::size_t> path;
+    // Iterative depth-first search: a long chain must not overflow the stack.
+    for (std::size_t root = 0; root < g_.nodes.size(); ++root) {
+      if (state[root]) continue;
+      std::vector<std::pair<std::size_t, std::size_t>> stack{{root, 0}};
+      state[root] = 1;
+      path = {root};
+      while (!stack.empty()) {
+        auto& [n, k] = stack.back();
+        if (k < next[n].size()) {
+          const std::size_t m = next[n][k++];
+          if (state[m] == 1) {
+            std::string cycle;
+            for (auto it = std::find(path.begin(), path.end(), m); it != path.end(); ++it) cycle += g_.nodes[*it].id + " -> ";
+            fail(g_.nodes[m].where, "data links form a cycle: " + cycle + g_.nodes[m].id);
+            return;
+          }
+          if (state[m] == 0) {
+            state[m] = 1;
+            stack.emplace_back(m, 0);
+            path.push_back(m);
+          }
+        } else {
+          state[n] = 2;
+          stack.pop_back();
+          path.pop_back();
+        }
+      }
+    }
+  }
+
+  // Every node with exec sockets must be reachable from start through exec
+  // links (either way of a branch).
+  void check_reachable() {
+    std::vector<char> seen(g_.nodes.size(), 0);
+    std::vector<std::size_t> work;
+    for (std::size_t i = 0; i < g_.nodes.size(); ++i)
+      if (g_.nodes[i].kind == "start") work.push_back(i);
+    while (!work.empty()) {
+      const std::size_t n = work.back();
+      work.pop_back();
+      if (seen[n]) continue;
+      seen[n] = 1;
+      for (const SocketSpec& s : kind_of_[n]->outputs) {
+        const auto it = exec_next_.find({n, s.name});
+        if (it != exec_next_.end()) work.push_back(index_.at(g_.links[it->second].to.node));
+      }
+    }
+    for (std::size_t i = 0; i < g_.nodes.size(); ++i)
+      if (!seen[i] && kind_of_[i]->has_exec())
+        fail(i, "not on the exec chain from start: link an exec output to its 'exec' input");
+  }
+
+  // The value reaching input `socket` of node `n`; nullopt when it is not
+  // linked (the node's own value holds) or the error was reported.
+  std::optional<Flow> input(std::size_t n, const std::string& socket) {
+    const auto it = feeds_.find({n, socket});
+    if (it == feeds_.end()) return std::nullopt;
+    const GraphLink& l = g_.links[it->second];
+    const std::size_t s = index_.at(l.from.node);
+    const GraphNode& src = g_.nodes[s];
+    const SocketSpec& in = *kind_of_[n]->input(socket);
+    const std::string type = socket_type(n, in);
+    if (kind_of_[s]->has_exec()) {
+      if (!ran_.count(s)) {
+        fail(n, "input '" + socket + "' reads " + name(l.from) + ", but '" + src.id +
+                    "' has not run by then (it runs later on the exec chain, or on a branch not taken)");
+        return std::nullopt;
+      }
+      return ran_.at(s);
+    }
+    if (src.kind == "variable:get") return Flow{as_type(variables_.at(src.variable), type), -1};
+    // A constant.
+    const Param* v = src.value("value");
+    const DataType* t = builtin_data_types().find(kind_of_[s]->outputs.front().type);
+    return Flow{as_type(v ? v->value : zero_of(*t->value_type), type), -1};
+  }
+
+  // An input's value as a value of its type: linked, else the node's own,
+  // else the type's zero.
+  std::optional<ParamValue> value_input(std::size_t n, const std::string& socket) {
+    if (auto f = input(n, socket)) return f->value;
+    if (!out_.errors.empty()) return std::nullopt;
+    if (const Param* p = g_.nodes[n].value(socket)) return as_type(p->value, socket_type(n, *kind_of_[n]->input(socket)));
+    const DataType* t = builtin_data_types().find(socket_type(n, *kind_of_[n]->input(socket)));
+    return zero_of(*t->value_type);
+  }
+
+  void run_chain() {
+    for (const GraphVariable& v : g_.variables) variables_[v.name] = as_type(v.value, v.type);
+    std::size_t n = 0;
+    while (g_.nodes[n].kind != "start") ++n;
+    std::string next = "then";
+    std::vector<std::size_t> chain{n};
+    ran_[n] = Flow{};
+    while (true) {
+      const auto link = exec_next_.find({n, next});
+      if (link == exec_next_.end()) return;
+      const std::size_t m = index_.at(g_.links[link->second].to.node);
+      if (ran_.count(m)) {
+        std::string cycle;
+        for (auto it = std::find(chain.begin(), chain.end(), m); it != chain.end(); ++it) cycle += g_.nodes[*it].id + " -> ";
+        fail(m, "exec links form a cycle: " + cycle + g_.nodes[m].id);
+        return;
+      }
+      n = m;
+      chain.push_back(n);
+      out_.order.push_back(g_.nodes[n].id);
+      next = "then";
+      const GraphNode& node = g_.nodes[n];
+      if (node.kind == "variable:set") {
+        auto v = value_input(n, "value");
+        if (!v) return;
+        variables_[node.variable] = *v;
+        ran_[n] = Flow{};
+      } else if (node.kind == "branch") {
+        auto c = value_input(n, "condition");
+        if (!c) return;
+        next = std::get<bool>(*c) ? "true" : "false";
+        ran_[n] = Flow{};
+      } else if (node.kind.rfind("component:", 0) == 0) {
+        if (!make_component(n)) return;
+      }
+    }
+  }
+
+  bool make_component(std::size_t n) {
+    const GraphNode& node = g_.nodes[n];
+    Component c = node.component;
+    c.children.clear();
+    if (c.where.line == 0) c.where = node.where;
+    int parent = -1;
+    if (auto p = input(n, "parent")) parent = p->component;
+    else if (!out_.errors.empty()) return false;
+    const auto text = [&](const char* socket, std::string& into) {
+      if (auto f = input(n, socket)) into = std::get<std::string>(*f->value);
+      return out_.errors.empty();
+    };
+    std::string side;
+    if (!text("name", c.name) || !text("side", side) || !text("attach", c.attach)) return false;
+    if (!side.empty()) {
+      const auto s = side_from_name(side);
+      if (!s) {
+        fail(n, "input 'side': '" + side + "' is not C, L or R");
+        return false;
+      }
+      c.side = *s;
+    }
+    const ComponentSchema* schema = schemas_.find(c.type);
+    for (const ParamSpec& spec : schema ? schema->params : std::vector<ParamSpec>{}) {
+      auto f = input(n, spec.name);
+      if (!f) {
+        if (!out_.errors.empty()) return false;
+        continue;
+      }
+      ParamValue v = as_type(*f->value, data_type_of(spec.type));
+      auto it = std::find_if(c.params.begin(), c.params.end(), [&](const Param& p) { return p.name == spec.name; });
+      if (it != c.params.end()) it->value = std::move(v);
+      else c.params.push_back(Param{spec.name, std::move(v), node.where});
+    }
+    const int depth = parent >= 0 ? depth_[static_cast<std::size_t>(parent)] + 1 : 1;
+    if (depth > static_cast<int>(kMaxComponentDepth)) {
+      fail(n, "components nest deeper than " + std::to_string(kMaxComponentDepth) + " levels (the limit)");
+      return false;
+    }
+    ran_[n] = Flow{std::nullopt, static_cast<int>(made_.size())};
+    made_.push_back(std::move(c));
+    parent_.push_back(parent);
+    depth_.push_back(depth);
+    made_by_.push_back(n);
+    return true;
+  }
+
+  // Nests the components made (children in the order made) and warns when
+  // the build's depth-first order is not the chain's.
+  void assemble() {
+    std::vector<std::vector<int>> children(made_.size());
+    std::vector<int> roots;
+    for (std::size_t i = 0; i < made_.size(); ++i)
+      (parent_[i] >= 0 ? children[static_cast<std::size_t>(parent_[i])] : roots).push_back(static_cast<int>(i));
+    std::vector<int> depth_first;
+    std::function<Component(int)> nest = [&](int i) {
+      depth_first.push_back(i);
+      Component c = made_[static_cast<std::size_t>(i)];
+      for (int k : children[static_cast<std::size_t>(i)]) c.children.push_back(nest(k));
+      return c;
+    };
+    out_.definition = g_.rig;
+    out_.definition.components.clear();
+    out_.definition.source = g_.source;
+    for (int r : roots) out_.definition.components.push_back(nest(r));
+    for (std::size_t k = 0; k < depth_first.size(); ++k) {
+      if (depth_first[k] == static_cast<int>(k)) continue;
+      const std::size_t n = made_by_[static_cast<std::size_t>(depth_first[k])];
+      out_.warnings.push_back({g_.source, g_.nodes[n].where,
+                               "node '" + g_.nodes[n].id + "': builds before '" +
+                                   g_.nodes[made_by_[k]].id +
+                                   "', not after it as the chain says: a build runs depth first (a component's "
+                                   "children right after it)"});
+      break;
+    }
+  }
+
+  const BuildGraph& g_;
+  const SchemaRegistry& schemas_;
+  NodeKindRegistry kinds_;
+  BuildGraphCompile& out_;
+  std::vector<const NodeKind*> kind_of_;
+  std::map<std::string, std::size_t> index_;
+  std::map<std::pair<std::size_t, std::string>, std::size_t> exec_next_;  // (node, exec output) -> link
+  std::map<std::pair<std::size_t, std::string>, std::size_t> feeds_;      // (node, data input) -> link
+  std::map<std::size_t, Flow> ran_;                                       // nodes run, with their output
+  std::map<std::string, ParamValue> variables_;
+  std::vector<Component> made_;
+  std::vector<int> parent_, depth_;
+  std::vector<std::size_t> made_by_;
+};
+
+}  // namespace
+
+BuildGraphCompile compile_build_graph(const BuildGraph& graph, const SchemaRegistry& schemas) {
+  BuildGraphCompile out;
+  Compiler(graph, schemas, out).run();
+  return out;
+}
+
+}  // namespace rigel::rig

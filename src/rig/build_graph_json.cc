@@ -1,0 +1,278 @@
+// The `.build.json` file of a build graph (build_graph.h, docs/BUILD_GRAPH.md):
+// read with every problem at file:line:column, written as diffable JSON.
+// The rig's settings and each component node's component are in the
+// `.rig.json` syntax and go through its reader and writer
+// (DefinitionJsonParts), so the two files never disagree.
+#include "definition_io_internal.h"
+#include "rigel/io/diffable_json.h"
+#include "rigel/io/scene_file.h"
+#include "rigel/rig/build_graph.h"
+
+namespace rigel::rig {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using detail::DefinitionJsonParts;
+
+constexpr int kFormat = 1;
+
+std::string child(const std::string& path, std::string_view key) {
+  std::string out = path + "/";
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+std::string child(const std::string& path, std::size_t index) { return path + "/" + std::to_string(index); }
+
+// "node.socket" (a socket name has no dot; a node id may).
+std::optional<SocketRef> socket_ref(const std::string& text) {
+  const std::size_t dot = text.rfind('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) return std::nullopt;
+  return SocketRef{text.substr(0, dot), text.substr(dot + 1)};
+}
+
+class Reader {
+ public:
+  Reader(std::string_view text, BuildGraphParse& out, const SchemaRegistry& schemas)
+      : parts_(text, out.graph.source, schemas, out.errors), out_(out), schemas_(schemas) {}
+
+  void document(const Json& root) {
+    if (!root.is_object() || !root.contains("buildGraph") || !root["buildGraph"].is_object()) {
+      parts_.error("", "the file must hold an object {\"buildGraph\": {...}}");
+      return;
+    }
+    parts_.check_keys(root, "", {"buildGraph"}, "the file");
+    const Json& g = root["buildGraph"];
+    const std::string path = "/buildGraph";
+    parts_.check_keys(g, path, {"format", "rig", "variables", "nodes", "links"}, "the build graph");
+    if (!g.contains("format") || !g["format"].is_number_integer() || g["format"].get<std::int64_t>() != kFormat)
+      parts_.error(g.contains("format") ? child(path, "format") : path,
+                   "'format' must be " + std::to_string(kFormat) + " (the build graph format this rigel reads)");
+    if (g.contains("rig")) {
+      const Json& rig = g["rig"];
+      if (rig.is_object() && rig.contains("components"))
+        parts_.key_error(child(child(path, "rig"), "components"),
+                         "a build graph's rig holds no components: they are the graph's component nodes");
+      Json settings = rig;
+      if (settings.is_object()) settings.erase("components");
+      parts_.read_rig(settings, child(path, "rig"), out_.graph.rig);
+    }
+    array(g, path, "variables", [&](const Json& v, const std::string& p) { variable(v, p); });
+    array(g, path, "nodes", [&](const Json& n, const std::string& p) { node(n, p); });
+    array(g, path, "links", [&](const Json& l, const std::string& p) { link(l, p); });
+  }
+
+ private:
+  template <typename F>
+  void array(const Json& object, const std::string& path, const char* key, F&& f) {
+    if (!object.contains(key)) return;
+    const Json& a = object[key];
+    if (!a.is_array()) {
+      parts_.error(child(path, key), std::string("'") + key + "' must be an array");
+      return;
+    }
+    for (std::size_t i = 0; i < a.size(); ++i) f(a[i], child(child(path, key), i));
+  }
+
+  bool string_member(const Json& object, const std::string& path, const char* key, std::string& out, bool required) {
+    if (!object.contains(key)) {
+      if (required) parts_.error(path, std::string("missing '") + key + "'");
+      return false;
+    }
+    if (!object[key].is_string()) {
+      parts_.error(child(path, key), std::string("'") + key + "' must be a string");
+      return false;
+    }
+    out = object[key].get<std::string>();
+    return true;
+  }
+
+  // A value typed as data type `type` ("" = by its JSON kind).
+  std::optional<ParamValue> typed_value(const std::string& name, const Json& v, const std::string& path,
+                                        const std::string& type) {
+    const DataType* t = builtin_data_types().find(type);
+    ParamSpec spec;
+    spec.name = name;
+    if (t && t->value_type) spec.type = *t->value_type;
+    return parts_.read_value(name, v, path, t && t->value_type ? &spec : nullptr);
+  }
+
+  void variable(const Json& v, const std::string& path) {
+    if (!v.is_object()) {
+      parts_.error(path, "a variable must be an object {\"name\", \"type\", \"value\"}");
+      return;
+    }
+    parts_.check_keys(v, path, {"name", "type", "value"}, "a variable");
+    GraphVariable var;
+    var.where = parts_.at(path);
+    string_member(v, path, "name", var.name, true);
+    string_member(v, path, "type", var.type, true);
+    if (v.contains("value")) {
+      if (auto value = typed_value(var.name, v["value"], child(path, "value"), var.type)) var.value = std::move(*value);
+    } else {
+      parts_.error(path, "variable '" + var.name + "': missing 'value'");
+    }
+    out_.graph.variables.push_back(std::move(var));
+  }
+
+  void node(const Json& n, const std::string& path) {
+    if (!n.is_object()) {
+      parts_.error(path, "a node must be an object {\"id\", \"kind\", ...}");
+      return;
+    }
+    parts_.check_keys(n, path, {"id", "kind", "position", "component", "value", "values", "variable"}, "a node");
+    GraphNode node;
+    node.where = parts_.at(path);
+    string_member(n, path, "id", node.id, true);
+    string_member(n, path, "kind", node.kind, true);
+    if (n.contains("position")) {
+      const Json& p = n["position"];
+      if (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number())
+        node.position = std::pair{p[0].get<double>(), p[1].get<double>()};
+      else
+        parts_.error(child(path, "position"), "'position' must be [x, y]");
+    }
+    string_member(n, path, "variable", node.variable, false);
+    const bool component = node.kind.rfind("component:", 0) == 0;
+    if (component) {
+      const std::string type = node.kind.substr(std::string_view("component:").size());
+      if (!n.contains("component") || !n["component"].is_object()) {
+        parts_.error(n.contains("component") ? child(path, "component") : path,
+                     "node '" + node.id + "': a component node holds its component {\"name\", \"side\", ...}");
+      } else {
+        Json c = n["component"];
+        if (c.contains("children"))
+          parts_.key_error(child(child(path, "component"), "children"),
+                           "node '" + node.id + "': a component node holds one component; nest with a 'parent' link");
+        c.erase("children");
+        if (!c.contains("type")) c["type"] = type;
+        std::vector<Component> read;
+        parts_.read_component(c, child(path, "component"), read);
+        if (!read.empty()) node.component = std::move(read.front());
+        if (node.component.type != type)
+          parts_.error(child(child(path, "component"), "type"), "node '" + node.id + "': its component's type '" +
+                                                                    node.component.type + "' is not its kind's '" +
+                                                                    type + "'");
+      }
+    } else if (n.contains("component")) {
+      parts_.key_error(child(path, "component"), "node '" + node.id + "': only component nodes hold a component");
+    }
+    if (n.contains("value")) {
+      const std::string type = node.kind.rfind("constant:", 0) == 0 ? node.kind.substr(9) : "";
+      if (auto v = typed_value("value", n["value"], child(path, "value"), type))
+        node.values.push_back(Param{"value", std::move(*v), parts_.at(child(path, "value"))});
+    }
+    if (n.contains("values")) {
+      const Json& values = n["values"];
+      if (!values.is_object()) {
+        parts_.error(child(path, "values"), "'values' must be an object {INPUT: VALUE}");
+      } else {
+        for (auto it = values.begin(); it != values.end(); ++it) {
+          const std::string p = child(child(path, "values"), it.key());
+          if (auto v = typed_value(it.key(), it.value(), p, input_type(node, it.key())))
+            node.values.push_back(Param{it.key(), std::move(*v), parts_.at(p)});
+        }
+      }
+    }
+    out_.graph.nodes.push_back(std::move(node));
+  }
+
+  // The data type of a node's input, where the file alone says it.
+  std::string input_type(const GraphNode& node, const std::string& input) const {
+    if (node.kind == "variable:set" && input == "value") {
+      const GraphVariable* v = out_.graph.variable(node.variable);
+      return v ? v->type : "";
+    }
+    if (node.kind == "branch" && input == "condition") return "bool";
+    return "";
+  }
+
+  void link(const Json& l, const std::string& path) {
+    if (!l.is_object()) {
+      parts_.error(path, "a link must be an object {\"from\": \"NODE.OUTPUT\", \"to\": \"NODE.INPUT\"}");
+      return;
+    }
+    parts_.check_keys(l, path, {"from", "to"}, "a link");
+    GraphLink link;
+    link.where = parts_.at(path);
+    std::string from, to;
+    const bool has_from = string_member(l, path, "from", from, true);
+    const bool has_to = string_member(l, path, "to", to, true);
+    const auto from_ref = socket_ref(from), to_ref = socket_ref(to);
+    if (has_from && !from_ref) parts_.error(child(path, "from"), "'from' must be NODE.OUTPUT, not '" + from + "'");
+    if (has_to && !to_ref) parts_.error(child(path, "to"), "'to' must be NODE.INPUT, not '" + to + "'");
+    if (!from_ref || !to_ref) return;
+    link.from = *from_ref;
+    link.to = *to_ref;
+    out_.graph.links.push_back(std::move(link));
+  }
+
+  DefinitionJsonParts parts_;
+  BuildGraphParse& out_;
+  const SchemaRegistry& schemas_;
+};
+
+Json value_json(const ParamValue& v) { return detail::param_value_json(v); }
+
+}  // namespace
+
+BuildGraphParse parse_build_graph(std::string_view text, const std::string& source, const SchemaRegistry& schemas) {
+  BuildGraphParse out;
+  out.graph.source = source;
+  out.graph.rig.source = source;
+  std::optional<Json> root = DefinitionJsonParts::parse(text, source, out.errors);
+  if (!root) return out;
+  Reader(text, out, schemas).document(*root);
+  return out;
+}
+
+std::string write_build_graph(const BuildGraph& graph) {
+  Json g = Json::object();
+  g["format"] = kFormat;
+  g["rig"] = DefinitionJsonParts::rig_json(graph.rig);
+  if (!graph.variables.empty()) {
+    Json a = Json::array();
+    for (const GraphVariable& v : graph.variables)
+      a.push_back(Json{{"name", v.name}, {"type", v.type}, {"value", value_json(v.value)}});
+    g["variables"] = std::move(a);
+  }
+  Json nodes = Json::array();
+  for (const GraphNode& n : graph.nodes) {
+    Json j = Json::object();
+    j["id"] = n.id;
+    j["kind"] = n.kind;
+    if (n.position) j["position"] = Json::array({n.position->first, n.position->second});
+    if (!n.variable.empty()) j["variable"] = n.variable;
+    if (n.kind.rfind("component:", 0) == 0) {
+      Component c = n.component;
+      c.children.clear();
+      j["component"] = DefinitionJsonParts::component_json(c);
+    }
+    Json values = Json::object();
+    for (const Param& p : n.values) {
+      if (p.name == "value" && n.kind.rfind("constant:", 0) == 0) j["value"] = value_json(p.value);
+      else values[p.name] = value_json(p.value);
+    }
+    if (!values.empty()) j["values"] = std::move(values);
+    nodes.push_back(std::move(j));
+  }
+  g["nodes"] = std::move(nodes);
+  Json links = Json::array();
+  for (const GraphLink& l : graph.links)
+    links.push_back(Json{{"from", l.from.node + "." + l.from.socket}, {"to", l.to.node + "." + l.to.socket}});
+  g["links"] = std::move(links);
+  Json root = Json::object();
+  root["buildGraph"] = std::move(g);
+  return io::diffable_json(root, {.inline_flat_objects_in_arrays = true, .scalar = DefinitionJsonParts::scalar_text});
+}
+
+Status save_build_graph(const BuildGraph& graph, const std::filesystem::path& path) {
+  if (!is_build_graph_path(path))
+    return error(ErrorCode::kInvalidArgument, path.string() + ": a build graph's file name ends in .build.json");
+  return io::write_file_atomic(path, write_build_graph(graph));
+}
+
+}  // namespace rigel::rig

@@ -1,0 +1,317 @@
+// Build graphs (build_graph.h): the file, compiling to a definition, the
+// definition's graph, and graph-built rigs stepped, rebuilt in part and
+// removed like definition-built ones; every malformed graph refused with
+// the node and socket named.
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "rig_test_util.h"
+#include "rigel/rig/build_graph.h"
+#include "rigel/rig/definition_io.h"
+
+namespace rigel::rig {
+namespace {
+
+using namespace testing;
+namespace fs = std::filesystem;
+
+const fs::path kSource = RIGEL_SOURCE_DIR;
+
+Definition example(const std::string& name) {
+  ParseResult p = load_definition(kSource / "examples" / name);
+  EXPECT_TRUE(p.ok()) << (p.errors.empty() ? "" : p.errors[0].str());
+  return p.definition;
+}
+
+// The graph text, read back: the parse must succeed.
+BuildGraph reread(const BuildGraph& g) {
+  BuildGraphParse p = parse_build_graph(write_build_graph(g), "graph.build.json");
+  EXPECT_TRUE(p.ok()) << (p.errors.empty() ? "" : p.errors[0].str());
+  return p.graph;
+}
+
+Definition compiled(const BuildGraph& g) {
+  BuildGraphCompile c = compile_build_graph(g);
+  EXPECT_TRUE(c.ok()) << (c.errors.empty() ? "" : c.errors[0].str());
+  return c.definition;
+}
+
+// Every problem's text, one per line.
+std::string problems(const BuildGraph& g) {
+  std::string out;
+  for (const Diagnostic& d : compile_build_graph(g).errors) out += d.str() + "\n";
+  return out;
+}
+
+std::string problems(std::string_view text) {
+  BuildGraphParse p = parse_build_graph(text, "g.build.json");
+  if (!p.ok()) {
+    std::string out;
+    for (const Diagnostic& d : p.errors) out += d.str() + "\n";
+    return out;
+  }
+  return problems(p.graph);
+}
+
+GraphNode node(std::string id, std::string kind) {
+  GraphNode n;
+  n.id = std::move(id);
+  n.kind = std::move(kind);
+  return n;
+}
+
+GraphLink link(std::string from, std::string from_socket, std::string to, std::string to_socket) {
+  return GraphLink{{std::move(from), std::move(from_socket)}, {std::move(to), std::move(to_socket)}, {}};
+}
+
+GraphNode component_node(const std::string& id, Component c) {
+  GraphNode n = node(id, "component:" + c.type);
+  c.children.clear();
+  n.component = std::move(c);
+  return n;
+}
+
+Component fk_chain(std::string name, Side side, std::vector<std::string> joints) {
+  Component c;
+  c.type = "fkChain";
+  c.name = std::move(name);
+  c.side = side;
+  c.rig_id = new_rig_id();
+  for (std::string& j : joints) c.guides.push_back(at_joint(std::move(j)));
+  return c;
+}
+
+// global -> hip -> torso (fkChain), drawn by hand: the arm's side comes
+// from a variable that a set node changes between two arms.
+BuildGraph drawn() {
+  BuildGraph g;
+  g.rig.name = "drawn";
+  g.variables.push_back(GraphVariable{"side", "string", std::string("L"), {}});
+  Component global;
+  global.type = "global";
+  global.name = "global";
+  global.rig_id = new_rig_id();
+  global.guides = {Guide{}};
+  Component hip;
+  hip.type = "hip";
+  hip.name = "hip";
+  hip.rig_id = new_rig_id();
+  hip.guides = {at_joint("spine")};
+  Component arm_l = fk_chain("arm", Side::kCenter, {"shoulder.L", "upper_arm.L", "forearm.L", "hand.L"});
+  Component arm_r = fk_chain("arm", Side::kCenter, {"shoulder.R", "upper_arm.R", "forearm.R", "hand.R"});
+  g.nodes = {node("start", "start"), component_node("global", global), component_node("hip", hip),
+             component_node("armL", arm_l), node("toR", "variable:set"), component_node("armR", arm_r),
+             node("side", "variable:get"), node("side2", "variable:get"), node("right", "constant:string")};
+  g.nodes[4].variable = g.nodes[6].variable = g.nodes[7].variable = "side";
+  g.nodes[8].values.push_back(Param{"value", std::string("R"), {}});
+  g.links = {link("start", "then", "global", "exec"),    link("global", "then", "hip", "exec"),
+             link("hip", "then", "armL", "exec"),         link("armL", "then", "toR", "exec"),
+             link("toR", "then", "armR", "exec"),         link("global", "component", "hip", "parent"),
+             link("hip", "component", "armL", "parent"),  link("hip", "component", "armR", "parent"),
+             link("side", "value", "armL", "side"),       link("right", "value", "toR", "value"),
+             link("side2", "value", "armR", "side")};
+  return g;
+}
+
+TEST(BuildGraph, a_definitions_graph_compiles_to_the_definition_and_its_file_reads_back_the_same) {
+  for (const char* name : {"biped.rig.xml", "puppet.rig.xml"}) {
+    const Definition d = example(name);
+    const BuildGraph g = convert_definition(d);
+    const std::string text = write_build_graph(g);
+    const BuildGraph back = reread(g);
+    EXPECT_EQ(write_build_graph(back), text) << name;
+    EXPECT_EQ(write_definition(compiled(back), Syntax::kJson), write_definition(d, Syntax::kJson)) << name;
+    EXPECT_TRUE(compile_build_graph(back).warnings.empty()) << name;
+  }
+  // Nodes are one block each, links one line each.
+  const std::string text = write_build_graph(convert_definition(example("biped.rig.xml")));
+  EXPECT_NE(text.find("{\"from\": \"start.then\", \"to\": \"global.exec\"}"), std::string::npos) << text.substr(0, 2000);
+}
+
+TEST(BuildGraph, a_graph_file_is_read_wherever_a_definition_is) {
+  const fs::path dir = fs::temp_directory_path() / ("rigel_graph_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "drawn.build.json";
+  ASSERT_TRUE(save_build_graph(drawn(), file).is_ok());
+  ParseResult loaded = load_definition(file);
+  ASSERT_TRUE(loaded.ok()) << loaded.errors[0].str();
+  EXPECT_TRUE(check_definition(file).empty());
+  EXPECT_EQ(loaded.definition.source, file.string());
+  // A definition is not saved over a graph; a graph needs its suffix.
+  EXPECT_EQ(save_definition(loaded.definition, file).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(save_build_graph(drawn(), dir / "drawn.json").code(), ErrorCode::kInvalidArgument);
+  fs::remove_all(dir);
+}
+
+TEST(BuildGraph, variables_and_links_carry_values_along_the_exec_chain) {
+  const Definition d = compiled(drawn());
+  ASSERT_EQ(d.components.size(), 1u);
+  const Component& hip = d.components[0].children.at(0);
+  ASSERT_EQ(hip.children.size(), 2u);
+  EXPECT_EQ(hip.children[0].full_name(), "arm_L") << "read before the set";
+  EXPECT_EQ(hip.children[1].full_name(), "arm_R") << "read after the set";
+  // A branch takes the way its condition says; the other way is not built.
+  BuildGraph g = drawn();
+  g.nodes.push_back(node("which", "branch"));
+  g.nodes.back().values.push_back(Param{"condition", false, {}});
+  g.links[3] = link("armL", "then", "which", "exec");
+  g.links.push_back(link("which", "false", "toR", "exec"));
+  EXPECT_EQ(compiled(g).components[0].children[0].children.size(), 2u);
+  g.nodes.back().values[0].value = true;
+  EXPECT_EQ(compiled(g).components[0].children[0].children.size(), 1u);
+  // A linked parameter takes the value that reaches it (an int into a number).
+  g = drawn();
+  g.nodes[3].kind = "component:ikChain";
+  g.nodes[3].component.type = "ikChain";
+  g.nodes.push_back(node("distance", "constant:int"));
+  g.nodes.back().values.push_back(Param{"value", std::int64_t{3}, {}});
+  g.links.push_back(link("distance", "value", "armL", "poleDistance"));
+  const Param* distance = compiled(g).components[0].children[0].children[0].param("poleDistance");
+  ASSERT_TRUE(distance);
+  EXPECT_EQ(std::get<double>(distance->value), 3.0);
+}
+
+TEST(BuildGraph, a_graph_build_steps_rebuilds_what_a_changed_node_feeds_and_is_removed_exactly) {
+  BuildGraph g = drawn();
+  BuiltRig r = built_rig(compiled(g));
+  ASSERT_TRUE(r.build);
+  expect_stepping_gives_the_straight_build(*r.build, *r.scene);
+  // Uuids of every built node, by name.
+  const auto uuids = [&] {
+    std::map<std::string, std::string> out;
+    for (NodeId id : r.g().nodes()) out[r.g().node(id)->name()] = r.g().node(id)->uuid().str();
+    return out;
+  };
+  const auto before = uuids();
+  // The right arm's chain gets one joint fewer: only it is built again.
+  g.nodes[5].component.guides.pop_back();
+  auto rebuilt = r.build->rebuild_changed(compiled(g));
+  ASSERT_TRUE(rebuilt.is_ok()) << rebuilt.status().message();
+  EXPECT_EQ(*rebuilt, std::vector<std::string>{g.nodes[5].component.rig_id});
+  const auto after = uuids();
+  int kept = 0, remade = 0;
+  for (const auto& [name, uuid] : after) {
+    const auto it = before.find(name);
+    if (it == before.end()) continue;
+    if (name.find("arm_R") != std::string::npos) remade += it->second != uuid;
+    else EXPECT_EQ(it->second, uuid) << name << " was built again";
+    kept += it->second == uuid;
+  }
+  EXPECT_GT(remade, 0);
+  EXPECT_GT(kept, 100);
+  ASSERT_TRUE(r.build->remove().is_ok());
+  const std::string text = io::write_scene(*r.scene);
+  EXPECT_TRUE(text == r.before) << first_difference(text, r.before);
+}
+
+TEST(BuildGraph, wrong_graphs_are_refused_naming_the_node_and_socket) {
+  const auto expect_problem = [](const BuildGraph& g, const std::string& part) {
+    const std::string p = problems(g);
+    EXPECT_NE(p.find(part), std::string::npos) << "expected '" << part << "' in:\n" << p;
+  };
+  BuildGraph g = drawn();
+  g.links.push_back(link("global", "component", "armL", "parent"));
+  expect_problem(g, "input 'armL.parent' has two links (from 'hip.component' and 'global.component')");
+  g = drawn();
+  g.links.push_back(link("right", "value", "armL", "parent"));
+  expect_problem(g, "link 'right.value' -> 'armL.parent': a string output cannot feed a component input");
+  g = drawn();
+  g.links.push_back(link("global", "component", "armL", "name"));
+  expect_problem(g, "link 'global.component' -> 'armL.name': a component output cannot feed a string input");
+  g = drawn();
+  g.links.push_back(link("armL", "then", "hip", "exec"));
+  expect_problem(g, "exec output 'armL.then' has two links");
+  g = drawn();
+  g.links[4] = link("toR", "then", "hip", "exec");  // armR is left off the chain, and hip runs twice
+  expect_problem(g, "node 'armR': not on the exec chain from start");
+  g.nodes.erase(g.nodes.begin() + 5);
+  g.links.erase(std::remove_if(g.links.begin(), g.links.end(),
+                               [](const GraphLink& l) { return l.to.node == "armR" || l.from.node == "armR"; }),
+                g.links.end());
+  expect_problem(g, "exec links form a cycle: hip -> armL -> toR -> hip");
+  g = drawn();
+  g.links.push_back(link("armL", "component", "global", "parent"));
+  expect_problem(g, "data links form a cycle");
+  g = drawn();
+  g.links[5] = link("hip", "component", "global", "parent");
+  g.links[6] = link("global", "component", "armL", "parent");
+  expect_problem(g, "node 'global': input 'parent' reads 'hip.component', but 'hip' has not run by then");
+  g = drawn();
+  g.nodes[2].kind = "component:elbow";
+  expect_problem(g, "node 'hip': unknown node kind 'component:elbow'");
+  g = drawn();
+  g.nodes[0].kind = "constant:bool";
+  expect_problem(g, "the graph has no start node");
+  g = drawn();
+  g.nodes[4].variable = "colour";
+  expect_problem(g, "node 'toR': variable 'colour' is not one of the graph's variables");
+  g = drawn();
+  g.links.push_back(link("armL", "then", "nowhere", "exec"));
+  expect_problem(g, "no node 'nowhere'");
+  g = drawn();
+  g.links.push_back(link("right", "colour", "armL", "name"));
+  expect_problem(g, "constant:string has no output 'colour'");
+  g = drawn();
+  g.nodes[8].values[0].value = 2.0;
+  expect_problem(g, "the value of 'value' is not a string");
+  g = drawn();
+  g.nodes[8].values[0].value = std::string("Q");
+  expect_problem(g, "node 'armR': input 'side': 'Q' is not C, L or R");
+  // What validate() finds in the definition is reported at the node's place.
+  g = drawn();
+  g.nodes[1].component.params.push_back(Param{"colour", std::string("x"), {}});
+  expect_problem(g, "colour");
+}
+
+TEST(BuildGraph, a_malformed_file_is_reported_at_its_line) {
+  EXPECT_NE(problems("{\"buildGraph\": {\"format\": 1, \"nodes\": [").find("g.build.json:1:"), std::string::npos);
+  EXPECT_NE(problems("{\"buildGraph\": {\"format\": 2, \"nodes\": []}}").find("'format' must be 1"), std::string::npos);
+  const std::string text =
+      "{\"buildGraph\": {\"format\": 1,\n"
+      "  \"nodes\": [{\"id\": \"start\", \"kind\": \"start\"},\n"
+      "    {\"id\": \"a\", \"kind\": \"component:global\", \"component\": {\"name\": \"g\", \"children\": []}},\n"
+      "    {\"id\": \"b\", \"kind\": \"start\", \"colour\": 1}],\n"
+      "  \"links\": [{\"from\": \"start\", \"to\": \"a.exec\"}]}}";
+  const std::string p = problems(text);
+  EXPECT_NE(p.find("g.build.json:3:"), std::string::npos) << p;
+  EXPECT_NE(p.find("nest with a 'parent' link"), std::string::npos) << p;
+  EXPECT_NE(p.find("g.build.json:4:"), std::string::npos) << p;
+  EXPECT_NE(p.find("unknown key 'colour'"), std::string::npos) << p;
+  EXPECT_NE(p.find("'from' must be NODE.OUTPUT"), std::string::npos) << p;
+  // A graph that does not compile is no definition: nothing is built from it.
+  const fs::path file = fs::temp_directory_path() / ("rigel_bad_" + std::to_string(::getpid()) + ".build.json");
+  {
+    std::ofstream(file) << text;
+  }
+  EXPECT_FALSE(load_definition(file).ok());
+  fs::remove(file);
+}
+
+TEST(BuildGraph, node_kinds_follow_the_schemas_and_types_refuse_what_does_not_fit) {
+  const NodeKindRegistry kinds = builtin_node_kinds();
+  for (const std::string& type : builtin_schemas().types()) {
+    const NodeKind* k = kinds.find("component:" + type);
+    ASSERT_TRUE(k) << type;
+    for (const ParamSpec& p : builtin_schemas().find(type)->params) {
+      ASSERT_TRUE(k->input(p.name)) << type << "." << p.name;
+      EXPECT_EQ(k->input(p.name)->type, data_type_of(p.type));
+    }
+  }
+  EXPECT_TRUE(DataTypeRegistry::can_link("int", "number"));
+  EXPECT_FALSE(DataTypeRegistry::can_link("number", "int"));
+  DataTypeRegistry types = builtin_data_types();
+  EXPECT_EQ(types.add(DataType{"number", "#000000", ParamType::kDouble, ""}).code(), ErrorCode::kAlreadyExists);
+  EXPECT_EQ(types.add(DataType{"curve", "red", std::nullopt, ""}).code(), ErrorCode::kInvalidArgument);
+  NodeKindRegistry more = kinds;
+  EXPECT_EQ(more.add(NodeKind{"branch", "", "", {}, {}, ""}).code(), ErrorCode::kAlreadyExists);
+  EXPECT_EQ(more.add(NodeKind{"x", "", "", {{"a", "curve", ""}}, {}, ""}).code(), ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace rigel::rig
