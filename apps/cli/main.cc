@@ -22,6 +22,7 @@
 #include "key_commands.h"
 #include "pose_command.h"
 #include "poses_command.h"
+#include "graph_commands.h"
 #include "rig_commands.h"
 #include "scene_commands.h"
 #include "serve_command.h"
@@ -73,6 +74,9 @@ int main(int argc, char** argv) {
   // `build`, `update`, `rigs`, `remove`, `address`: built rigs.
   rigel::cli::RigCommands rig;
   rigel::cli::add_rig_commands(app, rig);
+  // `graph run|convert|validate`: build graphs.
+  rigel::cli::GraphCommands graphs;
+  rigel::cli::add_graph_commands(app, graphs);
   // `serve`: the web app and the JSON API.
   rigel::cli::ServeArgs serve;
   CLI::App* serve_cmd = rigel::cli::add_serve_command(app, serve);
@@ -121,6 +125,7 @@ int main(int argc, char** argv) {
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;
     if (const std::optional<int> code = rigel::cli::run_rig_commands(rig)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_graph_commands(graphs)) return *code;
     if (*serve_cmd) return rigel::cli::run_serve(serve);
   } catch (const std::exception& e) {
     // Nothing should throw past the library's Status results; if something

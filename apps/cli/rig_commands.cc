@@ -61,16 +61,9 @@ Result<std::unique_ptr<app::Workspace>> open_workspace(const std::string& path) 
 
 void print_json(const Json& j) { std::cout << j.dump(2, ' ', false, Json::error_handler_t::replace) << "\n"; }
 
-// ---- build ---------------------------------------------------------------
+}  // namespace
 
-struct BuildArgs {
-  std::string definition;
-  std::string character;  // "" = the definition's first geometry file
-  std::string output;
-  int steps = -1;  // -1 = all
-  bool edit_mode = false;
-  bool json = false;
-};
+// ---- build ---------------------------------------------------------------
 
 int run_build(const BuildArgs& given) {
   // Inside an asset: bare names are its definitions and skeletons, and its
@@ -130,6 +123,8 @@ int run_build(const BuildArgs& given) {
   }
   return 0;
 }
+
+namespace {
 
 // ---- update --------------------------------------------------------------
 
@@ -508,7 +503,7 @@ void add_rig_commands(CLI::App& app, RigCommands& commands) {
   s.build_cmd->footer(
       "Example:\n  rigel build examples/biped.rig.xml -o hero.rigel\n"
       "  rigel build arm.rig.json --character tests/data/gltf/rigify_human_metarig.glb --steps 5 -o partial.rigel");
-  s.build_cmd->add_option("DEFINITION", s.build.definition, "Rig definition (.rig.xml, .rig.json)")->required();
+  s.build_cmd->add_option("DEFINITION", s.build.definition, "Rig definition (.rig.xml, .rig.json) or build graph (.build.json)")->required();
   s.build_cmd->add_option("--character", s.build.character,
                           "Character to build on (.glb, .gltf, .bvh, .rigel); default: the definition's geometry");
   s.build_cmd->add_option("-o,--output", s.build.output, "Scene file to write (.rigel)")->required();

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -28,6 +29,17 @@ class RigCommands {
 };
 
 void add_rig_commands(CLI::App& app, RigCommands& commands);
+
+// `rigel build`, which `rigel graph run` runs too.
+struct BuildArgs {
+  std::string definition;  // a definition or a build graph
+  std::string character;   // "" = the definition's first geometry file
+  std::string output;
+  int steps = -1;  // -1 = all
+  bool edit_mode = false;
+  bool json = false;
+};
+int run_build(const BuildArgs& args);
 std::optional<int> run_rig_commands(const RigCommands& commands);
 
 }  // namespace rigel::cli

@@ -62,4 +62,35 @@ Result<BuiltFile> build_rig_file(const rig::Definition& definition, const fs::pa
   return out;
 }
 
+namespace {
+
+// `file`, relative to `from` (or absolute), as a path relative to `to`.
+std::string rebased(const std::string& file, const fs::path& from, const fs::path& to) {
+  const fs::path p(file);
+  if (p.is_absolute() || file.empty()) return file;
+  // Folders given as "" are the current one.
+  std::error_code ec;
+  const fs::path absolute = fs::weakly_canonical(fs::absolute(from.empty() ? p : from / p, ec), ec);
+  const fs::path base = fs::weakly_canonical(fs::absolute(to.empty() ? fs::path(".") : to, ec), ec);
+  const fs::path relative = absolute.lexically_relative(base);
+  return relative.empty() ? absolute.generic_string() : relative.generic_string();
+}
+
+}  // namespace
+
+Result<rig::BuildGraph> convert_definition_file(const fs::path& definition_path, const fs::path& graph_path) {
+  if (!rig::is_build_graph_path(graph_path))
+    return Status(ErrorCode::kInvalidArgument, graph_path.string() + ": a build graph's file name ends in .build.json")
+        .with_field("output");
+  auto definition = rig::read_definition(definition_path);
+  if (!definition) return definition.status();
+  rig::BuildGraph graph = rig::convert_definition(*definition);
+  const fs::path from = definition_path.parent_path(), to = graph_path.parent_path();
+  for (rig::Geometry& g : graph.rig.geometry) g.file = rebased(g.file, from, to);
+  for (rig::DataImport& d : graph.rig.data) d.file = rebased(d.file, from, to);
+  graph.source = graph_path.string();
+  if (Status s = rig::save_build_graph(graph, graph_path); !s) return s;
+  return graph;
+}
+
 }  // namespace rigel::app

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rigel/base/status.h"
+#include "rigel/rig/build_graph.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/definition_io.h"
@@ -62,5 +63,11 @@ fs::path rig_character(const rig::Definition& definition, const fs::path& defini
 Result<BuiltFile> build_rig_file(const rig::Definition& definition, const fs::path& definition_path,
                                  const rig::ComponentFactory& factory, const BuildFileOptions& options = {},
                                  std::vector<rig::Diagnostic>* missing = nullptr);
+
+// `rigel graph convert`: the build graph of the definition at
+// `definition_path` (read and checked: kInvalidArgument listing every
+// problem), with its geometry and data files made relative to the folder of
+// `graph_path` (a `.build.json`), saved there atomically.
+Result<rig::BuildGraph> convert_definition_file(const fs::path& definition_path, const fs::path& graph_path);
 
 }  // namespace rigel::app
