@@ -4,6 +4,12 @@
 // 3.2-3.7 s on this machine), an update after one component changed (target
 // at most 5 ms), and validating a 1,000-component definition (what
 // `rigel validate` does: parse with positions, then every check).
+//
+// Build graphs (issue 20): the biped built from the text of its converted
+// graph (read, compiled, built) against the same from the definition's
+// text (read, validated, built): target at most 1.5x; and one graph node's
+// live rebuild (its input changed, the graph compiled again, what changed
+// rebuilt): target at most 5 ms.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -18,6 +24,7 @@
 #include "rigel/io/gltf_import.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/rig/build.h"
+#include "rigel/rig/build_graph.h"
 #include "rigel/rig/definition_io.h"
 
 namespace rigel::bench {
@@ -149,6 +156,95 @@ void BM_rig_validate_1000_components(benchmark::State& state) {
   state.counters["bytes"] = static_cast<double>(text.size());
 }
 BENCHMARK(BM_rig_validate_1000_components)->Unit(benchmark::kMillisecond);
+
+// The biped's definition and its converted graph, as text.
+const std::string& biped_text() {
+  static const std::string text = rig::write_definition(biped(), rig::Syntax::kXml);
+  return text;
+}
+const std::string& biped_graph_text() {
+  static const std::string text = rig::write_build_graph(rig::convert_definition(biped()));
+  return text;
+}
+
+// From text to a built rig: `graph` reads the graph and compiles it, else
+// the definition is read and validated.
+void build_from_text(benchmark::State& state, bool graph) {
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::unique_ptr<scene::Scene> scene = fresh_scene();
+    state.ResumeTiming();
+    rig::Definition d;
+    if (graph) {
+      rig::BuildGraphParse parsed = rig::parse_build_graph(biped_graph_text(), "biped.build.json");
+      rig::BuildGraphCompile compiled = rig::compile_build_graph(parsed.graph);
+      if (!parsed.ok() || !compiled.ok()) {
+        state.SkipWithError("the graph does not compile");
+        break;
+      }
+      d = std::move(compiled.definition);
+    } else {
+      rig::ParseResult parsed = rig::parse_definition(biped_text(), rig::Syntax::kXml, "biped.rig.xml");
+      if (!parsed.ok() || !rig::validate(parsed.definition).empty()) {
+        state.SkipWithError("the definition is not valid");
+        break;
+      }
+      d = std::move(parsed.definition);
+    }
+    auto b = rig::Build::open(*scene, std::move(d), ephemeral::components());
+    if (!b || !(*b)->build_all()) {
+      state.SkipWithError("build failed");
+      break;
+    }
+    benchmark::DoNotOptimize((*b)->position());
+    state.PauseTiming();
+    scene.reset();
+    state.ResumeTiming();
+  }
+}
+void BM_rig_build_biped_from_definition_text(benchmark::State& state) { build_from_text(state, false); }
+BENCHMARK(BM_rig_build_biped_from_definition_text)->Unit(benchmark::kMillisecond);
+void BM_graph_build_biped_from_graph_text(benchmark::State& state) { build_from_text(state, true); }
+BENCHMARK(BM_graph_build_biped_from_graph_text)->Unit(benchmark::kMillisecond);
+
+// The editor's live rebuild: the left arm's node gets another pole distance
+// (alternating, so each time it changes), the graph is compiled again and
+// what changed is rebuilt.
+void BM_graph_live_rebuild_one_node(benchmark::State& state) {
+  std::unique_ptr<scene::Scene> scene = fresh_scene();
+  rig::BuildGraph graph = rig::convert_definition(biped());
+  auto b = rig::Build::open(*scene, rig::compile_build_graph(graph).definition, ephemeral::components());
+  if (!b || !(*b)->build_all()) {
+    state.SkipWithError("build failed");
+    return;
+  }
+  rig::GraphNode* arm = nullptr;
+  for (rig::GraphNode& n : graph.nodes)
+    if (n.id == "arm_L") arm = &n;
+  if (!arm) {
+    state.SkipWithError("the graph has no arm_L node");
+    return;
+  }
+  arm->component.params.push_back(rig::Param{"poleDistance", 0.5, {}});
+  std::size_t rebuilt = 0;
+  int k = 0;
+  for (auto _ : state) {
+    arm->component.params.back().value = k == 0 ? 0.6 : 0.5;
+    rig::BuildGraphCompile compiled = rig::compile_build_graph(graph);
+    auto r = (*b)->rebuild_changed(std::move(compiled.definition));
+    if (!r) {
+      state.SkipWithError(r.status().message().c_str());
+      break;
+    }
+    rebuilt = r->size();
+    k = 1 - k;
+    state.PauseTiming();
+    scene->graph().clear_history();
+    state.ResumeTiming();
+  }
+  state.counters["rebuilt"] = static_cast<double>(rebuilt);
+}
+BENCHMARK(BM_graph_live_rebuild_one_node)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rigel::bench
