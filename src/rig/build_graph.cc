@@ -2,6 +2,8 @@
 // lookups, and the graph of a definition.
 #include "rigel/rig/build_graph.h"
 
+#include "rigel/rig/build_function.h"
+
 #include <algorithm>
 #include <cctype>
 #include <functional>
@@ -136,6 +138,7 @@ NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas) {
   add({"branch", "Branch", "Flow", {{"exec", "exec", ""}, {"condition", "bool", "which way to go"}},
        {{"true", "exec", "runs when the condition is true"}, {"false", "exec", "runs when it is false"}},
        "goes on one way or the other"});
+  for (const BuildFunction& f : build_functions().functions()) add(function_node_kind(f));
   return r;
 }
 

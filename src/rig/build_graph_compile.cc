@@ -2,21 +2,48 @@
 // nodes, links and variables, run the exec chain once from start with
 // values flowing along it, and nest the components it made.
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <set>
 
+#include <nlohmann/json.hpp>
+
+#include "definition_io_internal.h"
+#include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
 
 namespace rigel::rig {
 namespace {
 
-// What a data socket holds while the chain runs: a value, or a component
-// the chain made (its index in the order made).
+// What a data socket holds while the chain runs: a value, a component the
+// chain made (its index in the order made), or an output of a function
+// node, which only the build makes (the call's rigId and the output).
 struct Flow {
   std::optional<ParamValue> value;
   int component = -1;
+  std::string call, output;
+  bool runtime() const { return !call.empty(); }
 };
+
+// A rigId for a node that has none: made from the rig's name and the
+// node's id (FNV-1a, 128 bits, shaped as a UUID v4), so it stays as long
+// as they do.
+std::string derived_rig_id(const std::string& rig, const std::string& node) {
+  std::uint64_t h[2] = {14695981039346656037ull, 1099511628211ull * 31};
+  for (int k = 0; k < 2; ++k)
+    for (char ch : rig + '\0' + node) {
+      h[k] ^= static_cast<unsigned char>(ch);
+      h[k] *= 1099511628211ull;
+      h[k] ^= h[k] >> (29 + k);
+    }
+  char text[37];
+  std::snprintf(text, sizeof text, "%08x-%04x-4%03x-%04x-%012llx", static_cast<unsigned>(h[0] >> 32),
+                static_cast<unsigned>((h[0] >> 16) & 0xffff), static_cast<unsigned>(h[0] & 0xfff),
+                static_cast<unsigned>(0x8000 | ((h[1] >> 48) & 0x3fff)),
+                static_cast<unsigned long long>(h[1] & 0xffffffffffffull));
+  return text;
+}
 
 bool fits(const ParamValue& v, ParamType t) {
   switch (t) {
@@ -249,19 +276,36 @@ class Compiler {
                     "' has not run by then (it runs later on the exec chain, or on a branch not taken)");
         return std::nullopt;
       }
+      if (src.kind.rfind("function:", 0) == 0) return Flow{std::nullopt, -1, ran_.at(s).call, l.from.socket};
       return ran_.at(s);
     }
-    if (src.kind == "variable:get") return Flow{as_type(variables_.at(src.variable), type), -1};
+    if (src.kind == "variable:get") {
+      Flow f = variables_.at(src.variable);
+      if (f.value) f.value = as_type(*f.value, type);
+      return f;
+    }
     // A constant.
     const Param* v = src.value("value");
     const DataType* t = builtin_data_types().find(kind_of_[s]->outputs.front().type);
-    return Flow{as_type(v ? v->value : zero_of(*t->value_type), type), -1};
+    return Flow{as_type(v ? v->value : zero_of(*t->value_type), type), -1, {}, {}};
+  }
+
+  // An input the node needs before the build: nullopt (with the error)
+  // when it reads a function's output, which only the build makes.
+  std::optional<Flow> known_input(std::size_t n, const std::string& socket) {
+    std::optional<Flow> f = input(n, socket);
+    if (f && f->runtime()) {
+      fail(n, "input '" + socket + "' reads a value the build makes (output '" + f->output +
+                  "' of a function node): only function nodes take those");
+      return std::nullopt;
+    }
+    return f;
   }
 
   // An input's value as a value of its type: linked, else the node's own,
   // else the type's zero.
   std::optional<ParamValue> value_input(std::size_t n, const std::string& socket) {
-    if (auto f = input(n, socket)) return f->value;
+    if (auto f = known_input(n, socket)) return f->value;
     if (!out_.errors.empty()) return std::nullopt;
     if (const Param* p = g_.nodes[n].value(socket)) return as_type(p->value, socket_type(n, *kind_of_[n]->input(socket)));
     const DataType* t = builtin_data_types().find(socket_type(n, *kind_of_[n]->input(socket)));
@@ -269,7 +313,7 @@ class Compiler {
   }
 
   void run_chain() {
-    for (const GraphVariable& v : g_.variables) variables_[v.name] = as_type(v.value, v.type);
+    for (const GraphVariable& v : g_.variables) variables_[v.name] = Flow{as_type(v.value, v.type), -1, {}, {}};
     std::size_t n = 0;
     while (g_.nodes[n].kind != "start") ++n;
     std::string next = "then";
@@ -291,9 +335,15 @@ class Compiler {
       next = "then";
       const GraphNode& node = g_.nodes[n];
       if (node.kind == "variable:set") {
-        auto v = value_input(n, "value");
-        if (!v) return;
-        variables_[node.variable] = *v;
+        // A set may hold a function's output, for later function nodes.
+        std::optional<Flow> f = input(n, "value");
+        if (!out_.errors.empty()) return;
+        if (!f) {
+          auto v = value_input(n, "value");
+          if (!v) return;
+          f = Flow{*v, -1, {}, {}};
+        }
+        variables_[node.variable] = *f;
         ran_[n] = Flow{};
       } else if (node.kind == "branch") {
         auto c = value_input(n, "condition");
@@ -302,6 +352,8 @@ class Compiler {
         ran_[n] = Flow{};
       } else if (node.kind.rfind("component:", 0) == 0) {
         if (!make_component(n)) return;
+      } else if (node.kind.rfind("function:", 0) == 0) {
+        if (!make_call(n)) return;
       }
     }
   }
@@ -311,11 +363,12 @@ class Compiler {
     Component c = node.component;
     c.children.clear();
     if (c.where.line == 0) c.where = node.where;
+    if (c.rig_id.empty()) c.rig_id = derived_rig_id(g_.rig.name, node.id);
     int parent = -1;
     if (auto p = input(n, "parent")) parent = p->component;
     else if (!out_.errors.empty()) return false;
     const auto text = [&](const char* socket, std::string& into) {
-      if (auto f = input(n, socket)) into = std::get<std::string>(*f->value);
+      if (auto f = known_input(n, socket)) into = std::get<std::string>(*f->value);
       return out_.errors.empty();
     };
     std::string side;
@@ -330,7 +383,7 @@ class Compiler {
     }
     const ComponentSchema* schema = schemas_.find(c.type);
     for (const ParamSpec& spec : schema ? schema->params : std::vector<ParamSpec>{}) {
-      auto f = input(n, spec.name);
+      auto f = known_input(n, spec.name);
       if (!f) {
         if (!out_.errors.empty()) return false;
         continue;
@@ -345,7 +398,7 @@ class Compiler {
       fail(n, "components nest deeper than " + std::to_string(kMaxComponentDepth) + " levels (the limit)");
       return false;
     }
-    ran_[n] = Flow{std::nullopt, static_cast<int>(made_.size())};
+    ran_[n] = Flow{std::nullopt, static_cast<int>(made_.size()), {}, {}};
     made_.push_back(std::move(c));
     parent_.push_back(parent);
     depth_.push_back(depth);
@@ -353,8 +406,50 @@ class Compiler {
     return true;
   }
 
-  // Nests the components made (children in the order made) and warns when
-  // the build's depth-first order is not the chain's.
+  // A function node: a `call` component, a root built after the
+  // components, that builds after every component or call it reads.
+  bool make_call(std::size_t n) {
+    const GraphNode& node = g_.nodes[n];
+    const std::string id = node.kind.substr(std::string_view("function:").size());
+    const std::optional<BuildFunction> fn = build_functions().find(id);
+    if (!fn) {
+      fail(n, "build function '" + id + "' is not registered");
+      return false;
+    }
+    Component c;
+    c.type = kCallType;
+    c.name = node.id;
+    c.rig_id = node.rig_id.empty() ? derived_rig_id(g_.rig.name, node.id) : node.rig_id;
+    c.where = node.where;
+    nlohmann::ordered_json args = nlohmann::ordered_json::object();
+    for (const SocketSpec& in : fn->inputs) {
+      std::optional<Flow> f = input(n, in.name);
+      if (!out_.errors.empty()) return false;
+      if (!f) {
+        if (const Param* p = node.value(in.name)) args[in.name] = detail::param_value_json(as_type(p->value, in.type));
+        continue;
+      }
+      std::string from;
+      if (f->runtime()) {
+        args[in.name] = {{"$output", {f->call, f->output}}};
+        from = f->call;
+      } else if (f->component >= 0) {
+        from = made_[static_cast<std::size_t>(f->component)].rig_id;
+        args[in.name] = {{"$component", from}};
+      } else {
+        args[in.name] = detail::param_value_json(as_type(*f->value, in.type));
+      }
+      if (!from.empty() && std::find(c.after.begin(), c.after.end(), from) == c.after.end()) c.after.push_back(from);
+    }
+    c.params = {Param{"function", id, node.where}, Param{"args", args.dump(), node.where}};
+    ran_[n] = Flow{std::nullopt, -1, c.rig_id, {}};
+    calls_.push_back(std::move(c));
+    return true;
+  }
+
+  // Nests the components made (children in the order made), the calls
+  // after them, and warns when the build's depth-first order is not the
+  // chain's.
   void assemble() {
     std::vector<std::vector<int>> children(made_.size());
     std::vector<int> roots;
@@ -371,6 +466,7 @@ class Compiler {
     out_.definition.components.clear();
     out_.definition.source = g_.source;
     for (int r : roots) out_.definition.components.push_back(nest(r));
+    for (Component& c : calls_) out_.definition.components.push_back(std::move(c));
     for (std::size_t k = 0; k < depth_first.size(); ++k) {
       if (depth_first[k] == static_cast<int>(k)) continue;
       const std::size_t n = made_by_[static_cast<std::size_t>(depth_first[k])];
@@ -392,8 +488,8 @@ class Compiler {
   std::map<std::pair<std::size_t, std::string>, std::size_t> exec_next_;  // (node, exec output) -> link
   std::map<std::pair<std::size_t, std::string>, std::size_t> feeds_;      // (node, data input) -> link
   std::map<std::size_t, Flow> ran_;                                       // nodes run, with their output
-  std::map<std::string, ParamValue> variables_;
-  std::vector<Component> made_;
+  std::map<std::string, Flow> variables_;
+  std::vector<Component> made_, calls_;
   std::vector<int> parent_, depth_;
   std::vector<std::size_t> made_by_;
 };

@@ -6,6 +6,7 @@
 #include "definition_io_internal.h"
 #include "rigel/io/diffable_json.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
 
 namespace rigel::rig {
@@ -123,7 +124,7 @@ class Reader {
       parts_.error(path, "a node must be an object {\"id\", \"kind\", ...}");
       return;
     }
-    parts_.check_keys(n, path, {"id", "kind", "position", "component", "value", "values", "variable"}, "a node");
+    parts_.check_keys(n, path, {"id", "kind", "position", "component", "value", "values", "variable", "rigId"}, "a node");
     GraphNode node;
     node.where = parts_.at(path);
     string_member(n, path, "id", node.id, true);
@@ -136,6 +137,7 @@ class Reader {
         parts_.error(child(path, "position"), "'position' must be [x, y]");
     }
     string_member(n, path, "variable", node.variable, false);
+    string_member(n, path, "rigId", node.rig_id, false);
     const bool component = node.kind.rfind("component:", 0) == 0;
     if (component) {
       const std::string type = node.kind.substr(std::string_view("component:").size());
@@ -187,6 +189,9 @@ class Reader {
       return v ? v->type : "";
     }
     if (node.kind == "branch" && input == "condition") return "bool";
+    if (node.kind.rfind("function:", 0) == 0)
+      if (const auto f = build_functions().find(node.kind.substr(9)))
+        if (const SocketSpec* in = f->input(input)) return in->type;
     return "";
   }
 
@@ -246,6 +251,7 @@ std::string write_build_graph(const BuildGraph& graph) {
     j["kind"] = n.kind;
     if (n.position) j["position"] = Json::array({n.position->first, n.position->second});
     if (!n.variable.empty()) j["variable"] = n.variable;
+    if (!n.rig_id.empty()) j["rigId"] = n.rig_id;
     if (n.kind.rfind("component:", 0) == 0) {
       Component c = n.component;
       c.children.clear();

@@ -144,6 +144,7 @@ struct Build::Records {
   }
   std::vector<int> parent;                   // per component: index of its nesting parent, -1 for roots
   std::vector<detail::AttachTarget> attach;  // per component
+  std::vector<std::vector<int>> after;      // per component: the indices of its Component::after
 };
 
 }  // namespace rigel::rig

@@ -29,6 +29,8 @@ std::string signature(const Component& c) {
   std::ostringstream o;
   o.precision(17);
   o << c.type << '|' << c.name << '|' << side_name(c.side) << '|' << c.version << '|' << c.attach << '|';
+  for (const std::string& id : c.after) o << id << ',';
+  o << '|';
   for (const Guide& g : c.guides)
     o << g.name << ',' << g.joint << ',' << g.translate.transpose() << ',' << g.rotate.transpose() << ','
       << g.scale.transpose() << ';';
@@ -338,10 +340,10 @@ std::map<std::string, std::set<std::string>> space_sources(const graph::Graph& g
 
 // The rigIds an update destructs and constructs again: components new or
 // changed (as `when` says), moved to another parent, what hangs from them
-// (their hooks are made again), and what takes a space from them or from a
+// (their hooks are made again), what builds after them (it read them), and what takes a space from them or from a
 // component that is gone (the space's target is made again).
 std::set<std::string> dirty_components(const std::vector<const Component*>& components, const std::vector<int>& parent,
-                                       const std::vector<AttachTarget>& attach,
+                                       const std::vector<AttachTarget>& attach, const std::vector<std::vector<int>>& after,
                                        const std::map<std::string, OldComponent>& old, Build::Rebuild when,
                                        const std::map<std::string, std::set<std::string>>& follows) {
   std::set<std::string> dirty;
@@ -369,8 +371,10 @@ std::set<std::string> dirty_components(const std::vector<const Component*>& comp
                                            [&](const Component* c) { return c->rig_id == from; });
           space_dirty = space_dirty || dirty.count(from) || !present;
         }
+      const bool read_dirty = std::any_of(after[i].begin(), after[i].end(),
+                                          [&](int k) { return dirty.count(components[k]->rig_id) != 0; });
       if ((p >= 0 && dirty.count(components[p]->rig_id)) || (a >= 0 && dirty.count(components[a]->rig_id)) ||
-          space_dirty) {
+          space_dirty || read_dirty) {
         dirty.insert(components[i]->rig_id);
         grew = true;
       }
@@ -488,7 +492,8 @@ Result<std::vector<std::string>> Build::rebuild_changed(Definition next, Rebuild
     (void)replan();
     return s;
   }
-  const std::set<std::string> dirty = dirty_components(components_, records_->parent, records_->attach, old, when, follows);
+  const std::set<std::string> dirty =
+      dirty_components(components_, records_->parent, records_->attach, records_->after, old, when, follows);
   std::set<std::string> removed;
   for (const std::string& id : old_ids) {
     bool present = false;

@@ -147,9 +147,23 @@ Status Build::replan() {
   std::vector<int> order;
   std::vector<int> state(n, 0);
   std::vector<std::vector<int>> deps(n);
+  // What each builds after (Component::after), by index.
+  std::vector<std::vector<int>> after(n);
+  for (int i = 0; i < n; ++i) {
+    for (const std::string& id : components_[i]->after) {
+      int other = -1;
+      for (int k = 0; k < n && other < 0; ++k)
+        if (components_[k]->rig_id == id) other = k;
+      if (other < 0 || other == i)
+        return error(ErrorCode::kNotFound, "build: component '" + components_[i]->full_name() + "': after '" + id +
+                                               "': no other component has that rigId");
+      after[i].push_back(other);
+    }
+  }
   for (int i = 0; i < n; ++i) {
     if (parent[i] >= 0) deps[i].push_back(parent[i]);
     if (attach[i].component >= 0 && attach[i].component != parent[i]) deps[i].push_back(attach[i].component);
+    for (int a : after[i]) deps[i].push_back(a);
   }
   std::vector<char> placed(n, 0);
   while (static_cast<int>(order.size()) < n) {
@@ -177,7 +191,9 @@ Status Build::replan() {
   }
   records_->parent.assign(n, -1);
   records_->attach.assign(n, AttachTarget{});
+  records_->after.assign(n, {});
   for (int i = 0; i < n; ++i) {
+    for (int a : after[i]) records_->after[new_index[i]].push_back(new_index[a]);
     records_->parent[new_index[i]] = parent[i] >= 0 ? new_index[parent[i]] : -1;
     records_->attach[new_index[i]] =
         AttachTarget{attach[i].component >= 0 ? new_index[attach[i].component] : -1, attach[i].hook};

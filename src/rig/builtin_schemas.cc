@@ -4,6 +4,8 @@
 // lists them for people; `rigel components` prints them.
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "rigel/rig/schema.h"
 
 namespace rigel::rig {
@@ -219,6 +221,30 @@ std::vector<ComponentSchema> make_schemas() {
     c.controls = {{"joint", "sphere", "yellow", 0.05, "One control per joint."}};
     c.hooks = {"guide[i]"};
     c.fixed_guides = -1;  // the controls hold the joints' pose
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "call";
+    c.help =
+        "Runs a registered build function (a build graph's function node; docs/BUILD_GRAPH.md) as one build step, "
+        "after the components it reads.";
+    c.params = {p_string("function", "", "The build function's id."),
+                p_string("args", "{}",
+                         "Its inputs, a JSON object: values, {\"$component\": RIGID} or {\"$output\": [RIGID, NAME]}.")};
+    c.guides = {0, 0, {}, "None."};
+    c.check = [](const Component& component) {
+      std::vector<std::string> problems;
+      const Param* fn = component.param("function");
+      if (!fn || !std::holds_alternative<std::string>(fn->value) || std::get<std::string>(fn->value).empty())
+        problems.push_back("a call needs the id of its build function (parameter 'function')");
+      const Param* args = component.param("args");
+      if (args && std::holds_alternative<std::string>(args->value)) {
+        const auto parsed = nlohmann::json::parse(std::get<std::string>(args->value), nullptr, false);
+        if (!parsed.is_object()) problems.push_back("parameter 'args' must be a JSON object");
+      }
+      return problems;
+    };
     s.push_back(std::move(c));
   }
   return s;

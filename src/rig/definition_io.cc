@@ -66,6 +66,7 @@ std::optional<std::int64_t> parse_int(std::string_view text) {
 
 namespace {
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+}  // namespace
 
 std::vector<std::string_view> split_words(std::string_view text) {
   std::vector<std::string_view> out;
@@ -78,7 +79,6 @@ std::vector<std::string_view> split_words(std::string_view text) {
   }
   return out;
 }
-}  // namespace
 
 std::optional<math::Vec3> parse_vec3(std::string_view text) {
   const auto words = split_words(text);
@@ -168,6 +168,12 @@ std::optional<Syntax> syntax_of(const std::filesystem::path& path) {
   if (ext == ".xml") return Syntax::kXml;
   if (ext == ".json") return Syntax::kJson;
   return std::nullopt;
+}
+
+std::string detail::join_words(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : " ") + w;
+  return out;
 }
 
 std::string Diagnostic::str() const {

@@ -41,6 +41,9 @@ std::optional<std::int64_t> parse_int(std::string_view text);
 // "x y z" (any whitespace between, none required around); nullopt otherwise.
 std::optional<math::Vec3> parse_vec3(std::string_view text);
 std::string vec3_text(const math::Vec3& v);
+// Whitespace-separated words ("a b  c" -> {a, b, c}), and back with one space.
+std::vector<std::string_view> split_words(std::string_view text);
+std::string join_words(const std::vector<std::string>& words);
 // "x,y" (guiLocation in XML).
 std::optional<std::pair<double, double>> parse_pair(std::string_view text);
 std::string pair_text(const std::pair<double, double>& v);

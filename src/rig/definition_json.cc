@@ -409,8 +409,8 @@ class JsonReader {
     Component c;
     c.where = value_at(path);
     check_keys(j, path,
-               {"type", "name", "side", "version", "rigId", "attach", "guiLocation", "guides", "controls", "params",
-                "features", "children"},
+               {"type", "name", "side", "version", "rigId", "attach", "after", "guiLocation", "guides", "controls",
+                "params", "features", "children"},
                "a component");
     read_string(j, path, "type", c.type);
     read_string(j, path, "name", c.name);
@@ -426,6 +426,9 @@ class JsonReader {
     read_string(j, path, "version", c.version);
     read_string(j, path, "rigId", c.rig_id);
     read_string(j, path, "attach", c.attach);
+    for_each(j, path, "after", [&](const Json& id, const std::string& p) {
+      if (expect(id, p, id.is_string(), "an 'after' entry", "a rigId string")) c.after.push_back(id.get<std::string>());
+    });
     read_gui_location(j, path, c.gui_location);
     for_each(j, path, "guides", [&](const Json& g, const std::string& p) {
       if (!expect(g, p, g.is_object(), "a guide", "an object")) return;
@@ -536,6 +539,7 @@ Json component_json(const Component& c) {
   j["version"] = c.version;
   if (!c.rig_id.empty()) j["rigId"] = c.rig_id;
   if (!c.attach.empty()) j["attach"] = c.attach;
+  if (!c.after.empty()) j["after"] = c.after;
   if (c.gui_location) j["guiLocation"] = Json::array({c.gui_location->first, c.gui_location->second});
   if (!c.guides.empty()) {
     Json a = Json::array();

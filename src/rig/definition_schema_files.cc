@@ -116,6 +116,8 @@ Json component_type_schema(const ComponentSchema& s) {
 
 }  // namespace
 
+// Over 150 lines: the JSON Schema document written top to bottom in the
+// order it reads; split, its parts would be read out of order.
 std::string definition_json_schema(const SchemaRegistry& schemas) {
   Json defs = Json::object();
   {
@@ -219,6 +221,11 @@ std::string definition_json_schema(const SchemaRegistry& schemas) {
         {"description",
          "A hook of the parent (name, index, START, MIDDLE, END; default hook 0), or OTHER.HOOK: a hook of another "
          "component, OTHER a name, NAME_SIDE or rigId."}};
+    props["after"] = Json{{"type", "array"},
+                          {"items", ref("rigId")},
+                          {"description",
+                           "rigIds of other components it builds after (what it reads from them); an update that "
+                           "rebuilds one rebuilds it too."}};
     props["guiLocation"] = ref("guiLocation");
     props["guides"] = array_of("guide");
     props["controls"] = array_of("control");
@@ -329,6 +336,8 @@ constexpr const char* kDataDoc =
     "Hand-made data the build imports, in order, after the components are built (its last step, data); file is "
     "relative to the definition's folder.";
 
+// Over 150 lines: the XSD document written top to bottom in the order it
+// reads; split, its parts would be read out of order.
 std::string definition_xsd(const SchemaRegistry& schemas) {
   const std::string num = kNumberPattern;
   std::string o;
@@ -413,6 +422,7 @@ std::string definition_xsd(const SchemaRegistry& schemas) {
   attr(2, "version", "Version", " default=\"1.0\"");
   attr(2, "rigId", "RigId", " use=\"required\"");
   attr(2, "attach", "xs:string");
+  attr(2, "after", "RigIdList");
   attr(2, "guiLocation", "GuiLocation");
   line(1, "</xs:complexType>");
 
@@ -471,6 +481,10 @@ std::string definition_xsd(const SchemaRegistry& schemas) {
   pattern("Version", ".+", nullptr);
   pattern("RigId", "[0-9a-fA-F]{8}-?[0-9a-fA-F]{4}-?4[0-9a-fA-F]{3}-?[89abAB][0-9a-fA-F]{3}-?[0-9a-fA-F]{12}",
           "A UUID v4, with or without dashes.");
+  line(1, "<xs:simpleType name=\"RigIdList\">");
+  line(2, "<xs:annotation><xs:documentation>rigIds separated by spaces.</xs:documentation></xs:annotation>");
+  line(2, "<xs:list itemType=\"RigId\"/>");
+  line(1, "</xs:simpleType>");
   pattern("Number", num, nullptr);
   pattern("Vec3", "\\s*" + num + "\\s+" + num + "\\s+" + num + "\\s*", "Three numbers: x y z.");
   pattern("GuiLocation", "\\s*" + num + "\\s*,\\s*" + num + "\\s*", "x,y: where the node editor draws the element.");

@@ -478,7 +478,7 @@ class XmlReader {
     Component c;
     c.where = at(n);
 
-    const auto attrs = check_attrs(n, {"type", "name", "side", "version", "rigId", "attach", "guiLocation"});
+    const auto attrs = check_attrs(n, {"type", "name", "side", "version", "rigId", "attach", "after", "guiLocation"});
     c.type = n.attribute("type").value();
     c.name = n.attribute("name").value();
     if (const pugi::xml_attribute side = n.attribute("side")) {
@@ -492,6 +492,7 @@ class XmlReader {
     if (const pugi::xml_attribute v = n.attribute("version")) c.version = v.value();
     c.rig_id = n.attribute("rigId").value();
     c.attach = n.attribute("attach").value();
+    for (std::string_view id : split_words(n.attribute("after").value())) c.after.emplace_back(id);
     read_gui_location(n, attrs, c.gui_location);
     children(n, [&](pugi::xml_node e, std::string_view name) {
       if (name == "guide") {
@@ -615,6 +616,7 @@ class XmlWriter {
     Attrs attrs = {{"type", c.type}, {"name", c.name}, {"side", side_name(c.side)}, {"version", c.version}};
     if (!c.rig_id.empty()) attrs.emplace_back("rigId", c.rig_id);
     if (!c.attach.empty()) attrs.emplace_back("attach", c.attach);
+    if (!c.after.empty()) attrs.emplace_back("after", join_words(c.after));
     if (c.gui_location) attrs.emplace_back("guiLocation", pair_text(*c.gui_location));
     const bool has_children = !c.guides.empty() || !c.controls.empty() || !c.params.empty() || !c.features.empty() ||
                               !c.children.empty();

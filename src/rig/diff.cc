@@ -232,7 +232,7 @@ class Differ {
     if (a.name != b.name || a.side != b.side)
       add(DifferenceKind::kComponentRenamed, b, "", a.name + " (" + side_name(a.side) + ")",
           b.name + " (" + side_name(b.side) + ")");
-    if (sa_.parent_key(&a) != sb_.parent_key(&b) || a.attach != b.attach)
+    if (sa_.parent_key(&a) != sb_.parent_key(&b) || a.attach != b.attach || a.after != b.after)
       add(DifferenceKind::kComponentMoved, b, "", sa_.placement(&a), sb_.placement(&b));
     if (a.type != b.type) add(DifferenceKind::kComponentTypeChanged, b, "", a.type, b.type);
     if (a.version != b.version) add(DifferenceKind::kComponentVersionChanged, b, "", a.version, b.version);

@@ -131,6 +131,8 @@ Status register_rig_types(graph::Registry& registry) {
                      string_attr("rigId"),
                      graph::input_attr("tags", kStrings, Value(std::vector<std::string>{})),
                      string_attr("buildRecord"),
+                     // A call's outputs (build_function.h): JSON {NAME: VALUE}.
+                     string_attr("outputs"),
                      message_attr("metaChildren"),
                      message_attr("members")};
   return registry.add(std::move(component));

@@ -1,6 +1,7 @@
 #include "rigel/rig/templates.h"
 
 #include <cctype>
+#include <map>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -68,6 +69,26 @@ bool token_at(std::string_view s, std::size_t i, std::string_view token) {
 // identity bit for bit and angles keep their range (a matrix round trip
 // through math::matrix_to_euler would fold 170/100/-30 into the canonical
 // range and lose the last bits). The tests check M R M with rigel::math.
+// Runs `change` (which may give components new rigIds, not add or remove
+// any), then points each `after` entry that named a component of `roots`
+// to its new rigId, so what builds after what survives fresh ids.
+template <typename F>
+void following_ids(std::vector<Component>& roots, F&& change) {
+  std::vector<std::string> before;
+  walk_all(roots, [&](const Component& c) { before.push_back(c.rig_id); });
+  change();
+  std::map<std::string, std::string> renewed;
+  std::size_t k = 0;
+  walk_all(roots, [&](const Component& c) {
+    if (k < before.size() && before[k] != c.rig_id) renewed.emplace(before[k], c.rig_id);
+    ++k;
+  });
+  walk_all(roots, [&](Component& c) {
+    for (std::string& id : c.after)
+      if (auto it = renewed.find(id); it != renewed.end()) id = it->second;
+  });
+}
+
 math::Vec3 mirror_rotate(const math::Vec3& degrees) { return {degrees.x(), -degrees.y(), -degrees.z()}; }
 
 void mirror_in_place(Component& c, const MirrorOptions& options) {
@@ -150,7 +171,7 @@ Status inject_template(Definition& rig, const Definition& templ, std::string_vie
 
   // Ids: fresh, or kept when no clash.
   if (options.new_ids) {
-    walk_all(injected, [](Component& c) { c.rig_id = new_rig_id(); });
+    following_ids(injected, [&] { walk_all(injected, [](Component& c) { c.rig_id = new_rig_id(); }); });
   } else {
     if (std::string repeated = repeated_rig_id(injected); !repeated.empty()) {
       return error(ErrorCode::kInvalidArgument, where + "the template repeats rigId '" + repeated + "'");
@@ -227,15 +248,17 @@ std::optional<Side> side_of_name(std::string_view name, const MirrorOptions& opt
 }
 
 Component mirror_component(const Component& component, const MirrorOptions& options) {
-  Component mirrored = component;
-  mirror_in_place(mirrored, options);
-  return mirrored;
+  std::vector<Component> mirrored{component};
+  following_ids(mirrored, [&] { mirror_in_place(mirrored.front(), options); });
+  return std::move(mirrored.front());
 }
 
 Definition mirror_template(const Definition& templ, const MirrorOptions& options) {
   Definition mirrored = templ;
   mirrored.name = mirror_name(templ.name, options);
-  for (Component& c : mirrored.components) mirror_in_place(c, options);
+  following_ids(mirrored.components, [&] {
+    for (Component& c : mirrored.components) mirror_in_place(c, options);
+  });
   return mirrored;
 }
 

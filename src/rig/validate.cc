@@ -55,6 +55,7 @@ class Validator {
     for (const Component& root : d_.components) index(root, nullptr);
     for (std::size_t i = 0; i < nodes_.size(); ++i) check_component(i);
     for (std::size_t i = 0; i < nodes_.size(); ++i) check_attach(i);
+    for (std::size_t i = 0; i < nodes_.size(); ++i) check_after(i);
     check_cycles();
     return std::move(errors_);
   }
@@ -65,6 +66,7 @@ class Validator {
     int parent;       // nesting parent, -1 at the root
     int other = -1;   // component named by attach="OTHER.HOOK"
     const ComponentSchema* schema;
+    std::vector<int> after = {};  // components named by after
   };
 
   void error(SourceLocation where, std::string message) { errors_.push_back({d_.source, where, std::move(message)}); }
@@ -187,6 +189,8 @@ class Validator {
     check_guides(c, s, who);
     check_controls(c, s, who);
     check_features(c.features, who, s.features, "features of " + s.type);
+    if (s.check)
+      for (std::string& problem : s.check(c)) error(c.where, who + ": " + std::move(problem));
   }
 
   void check_params(const Component& c, const ComponentSchema& s, const std::string& who) {
@@ -392,8 +396,24 @@ class Validator {
                        (dot != std::string::npos ? ", and no component is named '" + c.attach.substr(0, dot) + "'" : ""));
   }
 
-  // A component depends on its nesting parent and on the component its
-  // attach names; a cycle of such dependencies cannot be built. Iterative
+  // Each rigId of `after` names another component of the definition.
+  void check_after(std::size_t i) {
+    Node& n = nodes_[i];
+    const Component& c = *n.c;
+    for (const std::string& id : c.after) {
+      const auto it = rig_ids_.find(normalized_rig_id(id));
+      if (it == rig_ids_.end()) {
+        error(c.where, label(c) + ": after '" + id + "': no component has that rigId");
+      } else if (it->second == &c) {
+        error(c.where, label(c) + ": after '" + id + "': a component cannot build after itself");
+      } else {
+        n.after.push_back(index_of_.at(it->second));
+      }
+    }
+  }
+
+  // A component depends on its nesting parent, on the component its
+  // attach names and on those its `after` names; a cycle of such dependencies cannot be built. Iterative
   // depth-first search; each cycle is reported once, at a component whose
   // attach closes it.
   void check_cycles() {
@@ -407,7 +427,8 @@ class Validator {
       while (!stack.empty()) {
         auto& [node, edge] = stack.back();
         const Node& n = nodes_[static_cast<std::size_t>(node)];
-        const int next = edge == 0 ? n.parent : edge == 1 ? n.other : -2;
+        const std::size_t k = static_cast<std::size_t>(edge);
+        const int next = k == 0 ? n.parent : k == 1 ? n.other : k - 2 < n.after.size() ? n.after[k - 2] : -2;
         ++edge;
         if (next == -2) {
           state[static_cast<std::size_t>(node)] = 2;
@@ -449,7 +470,7 @@ class Validator {
     }
     const Component& at = *nodes_[static_cast<std::size_t>(cycle[first])].c;
     error(at.where, label(at) + ": cycle through hooks: " + path +
-                        " (each depends on the next through nesting or attach, so none can be built first)");
+                        " (each depends on the next through nesting, attach or after, so none can be built first)");
   }
 
   const Definition& d_;

@@ -10,6 +10,7 @@
 
 #include "rigel/base/log.h"
 #include "rigel/ephemeral/component.h"
+#include "rigel/tools/build_functions.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/meta.h"
 #include "rigel/tools/blendshape_data.h"
@@ -165,6 +166,8 @@ rig::ComponentFactory::DataImporter data_importer() {
 }
 
 const rig::ComponentFactory& components() {
+  // Builds with this factory run build graphs' calls: the shipped functions are there.
+  register_build_functions();
   static const rig::ComponentFactory factory = [] {
     rig::ComponentFactory f = ephemeral::components();
     f.set_data_importer(data_importer());

@@ -10,6 +10,11 @@
 
 #include "../rig/rig_test_util.h"
 #include "rigel/app/rig_files.h"
+#include "rigel/ephemeral/rig.h"
+#include "rigel/rig/build_function.h"
+#include "rigel/rig/spaces.h"
+#include "rigel/tools/build_functions.h"
+#include "rigel/tools/rigging.h"
 #include "rigel/rig/manager.h"
 #include "rigel/tools/data_files.h"
 
@@ -55,6 +60,89 @@ TEST(AppBuildGraph, the_converted_biped_builds_the_definitions_rig) {
   // A graph name is required of the output.
   EXPECT_EQ(app::convert_definition_file(definition, dir / "biped.json").status().field(), "output");
   fs::remove_all(dir);
+}
+
+// A node of kind `kind` added to `g`, linked into the exec chain's end.
+rig::GraphNode& append(rig::BuildGraph& g, const std::string& id, const std::string& kind) {
+  // The chain's end: the node whose exec output nothing follows.
+  std::string last = "start";
+  for (bool moved = true; moved;) {
+    moved = false;
+    for (const rig::GraphLink& l : g.links)
+      if (l.from.node == last && l.to.socket == "exec") {
+        last = l.to.node;
+        moved = true;
+        break;
+      }
+  }
+  rig::GraphNode n;
+  n.id = id;
+  n.kind = kind;
+  g.nodes.push_back(std::move(n));
+  g.links.push_back(rig::GraphLink{{last, "then"}, {id, "exec"}, {}});
+  return g.nodes.back();
+}
+
+TEST(AppBuildGraph, the_shipped_functions_run_as_build_steps_on_the_biped) {
+  tools::register_build_functions();
+  auto definition = rig::read_definition(fs::path(RIGEL_SOURCE_DIR) / "examples/biped.rig.xml");
+  ASSERT_TRUE(definition.is_ok());
+  rig::BuildGraph g = rig::convert_definition(*definition);
+  append(g, "mirror", "function:rigel.mirrorControlShapes");
+  g.links.push_back(rig::GraphLink{{"arm_L", "component"}, {"mirror", "component"}, {}});
+  append(g, "colour", "function:rigel.setControlColor")
+      .values.push_back(rig::Param{"color", math::Vec3(0.1, 0.2, 0.3), {}});
+  g.links.push_back(rig::GraphLink{{"spine", "component"}, {"colour", "component"}, {}});
+  rig::GraphNode& space = append(g, "space", "function:rigel.addSpace");
+  space.values.push_back(rig::Param{"name", std::string("neck"), {}});
+  g.links.push_back(rig::GraphLink{{"arm_L", "component"}, {"space", "component"}, {}});
+  g.links.push_back(rig::GraphLink{{"neck", "component"}, {"space", "target"}, {}});
+  rig::BuildGraphCompile compiled = rig::compile_build_graph(g);
+  ASSERT_TRUE(compiled.ok()) << compiled.errors[0].str();
+
+  // The same rig from the definition, the shapes mirrored by hand: what the call must give.
+  rig::testing::BuiltRig plain;
+  plain.scene = rig::testing::metarig(ephemeral::default_registry());
+  ASSERT_TRUE(plain.scene);
+  auto b0 = rig::Build::open(*plain.scene, *definition, tools::components());
+  ASSERT_TRUE(b0.is_ok() && (*b0)->build_all().is_ok());
+  graph::Graph& pg = plain.scene->graph();
+  std::vector<graph::NodeId> left;
+  for (graph::NodeId m : rig::meta_members(pg, rig::find_component(pg, rig::find_rig(pg, "hero"), "arm_L")))
+    if (pg.node(m)->type().name() == scene::kControlType) left.push_back(m);
+  ASSERT_TRUE(tools::mirror_shape_to_opposite(*plain.scene, left).is_ok());
+
+  auto scene = rig::testing::metarig(ephemeral::default_registry());
+  ASSERT_TRUE(scene);
+  const std::string before = io::write_scene(*scene);
+  auto b = rig::Build::open(*scene, compiled.definition, tools::components());
+  ASSERT_TRUE(b.is_ok()) << b.status().message();
+  const Status built = (*b)->build_all();
+  ASSERT_TRUE(built.is_ok()) << built.message();
+  graph::Graph& gg = scene->graph();
+  const graph::NodeId hero = rig::find_rig(gg, "hero");
+  for (const char* control : {"hero:arm_R/fk[0]", "hero:arm_R/ik[0]", "hero:arm_R/pole[0]"}) {
+    auto mirrored = tools::control_look(gg, *rig::resolve_address(gg, control));
+    auto expected = tools::control_look(pg, *rig::resolve_address(pg, control));
+    ASSERT_TRUE(mirrored.is_ok() && expected.is_ok()) << control;
+    EXPECT_EQ(mirrored->points, expected->points) << control;
+  }
+  EXPECT_EQ(rig::meta_string(gg, rig::find_component(gg, hero, "mirror"), rig::kOutputsAttr),
+            "{\"count\":" + std::to_string(left.size()) + "}");
+  int coloured = 0;
+  for (graph::NodeId m : rig::meta_members(gg, rig::find_component(gg, hero, "spine")))
+    if (gg.node(m)->type().name() == scene::kControlType) {
+      EXPECT_EQ(tools::control_look(gg, m)->color, math::Vec3(0.1, 0.2, 0.3)) << gg.node(m)->name();
+      ++coloured;
+    }
+  EXPECT_GT(coloured, 0);
+  const rig::ControlSpaces spaces = rig::spaces_of(*scene, *rig::resolve_address(gg, "hero:arm_L/ik[0]"));
+  ASSERT_FALSE(spaces.spaces.empty());
+  EXPECT_EQ(spaces.spaces.back().name, "neck");
+  // The calls are steps like the others: all undone exactly.
+  ASSERT_TRUE((*b)->remove().is_ok());
+  const std::string after = io::write_scene(*scene);
+  EXPECT_TRUE(after == before) << rig::testing::first_difference(after, before);
 }
 
 }  // namespace

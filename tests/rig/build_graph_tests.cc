@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "rig_test_util.h"
+#include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
 #include "rigel/rig/definition_io.h"
 
@@ -311,6 +312,228 @@ TEST(BuildGraph, node_kinds_follow_the_schemas_and_types_refuse_what_does_not_fi
   NodeKindRegistry more = kinds;
   EXPECT_EQ(more.add(NodeKind{"branch", "", "", {}, {}, ""}).code(), ErrorCode::kAlreadyExists);
   EXPECT_EQ(more.add(NodeKind{"x", "", "", {{"a", "curve", ""}}, {}, ""}).code(), ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace rigel::rig
+
+// ---- function nodes -------------------------------------------------------------
+
+namespace rigel::rig {
+namespace {
+
+// Test functions, registered once per process (origin "rig tests").
+void register_test_functions() {
+  static const bool registered = [] {
+    FunctionRegistry& r = build_functions();
+    const auto add = [&](BuildFunction f) {
+      f.origin = "rig tests";
+      const Status s = r.add(std::move(f));
+      EXPECT_TRUE(s.is_ok()) << s.message();
+    };
+    // Colours each control of a component (a change to nodes another step made).
+    add({"test.colorControls", "Colour controls", "Test", "",
+         {{"component", "component", ""}, {"color", "vector", ""}}, {{"count", "int", ""}}, {},
+         [](FunctionCall& call) -> Status {
+           graph::Graph& g = call.scene().graph();
+           std::int64_t count = 0;
+           for (NodeId m : meta_members(g, call.component("component")))
+             if (g.node(m)->type().name() == scene::kControlType) {
+               const graph::Plug color{m, scene::control_attr::kShapeColor, -1};
+               if (Status s = g.set_value(color, graph::Value(std::get<math::Vec3>(*call.value("color")))); !s)
+                 return s;
+               ++count;
+             }
+           call.set_output("count", count);
+           return Status::ok();
+         },
+         {}});
+    add({"test.double", "Double", "Test", "", {{"x", "number", ""}}, {{"y", "number", ""}},
+         {Param{"x", 1.0, {}}},
+         [](FunctionCall& call) -> Status {
+           call.set_output("y", 2.0 * std::get<double>(*call.value("x")));
+           return Status::ok();
+         },
+         {}});
+    add({"test.fail", "Fail", "Test", "", {}, {}, {},
+         [](FunctionCall&) { return error(ErrorCode::kFailedPrecondition, "refused on purpose"); }, {}});
+    return true;
+  }();
+  (void)registered;
+}
+
+// drawn(), then: colour the left arm's controls; double 1.5 into variable v;
+// double v twice more (one variable, two later readers).
+BuildGraph with_functions() {
+  register_test_functions();
+  BuildGraph g = drawn();
+  g.variables.push_back(GraphVariable{"v", "number", 0.0, {}});
+  const auto add = [&](std::string id, std::string kind) {
+    g.nodes.push_back(node(std::move(id), std::move(kind)));
+    return &g.nodes.back();
+  };
+  add("tag", "function:test.colorControls");
+  add("grey", "constant:vector")->values.push_back(Param{"value", math::Vec3(0.25, 0.5, 0.75), {}});
+  add("dbl", "function:test.double")->values.push_back(Param{"x", 1.5, {}});
+  add("toV", "variable:set")->variable = "v";
+  add("v1", "variable:get")->variable = "v";
+  add("v2", "variable:get")->variable = "v";
+  add("dbl2", "function:test.double");
+  add("dbl3", "function:test.double");
+  for (GraphLink l : {link("armR", "then", "tag", "exec"), link("tag", "then", "dbl", "exec"),
+                      link("dbl", "then", "toV", "exec"), link("toV", "then", "dbl2", "exec"),
+                      link("dbl2", "then", "dbl3", "exec"), link("armL", "component", "tag", "component"),
+                      link("grey", "value", "tag", "color"), link("dbl", "y", "toV", "value"),
+                      link("v1", "value", "dbl2", "x"), link("v2", "value", "dbl3", "x")})
+    g.links.push_back(l);
+  return g;
+}
+
+const Component* component_named(const Definition& d, const std::string& name) {
+  for (const Component* c : d.all_components())
+    if (c->name == name) return c;
+  return nullptr;
+}
+
+TEST(BuildGraphFunctions, function_nodes_compile_to_calls_after_what_they_read) {
+  const Definition d = compiled(with_functions());
+  ASSERT_EQ(d.components.size(), 5u) << "global, then the calls tag, dbl, dbl2, dbl3 as roots";
+  const Component* tag = component_named(d, "tag");
+  const Component* dbl = component_named(d, "dbl");
+  const Component* dbl2 = component_named(d, "dbl2");
+  const Component* arm_l = component_named(d, "arm");
+  ASSERT_TRUE(tag && dbl && dbl2 && arm_l);
+  EXPECT_EQ(tag->type, kCallType);
+  EXPECT_EQ(tag->after, std::vector<std::string>{arm_l->rig_id});
+  EXPECT_EQ(std::get<std::string>(tag->param("args")->value),
+            "{\"component\":{\"$component\":\"" + arm_l->rig_id + "\"},\"color\":[0.25,0.5,0.75]}");
+  EXPECT_EQ(std::get<std::string>(dbl->param("args")->value), "{\"x\":1.5}");
+  EXPECT_EQ(std::get<std::string>(dbl2->param("args")->value), "{\"x\":{\"$output\":[\"" + dbl->rig_id + "\",\"y\"]}}");
+  EXPECT_EQ(dbl2->after, std::vector<std::string>{dbl->rig_id});
+  // Stable ids: the same graph compiles to the same rigIds.
+  EXPECT_EQ(component_named(compiled(with_functions()), "dbl2")->rig_id, dbl2->rig_id);
+  // The definition round-trips through both syntaxes with its calls.
+  for (Syntax syntax : {Syntax::kXml, Syntax::kJson}) {
+    ParseResult back = parse_definition(write_definition(d, syntax), syntax, "calls");
+    ASSERT_TRUE(back.ok());
+    EXPECT_EQ(write_definition(back.definition, Syntax::kJson), write_definition(d, Syntax::kJson));
+  }
+}
+
+TEST(BuildGraphFunctions, calls_are_build_steps_stepped_rebuilt_by_data_flow_and_removed_exactly) {
+  BuildGraph g = with_functions();
+  BuiltRig r = built_rig(compiled(g));
+  ASSERT_TRUE(r.build);
+  graph::Graph& graph = r.g();
+  // The metaRoot is made again when the build steps back to 0: found each time.
+  const auto rig = [&] { return find_rig(graph, "drawn"); };
+  const auto output = [&](const std::string& call) {
+    const NodeId meta = find_component(graph, rig(), call);
+    return meta.is_valid() ? meta_string(graph, meta, kOutputsAttr) : std::string("(none)");
+  };
+  EXPECT_EQ(output("dbl"), "{\"y\":3.0}");
+  EXPECT_EQ(output("dbl2"), "{\"y\":6.0}");
+  EXPECT_EQ(output("dbl3"), "{\"y\":6.0}");
+  EXPECT_EQ(output("tag"), "{\"count\":4}");
+  const NodeId fk0 = *resolve_address(graph, "drawn:arm_L/fk[0]");
+  EXPECT_EQ(std::get<math::Vec3>(graph.node(fk0)->value(scene::control_attr::kShapeColor)), math::Vec3(0.25, 0.5, 0.75));
+  expect_stepping_gives_the_straight_build(*r.build, *r.scene);
+
+  const auto uuids = [&] {
+    std::map<std::string, std::string> out;
+    for (NodeId id : graph.nodes()) out[graph.node(id)->name()] = graph.node(id)->uuid().str();
+    return out;
+  };
+  // A new constant: only the calls that read it, directly or through the variable.
+  for (GraphNode& n : g.nodes)
+    if (n.id == "dbl") n.values[0].value = 2.0;
+  auto rebuilt = r.build->rebuild_changed(compiled(g));
+  ASSERT_TRUE(rebuilt.is_ok()) << rebuilt.status().message();
+  std::vector<std::string> names;
+  for (const std::string& id : *rebuilt)
+    names.push_back(meta_string(graph, find_component(graph, rig(), id), "componentName"));
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"dbl", "dbl2", "dbl3"}));
+  EXPECT_EQ(output("dbl3"), "{\"y\":8.0}");
+  // The left arm's chain changes: it and the call that reads it.
+  const auto before = uuids();
+  for (GraphNode& n : g.nodes)
+    if (n.id == "armL") n.component.guides.pop_back();
+  rebuilt = r.build->rebuild_changed(compiled(g));
+  ASSERT_TRUE(rebuilt.is_ok()) << rebuilt.status().message();
+  names.clear();
+  for (const std::string& id : *rebuilt)
+    names.push_back(meta_string(graph, find_component(graph, rig(), id), "componentName"));
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"arm_L", "tag"}));
+  const auto after = uuids();
+  for (const std::string kept : {"drawn_arm_R_fk0", "drawn_global_main"}) {
+    ASSERT_TRUE(before.count(kept) && after.count(kept)) << kept;
+    EXPECT_EQ(before.at(kept), after.at(kept)) << kept;
+  }
+  EXPECT_EQ(output("tag"), "{\"count\":3}");
+  ASSERT_TRUE(r.build->remove().is_ok());
+  const std::string text = io::write_scene(*r.scene);
+  EXPECT_TRUE(text == r.before) << first_difference(text, r.before);
+}
+
+TEST(BuildGraphFunctions, a_function_that_fails_stops_the_build_at_its_step_naming_it) {
+  BuildGraph g = with_functions();
+  g.nodes.push_back(node("oops", "function:test.fail"));
+  g.links.push_back(link("dbl3", "then", "oops", "exec"));
+  BuiltRig r;
+  r.scene = metarig();
+  ASSERT_TRUE(r.scene);
+  auto b = Build::open(*r.scene, compiled(g), builtin_components());
+  ASSERT_TRUE(b.is_ok()) << b.status().message();
+  const Status s = (*b)->build_all();
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_NE(s.message().find("call 'oops' (test.fail): refused on purpose"), std::string::npos) << s.message();
+  // Everything before it is built; its own step was rolled back.
+  EXPECT_EQ((*b)->position(), static_cast<int>((*b)->plan().size()) - 1);
+  const NodeId oops = find_component(r.g(), find_rig(r.g(), "drawn"), "oops");
+  EXPECT_TRUE(oops.is_valid()) << "its meta step is built";
+  EXPECT_EQ(meta_string(r.g(), oops, kOutputsAttr), "");
+}
+
+TEST(BuildGraphFunctions, function_nodes_are_refused_where_they_cannot_work) {
+  register_test_functions();
+  // Reading a function's output where a value is needed before the build.
+  BuildGraph g = drawn();
+  g.nodes[3].kind = "component:ikChain";
+  g.nodes[3].component.type = "ikChain";
+  g.nodes.push_back(node("early", "function:test.double"));
+  g.links[2] = link("hip", "then", "early", "exec");
+  g.links.push_back(link("early", "then", "armL", "exec"));
+  g.links.push_back(link("early", "y", "armL", "poleDistance"));
+  EXPECT_NE(problems(g).find("node 'armL': input 'poleDistance' reads a value the build makes"), std::string::npos)
+      << problems(g);
+  // An unregistered function is an unknown kind.
+  g = drawn();
+  g.nodes.push_back(node("x", "function:studio.nothing"));
+  g.links.push_back(link("armR", "then", "x", "exec"));
+  EXPECT_NE(problems(g).find("node 'x': unknown node kind 'function:studio.nothing'"), std::string::npos) << problems(g);
+  // A second registration of an id names both origins.
+  BuildFunction again{"test.double", "", "", "", {}, {}, {}, [](FunctionCall&) { return Status::ok(); }, "plugin.py"};
+  const Status s = build_functions().add(again);
+  EXPECT_EQ(s.code(), ErrorCode::kAlreadyExists);
+  EXPECT_NE(s.message().find("plugin.py"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("rig tests"), std::string::npos) << s.message();
+  // Sockets of types a function cannot take.
+  BuildFunction bad{"test.bad", "", "", "", {{"x", "exec", ""}}, {}, {}, [](FunctionCall&) { return Status::ok(); }, ""};
+  EXPECT_EQ(build_functions().add(bad).code(), ErrorCode::kInvalidArgument);
+  // A definition whose `after` names no component, or closes a cycle.
+  Definition d = compiled(with_functions());
+  d.components[1].after.push_back(new_rig_id());
+  std::string text;
+  for (const Diagnostic& p : validate(d)) text += p.message + "\n";
+  EXPECT_NE(text.find("after '"), std::string::npos) << text;
+  EXPECT_NE(text.find("no component has that rigId"), std::string::npos) << text;
+  d = compiled(with_functions());
+  d.components[2].after.push_back(d.components[3].rig_id);  // dbl after dbl2, which reads dbl
+  text.clear();
+  for (const Diagnostic& p : validate(d)) text += p.message + "\n";
+  EXPECT_NE(text.find("cycle"), std::string::npos) << text;
 }
 
 }  // namespace

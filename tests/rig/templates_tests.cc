@@ -456,3 +456,40 @@ TEST(Templates, mirrored_template_injects_beside_the_original) {
 
 }  // namespace
 }  // namespace rigel::rig
+
+namespace rigel::rig {
+namespace {
+
+// `after` names components by rigId: fresh ids for a mirror or an injected
+// copy take the names with them, and ids outside the copy stay.
+TEST(Templates, fresh_ids_carry_what_builds_after_what) {
+  Definition d;
+  d.name = "r";
+  Component root;
+  root.type = "global";
+  root.name = "global";
+  root.rig_id = new_rig_id();
+  Component x, y;
+  x.type = y.type = "fkChain";
+  x.name = "x_L";
+  y.name = "y_L";
+  x.rig_id = new_rig_id();
+  y.rig_id = new_rig_id();
+  const std::string outside = new_rig_id();
+  y.after = {x.rig_id, outside};
+  root.children = {x, y};
+  d.components = {root};
+  const Definition mirrored = mirror_template(d);
+  const Component& mx = mirrored.components[0].children[0];
+  const Component& my = mirrored.components[0].children[1];
+  EXPECT_NE(mx.rig_id, x.rig_id);
+  EXPECT_EQ(my.after, (std::vector<std::string>{mx.rig_id, outside}));
+  Definition target;
+  target.name = "t";
+  ASSERT_TRUE(inject_template(target, d, "", "", InjectOptions{}).is_ok());
+  const Component& ix = target.components[0].children[0];
+  EXPECT_EQ(target.components[0].children[1].after, (std::vector<std::string>{ix.rig_id, outside}));
+}
+
+}  // namespace
+}  // namespace rigel::rig

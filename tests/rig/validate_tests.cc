@@ -48,7 +48,7 @@ std::vector<std::string> messages(const Definition& d, const SchemaRegistry& s =
 TEST(Validate, an_invalid_file_lists_every_problem_at_its_element) {
   const std::vector<Diagnostic> errors = check_definition(data("invalid_semantic.rig.xml"));
   const std::vector<std::string> expected = {
-      "5:5: component 'wing' (wing, L): unknown component type 'wing' (types: ephemeral, eye, fkChain, foot, global, "
+      "5:5: component 'wing' (wing, L): unknown component type 'wing' (types: call, ephemeral, eye, fkChain, foot, global, "
       "hand, hip, ikChain, limb, neck, simple, spine, tail, twist)",
       "6:5: component 'hip' (hip): no rigId (every component needs its own UUID v4)",
       "8:7: component 'arm' (limb, L): rigId 'not-a-uuid' is not a UUID v4 (32 hex digits, dashes optional, version 4)",
@@ -79,7 +79,7 @@ TEST(Validate, an_invalid_file_lists_every_problem_at_its_element) {
 TEST(Validate, a_cycle_through_hooks_names_its_components) {
   const std::vector<std::string> expected = {
       "11:11: component 'a' (fkChain): cycle through hooks: 'a' -> 'c' -> 'b' -> 'a' (each depends on the next through "
-      "nesting or attach, so none can be built first)",
+      "nesting, attach or after, so none can be built first)",
       "30:11: component 'd' (fkChain): attach 'd.0': a component cannot attach to itself",
   };
   EXPECT_EQ(places(check_definition(data("cycle.rig.json"))), expected);

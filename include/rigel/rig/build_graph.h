@@ -88,6 +88,7 @@ inline constexpr const char* kVariableType = "$variable";
 //   constant:TYPE         a value (bool, int, number, string, vector)
 //   variable:get / :set   reads / writes a graph variable
 //   branch                goes on through `true` or `false` by `condition`
+//   function:ID           runs build function ID (build_function.h)
 struct NodeKind {
   std::string id;
   std::string nice_name;  // the palette's and the node's title
@@ -114,7 +115,8 @@ class NodeKindRegistry {
 // The kinds a graph over `schemas` has: start, one component kind per
 // component type (inputs: exec, parent, name, side, attach and every
 // parameter; outputs: then, component), the constants, the variables'
-// get and set, and branch.
+// get and set, branch, and one function kind per build function
+// registered now (build_functions()).
 NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas = builtin_schemas());
 
 // ---- the graph ----------------------------------------------------------------
@@ -138,6 +140,9 @@ struct GraphNode {
   // condition, a set's value) and a constant's `value`.
   std::vector<Param> values;
   std::string variable;  // variable:get / :set
+  // function:ID: the rigId of the call it builds (empty: made from the
+  // rig's name and the node's id, so it stays as long as they do).
+  std::string rig_id;
   SourceLocation where;
   const Param* value(std::string_view name) const;
 };

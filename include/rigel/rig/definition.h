@@ -89,6 +89,10 @@ struct Component {
   std::string version = "1.0";
   std::string rig_id;  // UUID v4 text, as written
   std::string attach;  // hook of the parent ("0", "END", "hips") or "OTHER.HOOK"; empty = hook 0
+  // rigIds of other components it builds after, besides its parent and
+  // attach target: what it reads from them (a build graph's data flow),
+  // so an update that rebuilds one of them rebuilds it too.
+  std::vector<std::string> after;
   std::vector<Guide> guides;
   std::vector<ControlStyle> controls;
   std::vector<Param> params;

@@ -4,6 +4,7 @@
 // the web app's forms.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -71,6 +72,9 @@ struct ComponentSchema {
   // one) take none, because the type makes no control there or its control
   // must stand at the joint; validate() refuses an offset on them.
   int fixed_guides = 0;
+  // Checks of the type's own beyond the ones above (a call's args are a
+  // JSON object): each message is an error at the component.
+  std::function<std::vector<std::string>(const Component&)> check;
 
   const ParamSpec* param(std::string_view name) const;
   const ControlSpec* control(std::string_view role) const;

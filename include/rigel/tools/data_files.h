@@ -64,7 +64,8 @@ std::vector<DataFile> asset_data_files(const Asset& asset);
 // being built; shapes entries the rig lacks are logged as warnings.
 rig::ComponentFactory::DataImporter data_importer();
 
-// Every component class (ephemeral::components()) with data_importer():
+// Every component class (ephemeral::components()) with data_importer(),
+// the shipped build functions registered (build_functions.h):
 // the factory the drivers (CLI, Python, server, publish) build with.
 const rig::ComponentFactory& components();
 

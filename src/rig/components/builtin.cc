@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "rigel/rig/build_function.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/components/basic.h"
 #include "rigel/rig/components/limbs.h"
@@ -18,6 +19,7 @@ const ComponentFactory& builtin_components() {
     if (s) s = components::add_body_components(f);
     if (s) s = components::add_foot_component(f);
     if (s) s = components::add_hand_component(f);
+    if (s) s = add_call_component(f);
     if (!s) {
       std::fprintf(stderr, "rigel: built-in component classes: %s\n", s.message().c_str());
       std::abort();

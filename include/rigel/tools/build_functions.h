@@ -1,0 +1,23 @@
+#pragma once
+// The build functions rigel ships for build graphs' function nodes
+// (rig/build_function.h, docs/BUILD_GRAPH.md): rigger actions a build can
+// run on the components it made.
+//
+//   rigel.mirrorControlShapes  each control's shape onto its opposite control, mirrored in the world
+//   rigel.setControlColor      every control of a component takes a colour
+//   rigel.addSpace             a control of a component gets a space that follows another component's hook
+//
+// Registered once per process into rig::build_functions(); the drivers
+// (CLI, server, Python) register them at start, before reading any graph.
+
+#include "rigel/base/status.h"
+#include "rigel/rig/build_function.h"
+
+namespace rigel::tools {
+
+// Adds the functions to `registry` (kAlreadyExists when one is there).
+Status add_build_functions(rig::FunctionRegistry& registry);
+// add_build_functions(rig::build_functions()), once per process.
+void register_build_functions();
+
+}  // namespace rigel::tools

@@ -1,0 +1,224 @@
+// Build functions (build_function.h): the registry, and the `call`
+// component class whose step runs one.
+#include "rigel/rig/build_function.h"
+
+#include <algorithm>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "definition_io_internal.h"
+#include "rigel/rig/component.h"
+#include "rigel/rig/meta.h"
+
+namespace rigel::rig {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+const SocketSpec* find_socket(const std::vector<SocketSpec>& list, std::string_view name) {
+  for (const SocketSpec& s : list)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+bool is_value_type(const std::string& type) {
+  const DataType* t = builtin_data_types().find(type);
+  return t && t->value_type;
+}
+
+// A JSON value as a value of data type `type`; nullopt when it is not one.
+std::optional<ParamValue> from_json(const Json& j, const std::string& type) {
+  if (type == "bool" && j.is_boolean()) return j.get<bool>();
+  if (type == "int" && j.is_number_integer()) return j.get<std::int64_t>();
+  if (type == "number" && j.is_number()) return j.get<double>();
+  if (type == "string" && j.is_string()) return j.get<std::string>();
+  if (type == "vector" && j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number())
+    return math::Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  return std::nullopt;
+}
+
+bool fits_type(const ParamValue& v, const std::string& type) {
+  return from_json(detail::param_value_json(v), type).has_value();
+}
+
+ParamValue zero(const std::string& type) {
+  if (type == "bool") return false;
+  if (type == "int") return std::int64_t{0};
+  if (type == "number") return 0.0;
+  if (type == "vector") return math::Vec3(math::Vec3::Zero());
+  return std::string();
+}
+
+// The `call` component: one step that runs its function.
+Status run_call(BuildContext& ctx) {
+  const std::string id = ctx.param_string("function");
+  const std::string who = "call '" + ctx.component().full_name() + "' (" + id + ")";
+  const std::optional<BuildFunction> fn = build_functions().find(id);
+  if (!fn)
+    return error(ErrorCode::kNotFound,
+                 who + ": no build function '" + id + "' is registered (is the plugin that registers it loaded?)");
+  Json args;
+  try {
+    args = Json::parse(ctx.param_string("args"));
+  } catch (const Json::exception& e) {
+    return error(ErrorCode::kInvalidArgument, who + ": args: not JSON: " + e.what());
+  }
+  if (!args.is_object()) return error(ErrorCode::kInvalidArgument, who + ": args must be a JSON object");
+  graph::Graph& g = ctx.graph();
+  std::map<std::string, ParamValue> values;
+  std::map<std::string, graph::NodeId> components;
+  for (auto it = args.begin(); it != args.end(); ++it)
+    if (!fn->input(it.key()))
+      return error(ErrorCode::kInvalidArgument, who + ": args: '" + it.key() + "' is not an input of the function");
+  for (const SocketSpec& in : fn->inputs) {
+    const std::string where = who + ": input '" + in.name + "'";
+    if (!args.contains(in.name)) {
+      if (in.type == "component") return error(ErrorCode::kInvalidArgument, where + ": no component given");
+      const auto d =
+          std::find_if(fn->defaults.begin(), fn->defaults.end(), [&](const Param& p) { return p.name == in.name; });
+      values[in.name] = d != fn->defaults.end() ? d->value : zero(in.type);
+      continue;
+    }
+    const Json& a = args[in.name];
+    if (a.is_object() && a.contains("$component")) {
+      const graph::NodeId meta = find_component(g, ctx.root(), a["$component"].get<std::string>());
+      if (!meta.is_valid() || in.type != "component")
+        return error(ErrorCode::kNotFound, where + ": component " + a["$component"].dump() + " is not built");
+      components[in.name] = meta;
+    } else if (a.is_object() && a.contains("$output") && a["$output"].is_array() && a["$output"].size() == 2) {
+      const graph::NodeId from = find_component(g, ctx.root(), a["$output"][0].get<std::string>());
+      const Json outputs = from.is_valid() ? Json::parse(meta_string(g, from, kOutputsAttr), nullptr, false) : Json();
+      const std::string name = a["$output"][1].get<std::string>();
+      std::optional<ParamValue> v;
+      if (outputs.is_object() && outputs.contains(name)) v = from_json(outputs[name], in.type);
+      if (!v)
+        return error(ErrorCode::kNotFound,
+                     where + ": the output " + a["$output"].dump() + " is not there (did its call run?)");
+      values[in.name] = std::move(*v);
+    } else {
+      std::optional<ParamValue> v = from_json(a, in.type);
+      if (!v) return error(ErrorCode::kInvalidArgument, where + ": " + a.dump() + " is not a " + in.type);
+      values[in.name] = std::move(*v);
+    }
+  }
+  FunctionCall call(ctx.scene(), ctx.definition(), ctx.root(), ctx.meta(), std::move(values), std::move(components));
+  if (!fn->run) return error(ErrorCode::kInvalidArgument, who + ": the function has no body");
+  if (Status s = fn->run(call); !s) return s.with_context(who);
+  Json out = Json::object();
+  for (const auto& [name, value] : call.outputs()) {
+    const SocketSpec* o = fn->output(name);
+    if (!o)
+      return error(ErrorCode::kInvalidArgument,
+                   who + ": the function set '" + name + "', which is not one of its outputs");
+    if (!fits_type(value, o->type))
+      return error(ErrorCode::kInvalidArgument, who + ": output '" + name + "' is not a " + o->type);
+  }
+  for (const SocketSpec& o : fn->outputs) {
+    const auto it = call.outputs().find(o.name);
+    out[o.name] = detail::param_value_json(it != call.outputs().end() ? it->second : zero(o.type));
+  }
+  if (fn->outputs.empty()) return Status::ok();
+  return g.set_value(graph::Plug{ctx.meta(), g.node(ctx.meta())->type().attr_find(kOutputsAttr), -1},
+                     graph::Value(out.dump()));
+}
+
+class CallClass final : public ComponentClass {
+ public:
+  std::string_view type() const override { return kCallType; }
+  std::vector<Step> steps(const Component&) const override { return {Step{"run", "", "", run_call}}; }
+  bool editable() const override { return false; }
+};
+
+}  // namespace
+
+const ParamValue* FunctionCall::value(std::string_view input) const {
+  const auto it = values_.find(std::string(input));
+  return it == values_.end() ? nullptr : &it->second;
+}
+
+const Component* FunctionCall::component_definition(std::string_view input) const {
+  const graph::NodeId meta = component(input);
+  if (!meta.is_valid()) return nullptr;
+  return definition_.find_by_rig_id(meta_string(scene_.graph(), meta, "rigId"));
+}
+
+graph::NodeId FunctionCall::component(std::string_view input) const {
+  const auto it = components_.find(std::string(input));
+  return it == components_.end() ? graph::NodeId{} : it->second;
+}
+
+const SocketSpec* BuildFunction::input(std::string_view name) const { return find_socket(inputs, name); }
+const SocketSpec* BuildFunction::output(std::string_view name) const { return find_socket(outputs, name); }
+
+Status FunctionRegistry::add(BuildFunction f) {
+  const std::string who = "build function '" + f.id + "'" + (f.origin.empty() ? "" : " (" + f.origin + ")");
+  if (f.id.empty()) return error(ErrorCode::kInvalidArgument, "a build function needs an id");
+  if (!f.run) return error(ErrorCode::kInvalidArgument, who + ": no body to run");
+  for (const auto* list : {&f.inputs, &f.outputs}) {
+    std::set<std::string> names;
+    for (const SocketSpec& s : *list) {
+      if (s.name.empty() || !names.insert(s.name).second)
+        return error(ErrorCode::kInvalidArgument, who + ": an empty or repeated socket name '" + s.name + "'");
+      const bool ok = is_value_type(s.type) || (list == &f.inputs && s.type == "component");
+      if (!ok)
+        return error(ErrorCode::kInvalidArgument,
+                     who + ": socket '" + s.name + "' has type '" + s.type + "' (inputs: bool, int, number, string, "
+                                                                            "vector or component; outputs: the values)");
+    }
+  }
+  for (const Param& d : f.defaults) {
+    const SocketSpec* in = f.input(d.name);
+    if (!in || in->type == "component" || !fits_type(d.value, in->type))
+      return error(ErrorCode::kInvalidArgument,
+                   who + ": the default of '" + d.name + "' is not one of its value inputs' type");
+  }
+  std::lock_guard lock(mutex_);
+  for (const BuildFunction& other : functions_)
+    if (other.id == f.id)
+      return error(ErrorCode::kAlreadyExists, who + ": the id is taken by " +
+                                                  (other.origin.empty() ? std::string("another function") : other.origin));
+  functions_.push_back(std::move(f));
+  return Status::ok();
+}
+
+std::size_t FunctionRegistry::remove_origin(std::string_view origin) {
+  std::lock_guard lock(mutex_);
+  const std::size_t before = functions_.size();
+  std::erase_if(functions_, [&](const BuildFunction& f) { return f.origin == origin; });
+  return before - functions_.size();
+}
+
+std::optional<BuildFunction> FunctionRegistry::find(std::string_view id) const {
+  std::lock_guard lock(mutex_);
+  for (const BuildFunction& f : functions_)
+    if (f.id == id) return f;
+  return std::nullopt;
+}
+
+std::vector<BuildFunction> FunctionRegistry::functions() const {
+  std::lock_guard lock(mutex_);
+  return functions_;
+}
+
+FunctionRegistry& build_functions() {
+  static FunctionRegistry registry;
+  return registry;
+}
+
+NodeKind function_node_kind(const BuildFunction& f) {
+  NodeKind k;
+  k.id = "function:" + f.id;
+  k.nice_name = f.nice_name.empty() ? f.id : f.nice_name;
+  k.category = f.category.empty() ? "Functions" : f.category;
+  k.help = f.help;
+  k.inputs.push_back({"exec", "exec", "runs the function"});
+  for (const SocketSpec& s : f.inputs) k.inputs.push_back(s);
+  k.outputs.push_back({"then", "exec", "the next node"});
+  for (const SocketSpec& s : f.outputs) k.outputs.push_back(s);
+  return k;
+}
+
+Status add_call_component(ComponentFactory& factory) { return factory.add(std::make_shared<CallClass>()); }
+
+}  // namespace rigel::rig

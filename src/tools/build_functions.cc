@@ -1,0 +1,139 @@
+// The build functions rigel ships (build_functions.h).
+#include "rigel/tools/build_functions.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+
+#include "rigel/rig/meta.h"
+#include "rigel/rig/schema.h"
+#include "rigel/rig/spaces.h"
+#include "rigel/scene/transform_types.h"
+#include "rigel/tools/rigging.h"
+
+namespace rigel::tools {
+namespace {
+
+using graph::NodeId;
+
+// The controls a component's build made, in the order its meta node lists them.
+std::vector<NodeId> controls_of(const graph::Graph& g, NodeId meta) {
+  std::vector<NodeId> out;
+  for (NodeId m : rig::meta_members(g, meta))
+    if (g.node(m)->type().name() == scene::kControlType) out.push_back(m);
+  return out;
+}
+
+std::string name_of(const graph::Graph& g, NodeId meta) {
+  return rig::meta_string(g, meta, "componentName");
+}
+
+Status mirror_control_shapes(rig::FunctionCall& call) {
+  graph::Graph& g = call.scene().graph();
+  const NodeId meta = call.component("component");
+  const std::vector<NodeId> controls = controls_of(g, meta);
+  if (controls.empty())
+    return error(ErrorCode::kInvalidArgument, "component '" + name_of(g, meta) + "' has no controls");
+  auto mirrored = mirror_shape_to_opposite(call.scene(), controls);
+  if (!mirrored) return mirrored.status();
+  call.set_output("count", static_cast<std::int64_t>(mirrored->size()));
+  return Status::ok();
+}
+
+Status set_control_color(rig::FunctionCall& call) {
+  graph::Graph& g = call.scene().graph();
+  const NodeId meta = call.component("component");
+  const std::vector<NodeId> controls = controls_of(g, meta);
+  if (controls.empty())
+    return error(ErrorCode::kInvalidArgument, "component '" + name_of(g, meta) + "' has no controls");
+  ControlLook look;
+  look.color = std::get<math::Vec3>(*call.value("color"));
+  if (Status s = paste_control_look(g, controls, look, LookParts{.shape = false, .color = true}); !s) return s;
+  call.set_output("count", static_cast<std::int64_t>(controls.size()));
+  return Status::ok();
+}
+
+Status add_space_to(rig::FunctionCall& call) {
+  graph::Graph& g = call.scene().graph();
+  const NodeId meta = call.component("component");
+  const std::string role = std::get<std::string>(*call.value("control"));
+  const auto index = std::get<std::int64_t>(*call.value("index"));
+  Result<NodeId> control = rig::get_meta_connection(g, meta, role, static_cast<int>(index));
+  if (!control)
+    return error(ErrorCode::kNotFound, "component '" + name_of(g, meta) + "' has no control '" + role + "' [" +
+                                           std::to_string(index) + "]");
+  // The target: the hook of the target component, by name or index, as
+  // the build resolves an attach.
+  const NodeId target_meta = call.component("target");
+  const std::string hook = std::get<std::string>(*call.value("hook"));
+  const rig::Component* target_def = call.component_definition("target");
+  const rig::ComponentSchema* schema = target_def ? rig::builtin_schemas().find(target_def->type) : nullptr;
+  const std::optional<int> k = schema ? rig::resolve_hook(schema->hook_names(*target_def), hook) : std::nullopt;
+  NodeId target;
+  for (NodeId m : rig::meta_members(g, target_meta)) {
+    const std::string* h = g.node(m)->tag_find(rig::kTagHook);
+    if (h && k && *h == std::to_string(*k)) target = m;
+  }
+  if (!target.is_valid())
+    return error(ErrorCode::kNotFound, "component '" + name_of(g, target_meta) + "' publishes no hook '" + hook + "'");
+  auto space = rig::add_space(call.scene(), *control, std::get<std::string>(*call.value("name")), target);
+  if (!space) return space.status();
+  call.set_output("space", static_cast<std::int64_t>(*space));
+  return Status::ok();
+}
+
+}  // namespace
+
+Status add_build_functions(rig::FunctionRegistry& registry) {
+  const auto add = [&](rig::BuildFunction f) {
+    f.origin = "rigel";
+    return registry.add(std::move(f));
+  };
+  Status s = add({"rigel.mirrorControlShapes",
+                  "Mirror control shapes",
+                  "Controls",
+                  "Each control's shape onto its opposite control (the other side's), mirrored in the world.",
+                  {{"component", "component", "the component whose shapes are copied"}},
+                  {{"count", "int", "how many controls took a shape"}},
+                  {},
+                  mirror_control_shapes,
+                  {}});
+  if (s)
+    s = add({"rigel.setControlColor",
+             "Set control colour",
+             "Controls",
+             "Every control of a component takes a colour (linear RGB, 0 to 1).",
+             {{"component", "component", "whose controls"}, {"color", "vector", "linear RGB, each 0 to 1"}},
+             {{"count", "int", "how many controls"}},
+             {rig::Param{"color", math::Vec3(1, 1, 0), {}}},
+             set_control_color,
+             {}});
+  if (s)
+    s = add({"rigel.addSpace",
+             "Add space",
+             "Spaces",
+             "A control of a component gets a space that follows a hook of another component.",
+             {{"component", "component", "whose control"},
+              {"control", "string", "the control's role (ik, fk, main, ...)"},
+              {"index", "int", "the control's index in its role"},
+              {"name", "string", "the space's name"},
+              {"target", "component", "the component it follows"},
+              {"hook", "string", "the target's hook, by name or index"}},
+             {{"space", "int", "the space's index"}},
+             {rig::Param{"control", std::string("ik"), {}}, rig::Param{"hook", std::string("0"), {}}},
+             add_space_to,
+             {}});
+  return s;
+}
+
+void register_build_functions() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (Status s = add_build_functions(rig::build_functions()); !s) {
+      std::fprintf(stderr, "rigel: built-in build functions: %s\n", s.message().c_str());
+      std::abort();
+    }
+  });
+}
+
+}  // namespace rigel::tools
