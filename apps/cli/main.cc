@@ -27,6 +27,7 @@
 #include "scene_commands.h"
 #include "serve_command.h"
 #include "transfer_command.h"
+#include "rigel/tools/build_functions.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"rigel: a character-rigging engine that needs no host application"};
@@ -104,6 +105,8 @@ int main(int argc, char** argv) {
     cmd->footer(text);
   }
 
+  // Graphs name build functions: the shipped ones are there before any file is read.
+  rigel::tools::register_build_functions();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -9,6 +9,7 @@
 
 #include "common.h"
 #include "rig_common.h"
+#include "rigel/tools/build_functions.h"
 
 namespace rigel::python {
 namespace {
@@ -109,6 +110,8 @@ void define_exceptions(py::module_& m) {
 PYBIND11_MODULE(_rigel, m) {
   using namespace rigel::python;
   m.doc() = "rigel: a character-rigging engine (scene graph, rig definitions and builds, ephemeral rigs)";
+  // Build graphs name build functions: the shipped ones are there before any file is read.
+  rigel::tools::register_build_functions();
   define_exceptions(m);
   declare_node(m);
   wrap_transaction(m);

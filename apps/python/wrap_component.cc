@@ -20,6 +20,10 @@ void def_identity(ComponentClass& cls) {
   str_property("name", &rig::Component::name, "Name, unique per side.");
   str_property("version", &rig::Component::version, "Version (update rebuilds components whose version changed).");
   str_property("attach", &rig::Component::attach, "Hook of the parent (or OTHER.HOOK); '' = hook 0.");
+  cls.def_property(
+      "after", [](const ComponentRef& r) { return r.get().after; },
+      [](const ComponentRef& r, std::vector<std::string> ids) { r.get().after = std::move(ids); },
+      "rigIds of other components it builds after (what it reads); an update rebuilding one rebuilds it.");
   cls
       .def_property_readonly("definition", [](const ComponentRef& r) { return r.def; })
       .def_property(
