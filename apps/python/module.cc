@@ -126,6 +126,7 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_schemas(m);
   wrap_rig_build(m);
   wrap_meta(m);
+  wrap_build_graph(m);
   wrap_ephemeral(m);
   wrap_keys(m);
   wrap_session(m);

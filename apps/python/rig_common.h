@@ -90,5 +90,7 @@ void wrap_component(py::module_& m);
 void wrap_schemas(py::module_& m);  // module functions: component types and schemas, check_definition
 void wrap_rig_build(py::module_& m);
 void wrap_meta(py::module_& m);  // Scene's and Node's methods of the metadata network
+// Build graphs: graph files, build functions written in Python (wrap_build_graph.cc).
+void wrap_build_graph(py::module_& m);
 
 }  // namespace rigel::python

@@ -189,6 +189,11 @@ std::size_t FunctionRegistry::remove_origin(std::string_view origin) {
   return before - functions_.size();
 }
 
+bool FunctionRegistry::remove(std::string_view id) {
+  std::lock_guard lock(mutex_);
+  return std::erase_if(functions_, [&](const BuildFunction& f) { return f.id == id; }) > 0;
+}
+
 std::optional<BuildFunction> FunctionRegistry::find(std::string_view id) const {
   std::lock_guard lock(mutex_);
   for (const BuildFunction& f : functions_)

@@ -101,6 +101,8 @@ class FunctionRegistry {
   Status add(BuildFunction function);
   // Removes every function of `origin` (a plugin reloaded); returns how many.
   std::size_t remove_origin(std::string_view origin);
+  // Removes one function; false when there is none of that id.
+  bool remove(std::string_view id);
   // A copy (the registry may change after).
   std::optional<BuildFunction> find(std::string_view id) const;
   std::vector<BuildFunction> functions() const;

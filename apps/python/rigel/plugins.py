@@ -1,0 +1,87 @@
+"""Build-graph plugins (docs/BUILD_GRAPH.md): Python files that register
+build functions, loaded from a folder (a project's or an asset's
+``plugins/``), as Luna loads its rig-node plugins (seed 004 §4.11.2).
+
+A plugin is a ``.py`` file whose ``register_plugin()`` registers
+functions with ``rigel.register_function``; while it runs, functions it
+registers are marked with the file as their origin (so a second
+registration of an id names both files). A plugin that raises, or whose
+id is taken, is refused with its file named: ``PluginError``, and nothing
+it registered stays.
+"""
+
+import importlib.util
+import os
+
+from . import _rigel
+
+#: The plugin file being loaded (functions registered meanwhile get it as origin).
+_loading = []
+
+
+class PluginError(_rigel.Error):
+    """A plugin could not be loaded; ``file`` names it."""
+
+    def __init__(self, file, message):
+        super().__init__(f"{file}: {message}")
+        self.file = file
+
+
+def register_function(fn, id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None,
+                      origin=None):
+    """Registers a build function written in Python (see _rigel.register_function);
+    inside a plugin its origin is the plugin's file."""
+    if origin is None:
+        origin = _loading[-1] if _loading else ""
+    _rigel.register_function(fn, id, inputs, outputs, nice_name, category, help, defaults, origin)
+
+
+def function(id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None):
+    """Decorator form of register_function."""
+
+    def wrap(fn):
+        register_function(fn, id, inputs, outputs, nice_name or fn.__name__, category, help or (fn.__doc__ or ""),
+                          defaults)
+        return fn
+
+    return wrap
+
+
+def load_plugin(path):
+    """Loads one plugin file; returns the ids it registered."""
+    path = os.path.abspath(path)
+    before = {f["id"] for f in _rigel.build_functions()}
+    # A plugin loaded again replaces what it registered before.
+    _rigel.unregister_functions(path)
+    name = "rigel_plugin_" + os.path.splitext(os.path.basename(path))[0]
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise PluginError(path, "not a Python file")
+    _loading.append(path)
+    try:
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        entry = getattr(module, "register_plugin", None)
+        if not callable(entry):
+            raise PluginError(path, "has no register_plugin() function")
+        entry()
+    except PluginError:
+        _rigel.unregister_functions(path)
+        raise
+    except Exception as e:  # noqa: BLE001 - any failure of the plugin's code is the plugin's
+        _rigel.unregister_functions(path)
+        raise PluginError(path, f"{type(e).__name__}: {e}") from e
+    finally:
+        _loading.pop()
+    return sorted({f["id"] for f in _rigel.build_functions() if f["origin"] == path} - (before - set()))
+
+
+def load_plugins(folder):
+    """Loads every ``*.py`` file of a folder (name order); returns {file: [ids]}.
+    Stops at the first plugin that fails (PluginError naming it)."""
+    loaded = {}
+    for entry in sorted(os.listdir(folder)):
+        if entry.endswith(".py") and not entry.startswith("_"):
+            path = os.path.join(folder, entry)
+            loaded[path] = load_plugin(path)
+    return loaded

@@ -1,0 +1,246 @@
+// Build graphs from Python (docs/BUILD_GRAPH.md): graph files checked and
+// made from definitions, and build functions written in Python, registered
+// into the process's rig::build_functions() beside the shipped ones, so a
+// graph's function node runs them when a build runs here. (Loading a
+// plugin folder is rigel.load_plugins, in the pure-Python part.)
+
+#include "rig_common.h"
+#include "rigel/app/rig_files.h"
+#include "rigel/rig/build_function.h"
+#include "rigel/rig/build_graph.h"
+#include "rigel/rig/meta.h"
+#include "rigel/scene/transform_types.h"
+
+namespace rigel::python {
+namespace {
+
+// What a Python function sees: the call, and the scene it builds, as a
+// Scene that does not own it. Valid while the function runs.
+struct CallRef {
+  rig::FunctionCall* call = nullptr;
+  SceneRef scene;
+  rig::FunctionCall& get() const {
+    if (!call) raise(ErrorCode::kFailedPrecondition, "this FunctionCall has ended: use it only while the function runs");
+    return *call;
+  }
+};
+
+// A Python value as a value of data type `type`.
+rig::ParamValue value_from_python(py::handle v, const std::string& type, const std::string& where) {
+  const bool is_bool = py::isinstance<py::bool_>(v);
+  if (type == "bool" && is_bool) return v.cast<bool>();
+  if (type == "int" && py::isinstance<py::int_>(v) && !is_bool) return v.cast<std::int64_t>();
+  if (type == "number" && (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) && !is_bool)
+    return v.cast<double>();
+  if (type == "string" && py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (type == "vector") return vec3_from_python(v, where);
+  raise(ErrorCode::kInvalidArgument, where + ": " + std::string(py::str(py::repr(v))) + " is not a " + type);
+}
+
+// [(name, type), ...] or {name: type} as sockets.
+std::vector<rig::SocketSpec> sockets_from_python(py::handle h, const std::string& where) {
+  std::vector<rig::SocketSpec> out;
+  if (h.is_none()) return out;
+  py::iterable items = py::isinstance<py::dict>(h) ? py::iterable(h.attr("items")()) : py::reinterpret_borrow<py::iterable>(h);
+  for (py::handle item : items) {
+    auto pair = py::reinterpret_borrow<py::sequence>(item);
+    if (pair.size() != 2) raise(ErrorCode::kInvalidArgument, where + ": each socket is (name, type)");
+    out.push_back({pair[0].cast<std::string>(), pair[1].cast<std::string>(), ""});
+  }
+  return out;
+}
+
+std::vector<NodeId> controls_of(const graph::Graph& g, NodeId meta) {
+  std::vector<NodeId> out;
+  for (NodeId m : rig::meta_members(g, meta))
+    if (g.node(m)->type().name() == scene::kControlType) out.push_back(m);
+  return out;
+}
+
+// The body of a Python function: fn(call, **inputs); None, a value (one
+// output) or {output: value}. Any exception is the step's failure, with
+// the function's origin named.
+std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::string id, std::string origin,
+                                                      std::vector<rig::SocketSpec> outputs) {
+  // The function object is released under the GIL whenever the registry lets it go.
+  auto held = std::shared_ptr<py::function>(new py::function(std::move(fn)), [](py::function* f) {
+    py::gil_scoped_acquire gil;
+    delete f;
+  });
+  return [held, id, origin, outputs](rig::FunctionCall& call) -> Status {
+    py::gil_scoped_acquire gil;
+    const std::string who = "python function " + id + (origin.empty() ? "" : " (" + origin + ")");
+    auto ref = std::make_shared<CallRef>();
+    ref->call = &call;
+    ref->scene = SceneRef(&call.scene(), [](scene::Scene*) {});
+    try {
+      py::dict kwargs;
+      for (const auto& [name, value] : call.values()) kwargs[py::str(name)] = param_to_python(value);
+      for (const auto& [name, meta] : call.components()) kwargs[py::str(name)] = node_ref(ref->scene, meta);
+      py::object result = (*held)(py::cast(ref), **kwargs);
+      ref->call = nullptr;
+      if (result.is_none()) return Status::ok();
+      if (py::isinstance<py::dict>(result)) {
+        for (auto [key, value] : py::reinterpret_borrow<py::dict>(result)) {
+          const std::string name = py::str(key);
+          const rig::SocketSpec* o = nullptr;
+          for (const rig::SocketSpec& s : outputs)
+            if (s.name == name) o = &s;
+          if (!o) return error(ErrorCode::kInvalidArgument, who + ": returned '" + name + "', which is not one of its outputs");
+          call.set_output(name, value_from_python(value, o->type, who + ": output '" + name + "'"));
+        }
+        return Status::ok();
+      }
+      if (outputs.size() != 1)
+        return error(ErrorCode::kInvalidArgument, who + ": return a dict {output: value} (it has " +
+                                                      std::to_string(outputs.size()) + " outputs)");
+      call.set_output(outputs[0].name, value_from_python(result, outputs[0].type, who + ": its return value"));
+      return Status::ok();
+    } catch (py::error_already_set& e) {
+      ref->call = nullptr;
+      return error(ErrorCode::kFailedPrecondition, who + " raised " + e.what());
+    } catch (const StatusError& e) {
+      ref->call = nullptr;
+      return e.status().with_context(who);
+    }
+  };
+}
+
+// The ids of the functions registered from Python: removed before the
+// interpreter goes (their bodies are Python objects).
+std::vector<std::string>& python_ids() {
+  static std::vector<std::string> ids;
+  return ids;
+}
+
+py::dict function_record(const rig::BuildFunction& f) {
+  py::dict d;
+  d["id"] = f.id;
+  d["nice_name"] = f.nice_name;
+  d["category"] = f.category;
+  d["help"] = f.help;
+  d["origin"] = f.origin;
+  py::list in, out;
+  for (const rig::SocketSpec& s : f.inputs) in.append(py::make_tuple(s.name, s.type));
+  for (const rig::SocketSpec& s : f.outputs) out.append(py::make_tuple(s.name, s.type));
+  d["inputs"] = in;
+  d["outputs"] = out;
+  return d;
+}
+
+py::list diagnostics(const std::vector<rig::Diagnostic>& list) {
+  py::list out;
+  for (const rig::Diagnostic& d : list) out.append(d.str());
+  return out;
+}
+
+}  // namespace
+
+void wrap_build_graph(py::module_& m) {
+  py::module_::import("atexit").attr("register")(py::cpp_function([] {
+    for (const std::string& id : python_ids()) rig::build_functions().remove(id);
+    python_ids().clear();
+  }));
+  py::class_<CallRef, std::shared_ptr<CallRef>>(m, "FunctionCall",
+                                                "What a build function written in Python sees while it runs: the "
+                                                "scene being built, the rig, its inputs. Valid during the call only.")
+      .def_property_readonly("scene", [](const CallRef& c) { (void)c.get(); return c.scene; })
+      .def_property_readonly("rig", [](const CallRef& c) { return node_ref(c.scene, c.get().rig()); },
+                             "The rig's metaRoot node.")
+      .def_property_readonly("node", [](const CallRef& c) { return node_ref(c.scene, c.get().call()); },
+                             "The call's own metaComponent node.")
+      .def("controls",
+           [](const CallRef& c, const std::string& input) {
+             const NodeId meta = c.get().component(input);
+             if (!meta.is_valid()) raise(ErrorCode::kInvalidArgument, "'" + input + "' is not a component input");
+             return node_list(c.scene, controls_of(c.scene->graph(), meta));
+           },
+           py::arg("input"), "The controls of a component input's component, in build order.")
+      .def("members",
+           [](const CallRef& c, const std::string& input) {
+             const NodeId meta = c.get().component(input);
+             if (!meta.is_valid()) raise(ErrorCode::kInvalidArgument, "'" + input + "' is not a component input");
+             return node_list(c.scene, rig::meta_members(c.scene->graph(), meta));
+           },
+           py::arg("input"), "Every node a component input's component built.");
+
+  m.def(
+      "register_function",
+      [](py::function fn, const std::string& id, py::object inputs, py::object outputs, const std::string& nice_name,
+         const std::string& category, const std::string& help, py::object defaults, const std::string& origin) {
+        rig::BuildFunction f;
+        f.id = id;
+        f.nice_name = nice_name;
+        f.category = category;
+        f.help = help;
+        f.origin = origin;
+        f.inputs = sockets_from_python(inputs, "register_function '" + id + "': inputs");
+        f.outputs = sockets_from_python(outputs, "register_function '" + id + "': outputs");
+        if (!defaults.is_none())
+          for (auto [key, value] : defaults.cast<py::dict>()) {
+            const std::string name = py::str(key);
+            const rig::SocketSpec* in = nullptr;
+            for (const rig::SocketSpec& s : f.inputs)
+              if (s.name == name) in = &s;
+            if (!in) raise(ErrorCode::kInvalidArgument, "register_function '" + id + "': default for '" + name + "', which is not an input");
+            f.defaults.push_back(rig::Param{name, value_from_python(value, in->type, "default '" + name + "'"), {}});
+          }
+        f.run = python_body(std::move(fn), id, origin, f.outputs);
+        if (Status s = rig::build_functions().add(std::move(f)); !s) raise(s);
+        python_ids().push_back(id);
+      },
+      py::arg("fn"), py::arg("id"), py::arg("inputs") = py::none(), py::arg("outputs") = py::none(),
+      py::arg("nice_name") = "", py::arg("category") = "", py::arg("help") = "", py::arg("defaults") = py::none(),
+      py::arg("origin") = "",
+      "Registers a build function written in Python: fn(call, **inputs) returns None, the value of its one "
+      "output or {output: value}. inputs and outputs are [(name, type)] or {name: type} (bool, int, number, "
+      "string, vector; inputs also component, which arrives as the component's meta node). AlreadyExistsError "
+      "when the id is taken (naming who has it).");
+  m.def(
+      "unregister_functions", [](const std::string& origin) { return rig::build_functions().remove_origin(origin); },
+      py::arg("origin"), "Removes every build function registered from `origin` (a plugin's file); how many.");
+  m.def(
+      "build_functions",
+      []() {
+        py::list out;
+        for (const rig::BuildFunction& f : rig::build_functions().functions()) out.append(function_record(f));
+        return out;
+      },
+      "Every registered build function: id, nice_name, category, help, origin, inputs, outputs.");
+  m.def(
+      "validate_graph",
+      [](const std::string& path) {
+        py::dict d;
+        rig::BuildGraphParse parsed = rig::load_build_graph(path);
+        std::vector<rig::Diagnostic> errors = std::move(parsed.errors), warnings;
+        std::vector<std::string> order;
+        if (errors.empty()) {
+          rig::BuildGraphCompile compiled = rig::compile_build_graph(parsed.graph);
+          errors = std::move(compiled.errors);
+          warnings = std::move(compiled.warnings);
+          order = std::move(compiled.order);
+        }
+        d["valid"] = errors.empty();
+        d["errors"] = diagnostics(errors);
+        d["warnings"] = diagnostics(warnings);
+        d["order"] = order;
+        return record(d);
+      },
+      py::arg("path"), "Checks a build graph (.build.json): valid, errors and warnings (file:line:column: message, "
+                       "node and socket named), and the ids of the nodes its exec chain runs.");
+  m.def(
+      "convert_definition",
+      [](const std::string& definition, const std::string& graph) {
+        auto converted = app::convert_definition_file(definition, graph);
+        if (!converted) raise(converted.status());
+        py::dict d;
+        d["graph"] = graph;
+        d["nodes"] = converted->nodes.size();
+        d["links"] = converted->links.size();
+        return record(d);
+      },
+      py::arg("definition"), py::arg("graph"),
+      "Writes the build graph of a definition (graph: a .build.json path); its files made relative to it.");
+}
+
+}  // namespace rigel::python
