@@ -58,6 +58,29 @@ const rig::Definition& biped() {
   return d;
 }
 
+// Each iteration rebuilds what changed in `definition(k)`, k alternating
+// 0, 1, 0, ... (so every one changes something); the undo history is
+// cleared untimed.
+template <typename Definitions>
+void rebuild_alternately(benchmark::State& state, rig::Build& build, scene::Scene& scene, Definitions definition,
+                         rig::Build::Rebuild when = rig::Build::Rebuild::kChanged) {
+  std::size_t rebuilt = 0;
+  int k = 0;
+  for (auto _ : state) {
+    auto r = build.rebuild_changed(definition(k), when);
+    if (!r) {
+      state.SkipWithError(r.status().message().c_str());
+      break;
+    }
+    rebuilt = r->size();
+    k = 1 - k;
+    state.PauseTiming();
+    scene.graph().clear_history();
+    state.ResumeTiming();
+  }
+  state.counters["rebuilt"] = static_cast<double>(rebuilt);
+}
+
 void BM_rig_build_biped(benchmark::State& state) {
   for (auto _ : state) {
     state.PauseTiming();
@@ -105,21 +128,7 @@ void BM_rig_update_one_component(benchmark::State& state) {
     arm->params.push_back(rig::Param{"poleDistance", k == 0 ? 0.6 : 0.5, {}});
     changed = arm->rig_id;
   }
-  std::size_t rebuilt = 0;
-  int k = 0;
-  for (auto _ : state) {
-    auto r = (*b)->rebuild_changed(next[k], rig::Build::Rebuild::kNewerVersion);
-    if (!r) {
-      state.SkipWithError(r.status().message().c_str());
-      break;
-    }
-    rebuilt = r->size();
-    k = 1 - k;
-    state.PauseTiming();
-    scene->graph().clear_history();
-    state.ResumeTiming();
-  }
-  state.counters["rebuilt"] = static_cast<double>(rebuilt);
+  rebuild_alternately(state, **b, *scene, [&](int k) { return next[k]; }, rig::Build::Rebuild::kNewerVersion);
 }
 BENCHMARK(BM_rig_update_one_component)->Unit(benchmark::kMillisecond);
 
@@ -226,23 +235,10 @@ void BM_graph_live_rebuild_one_node(benchmark::State& state) {
     return;
   }
   arm->component.params.push_back(rig::Param{"poleDistance", 0.5, {}});
-  std::size_t rebuilt = 0;
-  int k = 0;
-  for (auto _ : state) {
+  rebuild_alternately(state, **b, *scene, [&](int k) {
     arm->component.params.back().value = k == 0 ? 0.6 : 0.5;
-    rig::BuildGraphCompile compiled = rig::compile_build_graph(graph);
-    auto r = (*b)->rebuild_changed(std::move(compiled.definition));
-    if (!r) {
-      state.SkipWithError(r.status().message().c_str());
-      break;
-    }
-    rebuilt = r->size();
-    k = 1 - k;
-    state.PauseTiming();
-    scene->graph().clear_history();
-    state.ResumeTiming();
-  }
-  state.counters["rebuilt"] = static_cast<double>(rebuilt);
+    return rig::compile_build_graph(graph).definition;
+  });
 }
 BENCHMARK(BM_graph_live_rebuild_one_node)->Unit(benchmark::kMillisecond);
 

@@ -37,20 +37,14 @@ int run_validate(const ValidateArgs& args) {
   Json files = Json::array();
   bool all_valid = true;
   for (const std::string& file : args.files) {
-    std::vector<rig::Diagnostic> errors, warnings;
-    std::vector<std::string> order;
-    if (!rig::is_build_graph_path(file)) {
-      errors.push_back({file, {}, "not a build graph: the file name must end in .build.json"});
-    } else {
-      rig::BuildGraphParse parsed = rig::load_build_graph(file);
-      errors = std::move(parsed.errors);
-      if (errors.empty()) {
-        rig::BuildGraphCompile compiled = rig::compile_build_graph(parsed.graph);
-        errors = std::move(compiled.errors);
-        warnings = std::move(compiled.warnings);
-        order = std::move(compiled.order);
-      }
-    }
+    rig::BuildGraphCompile checked;
+    if (!rig::is_build_graph_path(file))
+      checked.errors.push_back({file, {}, "not a build graph: the file name must end in .build.json"});
+    else
+      checked = rig::check_build_graph(file);
+    const std::vector<rig::Diagnostic>& errors = checked.errors;
+    const std::vector<rig::Diagnostic>& warnings = checked.warnings;
+    const std::vector<std::string>& order = checked.order;
     all_valid &= errors.empty();
     if (args.json) {
       files.push_back(Json{{"file", file},
@@ -96,10 +90,8 @@ int run_graph(const BuildArgs& args) {
     return usage_error(args.definition + ": not a build graph (the name ends in .build.json); build a definition "
                                          "with `rigel build`");
   // What builds but not as drawn is said before building.
-  rig::BuildGraphParse parsed = rig::load_build_graph(args.definition);
-  if (parsed.ok())
-    for (const rig::Diagnostic& d : rig::compile_build_graph(parsed.graph).warnings)
-      std::cerr << d.str() << " (warning)\n";
+  for (const rig::Diagnostic& d : rig::check_build_graph(args.definition).warnings)
+    std::cerr << d.str() << " (warning)\n";
   return run_build(args);
 }
 

@@ -9,7 +9,6 @@
 #include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
 #include "rigel/rig/meta.h"
-#include "rigel/scene/transform_types.h"
 
 namespace rigel::python {
 namespace {
@@ -47,13 +46,6 @@ std::vector<rig::SocketSpec> sockets_from_python(py::handle h, const std::string
     if (pair.size() != 2) raise(ErrorCode::kInvalidArgument, where + ": each socket is (name, type)");
     out.push_back({pair[0].cast<std::string>(), pair[1].cast<std::string>(), ""});
   }
-  return out;
-}
-
-std::vector<NodeId> controls_of(const graph::Graph& g, NodeId meta) {
-  std::vector<NodeId> out;
-  for (NodeId m : rig::meta_members(g, meta))
-    if (g.node(m)->type().name() == scene::kControlType) out.push_back(m);
   return out;
 }
 
@@ -153,7 +145,7 @@ void wrap_build_graph(py::module_& m) {
            [](const CallRef& c, const std::string& input) {
              const NodeId meta = c.get().component(input);
              if (!meta.is_valid()) raise(ErrorCode::kInvalidArgument, "'" + input + "' is not a component input");
-             return node_list(c.scene, controls_of(c.scene->graph(), meta));
+             return node_list(c.scene, rig::meta_controls(c.scene->graph(), meta));
            },
            py::arg("input"), "The controls of a component input's component, in build order.")
       .def("members",
@@ -210,20 +202,12 @@ void wrap_build_graph(py::module_& m) {
   m.def(
       "validate_graph",
       [](const std::string& path) {
+        const rig::BuildGraphCompile checked = rig::check_build_graph(path);
         py::dict d;
-        rig::BuildGraphParse parsed = rig::load_build_graph(path);
-        std::vector<rig::Diagnostic> errors = std::move(parsed.errors), warnings;
-        std::vector<std::string> order;
-        if (errors.empty()) {
-          rig::BuildGraphCompile compiled = rig::compile_build_graph(parsed.graph);
-          errors = std::move(compiled.errors);
-          warnings = std::move(compiled.warnings);
-          order = std::move(compiled.order);
-        }
-        d["valid"] = errors.empty();
-        d["errors"] = diagnostics(errors);
-        d["warnings"] = diagnostics(warnings);
-        d["order"] = order;
+        d["valid"] = checked.ok();
+        d["errors"] = diagnostics(checked.errors);
+        d["warnings"] = diagnostics(checked.warnings);
+        d["order"] = checked.order;
         return record(d);
       },
       py::arg("path"), "Checks a build graph (.build.json): valid, errors and warnings (file:line:column: message, "

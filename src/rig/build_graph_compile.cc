@@ -426,6 +426,10 @@ class Compiler {
       std::optional<Flow> f = input(n, in.name);
       if (!out_.errors.empty()) return false;
       if (!f) {
+        if (in.type == "component") {
+          fail(n, "input '" + in.name + "' needs a link from a component node's 'component' output");
+          return false;
+        }
         if (const Param* p = node.value(in.name)) args[in.name] = detail::param_value_json(as_type(p->value, in.type));
         continue;
       }

@@ -217,14 +217,7 @@ std::optional<std::string> read_file(const std::filesystem::path& path, std::vec
 // A build graph read and compiled: its definition, or every problem.
 ParseResult load_graph(const std::filesystem::path& path, const SchemaRegistry& schemas, bool* fatal) {
   ParseResult result;
-  result.definition.source = path.string();
-  BuildGraphParse parsed = load_build_graph(path, schemas);
-  if (!parsed.ok()) {
-    result.errors = std::move(parsed.errors);
-    *fatal = true;
-    return result;
-  }
-  BuildGraphCompile compiled = compile_build_graph(parsed.graph, schemas);
+  BuildGraphCompile compiled = check_build_graph(path, schemas);
   result.definition = std::move(compiled.definition);
   result.definition.source = path.string();
   result.errors = std::move(compiled.errors);
@@ -259,6 +252,16 @@ BuildGraphParse load_build_graph(const std::filesystem::path& path, const Schema
   const auto text = read_file(path, out.errors);
   if (!text) return out;
   return parse_build_graph(*text, path.string(), schemas);
+}
+
+BuildGraphCompile check_build_graph(const std::filesystem::path& path, const SchemaRegistry& schemas) {
+  BuildGraphParse parsed = load_build_graph(path, schemas);
+  if (!parsed.ok()) {
+    BuildGraphCompile out;
+    out.errors = std::move(parsed.errors);
+    return out;
+  }
+  return compile_build_graph(parsed.graph, schemas);
 }
 
 ParseResult parse_definition(std::string_view text, Syntax syntax, const std::string& source,

@@ -200,6 +200,13 @@ std::vector<NodeId> meta_children(const Graph& g, NodeId meta) {
 
 std::vector<NodeId> meta_members(const Graph& g, NodeId meta) { return fed_by(g, meta, "members"); }
 
+std::vector<NodeId> meta_controls(const Graph& g, NodeId meta) {
+  std::vector<NodeId> out;
+  for (NodeId m : meta_members(g, meta))
+    if (g.node(m)->type().name() == scene::kControlType) out.push_back(m);
+  return out;
+}
+
 NodeId get_meta_child_by_id(const Graph& g, NodeId meta, std::string_view rig_id) {
   for (NodeId c : meta_children(g, meta))
     if (meta_string(g, c, "rigId") == rig_id) return c;

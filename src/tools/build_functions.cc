@@ -8,7 +8,6 @@
 #include "rigel/rig/meta.h"
 #include "rigel/rig/schema.h"
 #include "rigel/rig/spaces.h"
-#include "rigel/scene/transform_types.h"
 #include "rigel/tools/rigging.h"
 
 namespace rigel::tools {
@@ -16,40 +15,37 @@ namespace {
 
 using graph::NodeId;
 
-// The controls a component's build made, in the order its meta node lists them.
-std::vector<NodeId> controls_of(const graph::Graph& g, NodeId meta) {
-  std::vector<NodeId> out;
-  for (NodeId m : rig::meta_members(g, meta))
-    if (g.node(m)->type().name() == scene::kControlType) out.push_back(m);
-  return out;
-}
-
 std::string name_of(const graph::Graph& g, NodeId meta) {
   return rig::meta_string(g, meta, "componentName");
 }
 
-Status mirror_control_shapes(rig::FunctionCall& call) {
-  graph::Graph& g = call.scene().graph();
+// The controls the `component` input's component made (an error when none).
+Result<std::vector<NodeId>> component_controls(rig::FunctionCall& call) {
+  const graph::Graph& g = call.scene().graph();
   const NodeId meta = call.component("component");
-  const std::vector<NodeId> controls = controls_of(g, meta);
+  std::vector<NodeId> controls = rig::meta_controls(g, meta);
   if (controls.empty())
     return error(ErrorCode::kInvalidArgument, "component '" + name_of(g, meta) + "' has no controls");
-  auto mirrored = mirror_shape_to_opposite(call.scene(), controls);
+  return controls;
+}
+
+Status mirror_control_shapes(rig::FunctionCall& call) {
+  auto controls = component_controls(call);
+  if (!controls) return controls.status();
+  auto mirrored = mirror_shape_to_opposite(call.scene(), *controls);
   if (!mirrored) return mirrored.status();
   call.set_output("count", static_cast<std::int64_t>(mirrored->size()));
   return Status::ok();
 }
 
 Status set_control_color(rig::FunctionCall& call) {
-  graph::Graph& g = call.scene().graph();
-  const NodeId meta = call.component("component");
-  const std::vector<NodeId> controls = controls_of(g, meta);
-  if (controls.empty())
-    return error(ErrorCode::kInvalidArgument, "component '" + name_of(g, meta) + "' has no controls");
+  auto controls = component_controls(call);
+  if (!controls) return controls.status();
   ControlLook look;
   look.color = std::get<math::Vec3>(*call.value("color"));
-  if (Status s = paste_control_look(g, controls, look, LookParts{.shape = false, .color = true}); !s) return s;
-  call.set_output("count", static_cast<std::int64_t>(controls.size()));
+  if (Status s = paste_control_look(call.scene().graph(), *controls, look, LookParts{.shape = false, .color = true}); !s)
+    return s;
+  call.set_output("count", static_cast<std::int64_t>(controls->size()));
   return Status::ok();
 }
 

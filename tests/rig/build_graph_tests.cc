@@ -508,6 +508,11 @@ TEST(BuildGraphFunctions, function_nodes_are_refused_where_they_cannot_work) {
   g.links.push_back(link("early", "y", "armL", "poleDistance"));
   EXPECT_NE(problems(g).find("node 'armL': input 'poleDistance' reads a value the build makes"), std::string::npos)
       << problems(g);
+  // A function's component input must be linked.
+  g = with_functions();
+  std::erase_if(g.links, [](const GraphLink& l) { return l.to.node == "tag" && l.to.socket == "component"; });
+  EXPECT_NE(problems(g).find("node 'tag': input 'component' needs a link from a component node"), std::string::npos)
+      << problems(g);
   // An unregistered function is an unknown kind.
   g = drawn();
   g.nodes.push_back(node("x", "function:studio.nothing"));

@@ -213,6 +213,9 @@ struct BuildGraphCompile {
   bool ok() const { return errors.empty(); }
 };
 BuildGraphCompile compile_build_graph(const BuildGraph& graph, const SchemaRegistry& schemas = builtin_schemas());
+// A graph file read and compiled: what `rigel graph validate` reports (the
+// file's problems when it cannot be read, else compile's).
+BuildGraphCompile check_build_graph(const std::filesystem::path& path, const SchemaRegistry& schemas = builtin_schemas());
 
 // The graph of a definition: start, then one component node per component
 // in build order (depth first) on the exec chain, each child's `parent`

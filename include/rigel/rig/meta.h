@@ -73,6 +73,8 @@ NodeId meta_parent(const Graph& graph, NodeId node);
 std::vector<NodeId> meta_children(const Graph& graph, NodeId meta);
 // Every node a meta node's `members` links to, in creation order.
 std::vector<NodeId> meta_members(const Graph& graph, NodeId meta);
+// Those of them that are controls.
+std::vector<NodeId> meta_controls(const Graph& graph, NodeId meta);
 // The child component meta node with that rigId (seed 002's getMetaChildById,
 // direct children only); invalid when none.
 NodeId get_meta_child_by_id(const Graph& graph, NodeId meta, std::string_view rig_id);
