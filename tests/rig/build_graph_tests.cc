@@ -173,7 +173,8 @@ TEST(BuildGraph, variables_and_links_carry_values_along_the_exec_chain) {
   g.nodes.push_back(node("distance", "constant:int"));
   g.nodes.back().values.push_back(Param{"value", std::int64_t{3}, {}});
   g.links.push_back(link("distance", "value", "armL", "poleDistance"));
-  const Param* distance = compiled(g).components[0].children[0].children[0].param("poleDistance");
+  const Definition with_distance = compiled(g);
+  const Param* distance = with_distance.components[0].children[0].children[0].param("poleDistance");
   ASSERT_TRUE(distance);
   EXPECT_EQ(std::get<double>(distance->value), 3.0);
 }
