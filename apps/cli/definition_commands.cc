@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "diagnostics_json.h"
 #include "pipeline_commands.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/diff.h"
@@ -36,15 +37,7 @@ int run_validate(const ValidateArgs& args) {
     const std::vector<rig::Diagnostic> errors = rig::check_definition(file);
     all_valid &= errors.empty();
     if (args.json) {
-      Json list = Json::array();
-      for (const rig::Diagnostic& d : errors) {
-        Json e = Json::object();
-        e["line"] = d.where.line;
-        e["column"] = d.where.column;
-        e["message"] = d.message;
-        list.push_back(std::move(e));
-      }
-      files.push_back(Json{{"file", file}, {"valid", errors.empty()}, {"errors", std::move(list)}});
+      files.push_back(Json{{"file", file}, {"valid", errors.empty()}, {"errors", diagnostics_json(errors)}});
       continue;
     }
     for (const rig::Diagnostic& d : errors) std::cerr << d.str() << "\n";

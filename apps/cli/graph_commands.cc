@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "diagnostics_json.h"
 #include "rig_commands.h"
 #include "rigel/app/rig_files.h"
 #include "rigel/rig/build_graph.h"
@@ -19,13 +20,6 @@ namespace rigel::cli {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-Json diagnostics_json(const std::vector<rig::Diagnostic>& list) {
-  Json out = Json::array();
-  for (const rig::Diagnostic& d : list)
-    out.push_back(Json{{"line", d.where.line}, {"column", d.where.column}, {"message", d.message}});
-  return out;
-}
 
 struct ValidateArgs {
   std::vector<std::string> files;

@@ -38,17 +38,14 @@ std::optional<ParamValue> from_json(const Json& j, const std::string& type) {
   return std::nullopt;
 }
 
+// Whether `v` is a value of data type `type` (a value type: the sockets
+// of a registered function are checked to be).
 bool fits_type(const ParamValue& v, const std::string& type) {
-  return from_json(detail::param_value_json(v), type).has_value();
+  const DataType* t = builtin_data_types().find(type);
+  return t && t->value_type && value_fits(v, *t->value_type);
 }
 
-ParamValue zero(const std::string& type) {
-  if (type == "bool") return false;
-  if (type == "int") return std::int64_t{0};
-  if (type == "number") return 0.0;
-  if (type == "vector") return math::Vec3(math::Vec3::Zero());
-  return std::string();
-}
+ParamValue zero(const std::string& type) { return zero_value(*builtin_data_types().find(type)->value_type); }
 
 // The `call` component: one step that runs its function.
 Status run_call(BuildContext& ctx) {

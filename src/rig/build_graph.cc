@@ -75,6 +75,30 @@ const char* data_type_of(ParamType type) {
   return "string";
 }
 
+bool value_fits(const ParamValue& v, ParamType t) {
+  switch (t) {
+    case ParamType::kBool: return std::holds_alternative<bool>(v);
+    case ParamType::kInt: return std::holds_alternative<std::int64_t>(v);
+    case ParamType::kDouble: return std::holds_alternative<double>(v) || std::holds_alternative<std::int64_t>(v);
+    case ParamType::kString:
+    case ParamType::kEnum: return std::holds_alternative<std::string>(v);
+    case ParamType::kVec3: return std::holds_alternative<math::Vec3>(v);
+  }
+  return false;
+}
+
+ParamValue zero_value(ParamType t) {
+  switch (t) {
+    case ParamType::kBool: return false;
+    case ParamType::kInt: return std::int64_t{0};
+    case ParamType::kDouble: return 0.0;
+    case ParamType::kVec3: return math::Vec3(math::Vec3::Zero());
+    case ParamType::kString:
+    case ParamType::kEnum: return std::string();
+  }
+  return std::string();
+}
+
 // ---- node kinds -----------------------------------------------------------------
 
 const SocketSpec* NodeKind::input(std::string_view name) const { return find_socket(inputs, name); }
@@ -187,8 +211,9 @@ BuildGraph convert_definition(const Definition& definition) {
   // Depth first, parents before children: the order the build runs them.
   std::function<void(const Component&, const std::string&, int)> walk = [&](const Component& c,
                                                                            const std::string& parent, int depth) {
-    std::string id = c.full_name().empty() ? c.type : c.full_name();
-    for (int k = 2; !ids.insert(id).second; ++k) id = (c.full_name().empty() ? c.type : c.full_name()) + "_" + std::to_string(k);
+    const std::string base = c.full_name().empty() ? c.type : c.full_name();
+    std::string id = base;
+    for (int k = 2; !ids.insert(id).second; ++k) id = base + "_" + std::to_string(k);
     GraphNode n;
     n.id = id;
     n.kind = "component:" + c.type;

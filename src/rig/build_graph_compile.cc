@@ -45,30 +45,6 @@ std::string derived_rig_id(const std::string& rig, const std::string& node) {
   return text;
 }
 
-bool fits(const ParamValue& v, ParamType t) {
-  switch (t) {
-    case ParamType::kBool: return std::holds_alternative<bool>(v);
-    case ParamType::kInt: return std::holds_alternative<std::int64_t>(v);
-    case ParamType::kDouble: return std::holds_alternative<double>(v) || std::holds_alternative<std::int64_t>(v);
-    case ParamType::kString:
-    case ParamType::kEnum: return std::holds_alternative<std::string>(v);
-    case ParamType::kVec3: return std::holds_alternative<math::Vec3>(v);
-  }
-  return false;
-}
-
-ParamValue zero_of(ParamType t) {
-  switch (t) {
-    case ParamType::kBool: return false;
-    case ParamType::kInt: return std::int64_t{0};
-    case ParamType::kDouble: return 0.0;
-    case ParamType::kVec3: return math::Vec3(math::Vec3::Zero());
-    case ParamType::kString:
-    case ParamType::kEnum: return std::string();
-  }
-  return std::string();
-}
-
 // A value of data type `type` as it goes into a socket of that type (an
 // int into a number becomes a double).
 ParamValue as_type(const ParamValue& v, std::string_view type) {
@@ -123,7 +99,7 @@ class Compiler {
         fail(v.where, who + "type '" + v.type + "' is not one a variable holds (bool, int, number, string, vector)");
         continue;
       }
-      if (!fits(v.value, *t->value_type)) fail(v.where, who + "its value is not a " + v.type);
+      if (!value_fits(v.value, *t->value_type)) fail(v.where, who + "its value is not a " + v.type);
     }
   }
 
@@ -155,7 +131,7 @@ class Compiler {
         }
         const std::string type = constant ? kind->outputs.front().type : socket_type(i, *in);
         const DataType* t = builtin_data_types().find(type);
-        if (t && t->value_type && !fits(p.value, *t->value_type))
+        if (t && t->value_type && !value_fits(p.value, *t->value_type))
           fail(p.where, "node '" + n.id + "': the value of '" + p.name + "' is not a " + type);
       }
     }
@@ -287,7 +263,7 @@ class Compiler {
     // A constant.
     const Param* v = src.value("value");
     const DataType* t = builtin_data_types().find(kind_of_[s]->outputs.front().type);
-    return Flow{as_type(v ? v->value : zero_of(*t->value_type), type), -1, {}, {}};
+    return Flow{as_type(v ? v->value : zero_value(*t->value_type), type), -1, {}, {}};
   }
 
   // An input the node needs before the build: nullopt (with the error)
@@ -309,7 +285,7 @@ class Compiler {
     if (!out_.errors.empty()) return std::nullopt;
     if (const Param* p = g_.nodes[n].value(socket)) return as_type(p->value, socket_type(n, *kind_of_[n]->input(socket)));
     const DataType* t = builtin_data_types().find(socket_type(n, *kind_of_[n]->input(socket)));
-    return zero_of(*t->value_type);
+    return zero_value(*t->value_type);
   }
 
   void run_chain() {

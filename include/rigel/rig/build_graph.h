@@ -71,6 +71,10 @@ class DataTypeRegistry {
 const DataTypeRegistry& builtin_data_types();
 // The data type of a component parameter (an enum is a string).
 const char* data_type_of(ParamType type);
+// Whether `value` is a value of `type` (an int is a double's too).
+bool value_fits(const ParamValue& value, ParamType type);
+// The zero of `type`: false, 0, 0.0, "", (0, 0, 0).
+ParamValue zero_value(ParamType type);
 
 // ---- node kinds ---------------------------------------------------------------
 
