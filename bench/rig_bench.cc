@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -81,12 +82,20 @@ void rebuild_alternately(benchmark::State& state, rig::Build& build, scene::Scen
   state.counters["rebuilt"] = static_cast<double>(rebuilt);
 }
 
-void BM_rig_build_biped(benchmark::State& state) {
+// Each iteration builds the definition `definition()` gives (timed with
+// the build; nullopt: skipped with `why`) on a fresh metarig (untimed).
+template <typename MakeDefinition>
+void build_each(benchmark::State& state, MakeDefinition definition, const char* why) {
   for (auto _ : state) {
     state.PauseTiming();
     std::unique_ptr<scene::Scene> scene = fresh_scene();
     state.ResumeTiming();
-    auto b = rig::Build::open(*scene, biped(), ephemeral::components());
+    std::optional<rig::Definition> d = definition();
+    if (!d) {
+      state.SkipWithError(why);
+      break;
+    }
+    auto b = rig::Build::open(*scene, std::move(*d), ephemeral::components());
     if (!b || !(*b)->build_all()) {
       state.SkipWithError("build failed");
       break;
@@ -96,6 +105,10 @@ void BM_rig_build_biped(benchmark::State& state) {
     scene.reset();
     state.ResumeTiming();
   }
+}
+
+void BM_rig_build_biped(benchmark::State& state) {
+  build_each(state, [] { return std::optional<rig::Definition>(biped()); }, "");
   state.counters["components"] = static_cast<double>(biped().all_components().size());
 }
 BENCHMARK(BM_rig_build_biped)->Unit(benchmark::kMillisecond);
@@ -176,44 +189,24 @@ const std::string& biped_graph_text() {
   return text;
 }
 
-// From text to a built rig: `graph` reads the graph and compiles it, else
-// the definition is read and validated.
-void build_from_text(benchmark::State& state, bool graph) {
-  for (auto _ : state) {
-    state.PauseTiming();
-    std::unique_ptr<scene::Scene> scene = fresh_scene();
-    state.ResumeTiming();
-    rig::Definition d;
-    if (graph) {
-      rig::BuildGraphParse parsed = rig::parse_build_graph(biped_graph_text(), "biped.build.json");
-      rig::BuildGraphCompile compiled = rig::compile_build_graph(parsed.graph);
-      if (!parsed.ok() || !compiled.ok()) {
-        state.SkipWithError("the graph does not compile");
-        break;
-      }
-      d = std::move(compiled.definition);
-    } else {
-      rig::ParseResult parsed = rig::parse_definition(biped_text(), rig::Syntax::kXml, "biped.rig.xml");
-      if (!parsed.ok() || !rig::validate(parsed.definition).empty()) {
-        state.SkipWithError("the definition is not valid");
-        break;
-      }
-      d = std::move(parsed.definition);
-    }
-    auto b = rig::Build::open(*scene, std::move(d), ephemeral::components());
-    if (!b || !(*b)->build_all()) {
-      state.SkipWithError("build failed");
-      break;
-    }
-    benchmark::DoNotOptimize((*b)->position());
-    state.PauseTiming();
-    scene.reset();
-    state.ResumeTiming();
-  }
+// From text to a built rig: the definition read and validated, or the
+// graph read and compiled.
+void BM_rig_build_biped_from_definition_text(benchmark::State& state) {
+  build_each(state, []() -> std::optional<rig::Definition> {
+    rig::ParseResult parsed = rig::parse_definition(biped_text(), rig::Syntax::kXml, "biped.rig.xml");
+    if (!parsed.ok() || !rig::validate(parsed.definition).empty()) return std::nullopt;
+    return std::move(parsed.definition);
+  }, "the definition is not valid");
 }
-void BM_rig_build_biped_from_definition_text(benchmark::State& state) { build_from_text(state, false); }
 BENCHMARK(BM_rig_build_biped_from_definition_text)->Unit(benchmark::kMillisecond);
-void BM_graph_build_biped_from_graph_text(benchmark::State& state) { build_from_text(state, true); }
+void BM_graph_build_biped_from_graph_text(benchmark::State& state) {
+  build_each(state, []() -> std::optional<rig::Definition> {
+    rig::BuildGraphParse parsed = rig::parse_build_graph(biped_graph_text(), "biped.build.json");
+    rig::BuildGraphCompile compiled = rig::compile_build_graph(parsed.graph);
+    if (!parsed.ok() || !compiled.ok()) return std::nullopt;
+    return std::move(compiled.definition);
+  }, "the graph does not compile");
+}
 BENCHMARK(BM_graph_build_biped_from_graph_text)->Unit(benchmark::kMillisecond);
 
 // The editor's live rebuild: the left arm's node gets another pole distance
