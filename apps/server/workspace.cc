@@ -5,6 +5,7 @@
 
 #include "animate_routes.h"
 #include "curve_routes.h"
+#include "editor_routes.h"
 #include "rigging_routes.h"
 #include "settings_routes.h"
 #include "trail_routes.h"
@@ -460,6 +461,14 @@ struct Workspace::Impl {
   Json get_driven_keys(const Request&, const Json&) { return routes::driven_keys(ws); }
   Json post_driven_keys(const Request&, const Json& body) { return routes::driven_key_edit(ws, body); }
 
+  // ---- routes: build graphs (editor_routes.cc) ------------------------------------
+  Json get_graph_palette(const Request&, const Json&) { return routes::graph_palette(ws); }
+  Json get_graph_files(const Request&, const Json&) { return routes::graph_files(ws); }
+  Json get_graph(const Request& req, const Json&) { return routes::graph_open(ws, req.query); }
+  Json post_graph_validate(const Request&, const Json& body) { return routes::graph_validate(ws, body); }
+  Json post_graph_build(const Request&, const Json& body) { return routes::graph_build(ws, body); }
+  Json post_graph_save(const Request&, const Json& body) { return routes::graph_save(ws, body); }
+
   // ---- routes: animator tools (animate_routes.cc) ---------------------------------
 
   Json post_export(const Request&, const Json& body) { return routes::export_scene(ws, body); }
@@ -588,54 +597,12 @@ struct Workspace::Impl {
     return Json{{"rig", name}, {"editMode", take(ws.set_edit_mode(name, on))}};
   }
 
-  // ---- routes: definitions -------------------------------------------------------
-
-  // A rig's definition as it was built (the .rig.json form), for the editor.
-  Json get_definition(const Request& req, const Json&) {
-    auto it = req.query.find("rig");
-    if (it == req.query.end()) refuse(400, "missing query 'rig'", "rig");
-    const rig::Definition def = take(ws.definition(it->second));
-    return Json{{"rig", it->second},
-                {"path", def.source},
-                {"definition", Json::parse(rig::write_definition(def, rig::Syntax::kJson))}};
-  }
-
-  Json get_components(const Request&, const Json&) {
-    Json list = Json::array();
-    for (const std::string& t : ws.component_types())
-      list.push_back(rig::component_schema_json(*ws.factory().schemas().find(t)));
-    return Json{{"components", std::move(list)}};
-  }
-
-  // The request's definition (the .rig.json object), parsed and checked.
-  app::CheckedDefinition request_definition(const Json& body) {
-    const Json& def = need(body, "definition");
-    if (!def.is_object()) refuse(400, "definition: expected the .rig.json object", "definition");
-    return ws.check_definition(def.dump(2), rig::Syntax::kJson, "definition");
-  }
-
-  Json post_definition_validate(const Request&, const Json& body) {
-    const app::CheckedDefinition c = request_definition(body);
-    return Json{{"ok", c.problems.empty()}, {"problems", problems_json(c.problems)}};
-  }
-
-  // Live rebuild: builds the rig, or rebuilds what changed when the scene has it already.
-  Json post_definition_build(const Request&, const Json& body) {
-    app::CheckedDefinition c = request_definition(body);
-    if (!c.problems.empty()) refuse(400, "definition: " + c.problems.front().str(), "definition");
-    const app::BuildReport r = take(ws.build_definition(std::move(c.definition)));
-    return Json{{"rig", r.rig}, {"rebuilt", names_json(r.rebuilt)}};
-  }
-
-  Json post_definition_save(const Request&, const Json& body) {
-    const fs::path path = path_field(need(body, "path"), "path");
-    if (!rig::syntax_of(path))
-      refuse(400, "path: '" + as_string(need(body, "path"), "path") + "' is neither .rig.xml nor .rig.json", "path");
-    app::CheckedDefinition c = request_definition(body);
-    if (!c.problems.empty()) refuse(400, "definition: " + c.problems.front().str(), "definition");
-    const app::SavedDefinition saved = take(ws.save_definition(std::move(c.definition), path));
-    return Json{{"path", saved.path.string()}, {"version", saved.version}};
-  }
+  // ---- routes: definitions (editor_routes.cc) -------------------------------------
+  Json get_definition(const Request& req, const Json&) { return routes::definition_open(ws, req.query); }
+  Json get_components(const Request&, const Json&) { return routes::components(ws); }
+  Json post_definition_validate(const Request&, const Json& body) { return routes::definition_validate(ws, body); }
+  Json post_definition_build(const Request&, const Json& body) { return routes::definition_build(ws, body); }
+  Json post_definition_save(const Request&, const Json& body) { return routes::definition_save(ws, body); }
 };
 
 Workspace::Workspace(std::unique_ptr<scene::Scene> scene, fs::path scene_path, fs::path root,
@@ -742,6 +709,12 @@ Response Workspace::handle(const Request& request) {
       {"POST", "/api/definition/validate", &Impl::post_definition_validate},
       {"POST", "/api/definition/build", &Impl::post_definition_build},
       {"POST", "/api/definition/save", &Impl::post_definition_save},
+      {"GET", "/api/graph/palette", &Impl::get_graph_palette},
+      {"GET", "/api/graph/files", &Impl::get_graph_files},
+      {"GET", "/api/graph", &Impl::get_graph},
+      {"POST", "/api/graph/validate", &Impl::post_graph_validate},
+      {"POST", "/api/graph/build", &Impl::post_graph_build},
+      {"POST", "/api/graph/save", &Impl::post_graph_save},
   };
   const Route* route = nullptr;
   bool path_known = false;

@@ -1,6 +1,10 @@
 #include "internal.h"
 
+#include <fstream>
+#include <sstream>
+
 #include "rigel/rig/meta.h"
+#include "rigel/rig/version.h"
 
 namespace rigel::app::internal {
 
@@ -13,6 +17,20 @@ Status conflict(const Status& s, const std::string& field) {
                              ? s.code()
                              : ErrorCode::kFailedPrecondition;
   return Status(code, s.message()).with_field(field.empty() ? s.field() : field);
+}
+
+std::string version_to_save(const fs::path& path, const std::string& version,
+                            const std::function<std::optional<std::string>()>& version_of,
+                            const std::function<std::string(const std::string&)>& text_at) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return version;
+  const std::optional<std::string> old = version_of();
+  const std::string old_version = old ? *old : version;
+  if (rig::compare_versions(version, old_version) > 0) return version;
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return !old || text.str() != text_at(old_version) ? rig::next_version(old_version) : old_version;
 }
 
 Status make_parent(const fs::path& file, const std::string& field) {

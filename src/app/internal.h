@@ -2,6 +2,8 @@
 // What the workspace's source files share (private to src/app).
 
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <string>
 
 #include <vector>
@@ -23,6 +25,14 @@ Status make_parent(const std::filesystem::path& file, const std::string& field);
 // A save that failed: where the caller said to write cannot take it
 // (kFailedPrecondition naming `field`).
 Status saved(const Status& s, const std::string& field);
+
+// The version a file saved at `path` takes (definitions and graphs):
+// `version` when it is newer than the file's (`version_of` the file there;
+// nullopt when none can be read), else the file's own when `text_at(its
+// version)` is the file's bytes (nothing changed), else the next one.
+std::string version_to_save(const std::filesystem::path& path, const std::string& version,
+                            const std::function<std::optional<std::string>()>& version_of,
+                            const std::function<std::string(const std::string&)>& text_at);
 
 // The built rig a call names (errors name "rig"): `name`, else the rig
 // named `fallback` when there is one, else the scene's only rig (poses.cc,

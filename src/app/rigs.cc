@@ -335,19 +335,18 @@ Result<SavedDefinition> Workspace::save_definition(rig::Definition def, const fs
     return Status(ErrorCode::kInvalidArgument, "definition: " + problems.front().str()).with_field("definition");
   if (Status s = make_parent(path, "path"); !s) return s;
   // Saving over a definition with other content makes a new version.
-  std::error_code ec;
-  if (fs::exists(path, ec)) {
-    rig::ParseResult old = rig::load_definition(path, factory_.schemas());
-    const std::string old_version = old.ok() ? old.definition.version : def.version;
-    if (rig::compare_versions(def.version, old_version) <= 0) {
-      rig::Definition same = def;
-      same.version = old_version;
-      std::ifstream in(path, std::ios::binary);
-      std::ostringstream text;
-      text << in.rdbuf();
-      def.version = !old.ok() || text.str() != rig::write_definition(same, *syntax) ? rig::next_version(old_version) : old_version;
-    }
-  }
+  def.version = internal::version_to_save(
+      path, def.version,
+      [&]() -> std::optional<std::string> {
+        rig::ParseResult old = rig::load_definition(path, factory_.schemas());
+        if (!old.ok()) return std::nullopt;
+        return old.definition.version;
+      },
+      [&](const std::string& v) {
+        rig::Definition same = def;
+        same.version = v;
+        return rig::write_definition(same, *syntax);
+      });
   def.source = path.string();
   if (Status s = saved(rig::save_definition(def, path), "path"); !s) return s;
   return SavedDefinition{path, def.version};

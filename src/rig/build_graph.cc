@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <functional>
+#include <regex>
 #include <set>
 
 namespace rigel::rig {
@@ -231,6 +232,46 @@ BuildGraph convert_definition(const Definition& definition) {
   };
   for (const Component& root : definition.components) walk(root, "", 0);
   return g;
+}
+
+// ---- places -------------------------------------------------------------------
+
+GraphPlace place_of(const BuildGraph& graph, const Diagnostic& d) {
+  // What the message names, in the compiler's words (build_graph_compile.cc).
+  static const std::regex link_re(R"(^link '[^']*' -> '([^'.]+)\.([^']+)')");
+  static const std::regex two_re(R"(^(?:exec output|input) '([^'.]+)\.([^']+)' has two links)");
+  static const std::regex node_re(R"(^node '([^']+)')");
+  static const std::regex socket_re(R"(^node '[^']+': (?:input '([^']+)'|'([^']+)' is not a data input|the value of '([^']+)'))");
+  std::smatch m;
+  GraphPlace place;
+  if (std::regex_search(d.message, m, link_re) || std::regex_search(d.message, m, two_re)) return {m[1].str(), m[2].str()};
+  if (std::regex_search(d.message, m, node_re)) {
+    place.node = m[1].str();
+    if (std::smatch s; std::regex_search(d.message, s, socket_re))
+      for (std::size_t i = 1; i < s.size(); ++i)
+        if (s[i].matched) place.socket = s[i].str();
+  }
+  const int line = d.where.line;
+  if (line <= 0) return place;
+  // The node whose block holds the line: the last one starting at or before
+  // it, with no link or variable starting between them.
+  const GraphNode* in = nullptr;
+  for (const GraphNode& n : graph.nodes)
+    if (n.where.line > 0 && n.where.line <= line && (!in || n.where.line > in->where.line)) in = &n;
+  const auto between = [&](const SourceLocation& w) { return in && w.line > in->where.line && w.line <= line; };
+  for (const GraphLink& l : graph.links) {
+    if (l.where.line == line) return place.node.empty() ? GraphPlace{l.to.node, l.to.socket} : place;
+    if (between(l.where)) in = nullptr;
+  }
+  for (const GraphVariable& v : graph.variables)
+    if (between(v.where)) in = nullptr;
+  if (!in || (!place.node.empty() && place.node != in->id)) return place;
+  place.node = in->id;
+  if (place.socket.empty())
+    for (const std::vector<Param>* params : {&in->values, &in->component.params})
+      for (const Param& p : *params)
+        if (p.where.line == line) place.socket = p.name;
+  return place;
 }
 
 }  // namespace rigel::rig

@@ -375,6 +375,7 @@ class Compiler {
       return false;
     }
     ran_[n] = Flow{std::nullopt, static_cast<int>(made_.size()), {}, {}};
+    out_.rig_ids.emplace_back(node.id, c.rig_id);
     made_.push_back(std::move(c));
     parent_.push_back(parent);
     depth_.push_back(depth);
@@ -423,6 +424,7 @@ class Compiler {
     }
     c.params = {Param{"function", id, node.where}, Param{"args", args.dump(), node.where}};
     ran_[n] = Flow{std::nullopt, -1, c.rig_id, {}};
+    out_.rig_ids.emplace_back(node.id, c.rig_id);
     calls_.push_back(std::move(c));
     return true;
   }

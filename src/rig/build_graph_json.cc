@@ -281,4 +281,41 @@ Status save_build_graph(const BuildGraph& graph, const std::filesystem::path& pa
   return io::write_file_atomic(path, write_build_graph(graph));
 }
 
+nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const SchemaRegistry& schemas) {
+  using Json = nlohmann::ordered_json;
+  Json types = Json::array();
+  for (const DataType& t : builtin_data_types().types())
+    types.push_back(Json{{"name", t.name}, {"color", t.color}, {"value", t.value_type.has_value()}, {"help", t.help}});
+  const auto sockets = [](const std::vector<SocketSpec>& specs, const auto& default_of) {
+    Json list = Json::array();
+    for (const SocketSpec& s : specs) {
+      Json j{{"name", s.name}, {"type", s.type}, {"help", s.help}};
+      if (std::optional<ParamValue> d = default_of(s)) j["default"] = detail::param_value_json(*d);
+      list.push_back(std::move(j));
+    }
+    return list;
+  };
+  Json list = Json::array();
+  for (const NodeKind& k : kinds.kinds()) {
+    const ComponentSchema* schema =
+        k.id.rfind("component:", 0) == 0 ? schemas.find(std::string_view(k.id).substr(std::string_view("component:").size())) : nullptr;
+    const auto default_of = [&](const SocketSpec& s) -> std::optional<ParamValue> {
+      if (schema)
+        for (const ParamSpec& p : schema->params)
+          if (p.name == s.name) return p.default_value;
+      const DataType* t = builtin_data_types().find(s.type);
+      if (!t || !t->value_type) return std::nullopt;
+      return zero_value(*t->value_type);
+    };
+    const auto none = [](const SocketSpec&) -> std::optional<ParamValue> { return std::nullopt; };
+    list.push_back(Json{{"id", k.id},
+                        {"niceName", k.nice_name},
+                        {"category", k.category},
+                        {"help", k.help},
+                        {"inputs", sockets(k.inputs, default_of)},
+                        {"outputs", sockets(k.outputs, none)}});
+  }
+  return Json{{"types", std::move(types)}, {"kinds", std::move(list)}};
+}
+
 }  // namespace rigel::rig

@@ -32,6 +32,7 @@
 #include "rigel/graph/graph.h"
 #include "rigel/math/types.h"
 #include "rigel/rig/build.h"
+#include "rigel/rig/build_graph.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/manager.h"
@@ -229,6 +230,40 @@ struct BuildReport {
 struct SavedDefinition {
   fs::path path;
   std::string version;
+};
+// A build graph's problem (or warning) and the node and socket it is about
+// (rig::place_of), for an editor to mark.
+struct GraphProblem {
+  rig::Diagnostic diagnostic;
+  rig::GraphPlace place;
+};
+// A build graph read and compiled.
+struct CheckedGraph {
+  rig::BuildGraph graph;
+  bool parsed = false;  // false: `problems` are the text's (nothing compiled)
+  rig::Definition definition;  // what it compiles to (when no problems)
+  std::vector<GraphProblem> problems, warnings;
+  std::vector<std::string> order;  // the nodes the exec chain ran
+  std::vector<std::pair<std::string, std::string>> rig_ids;  // (node id, rigId)
+  bool ok() const { return parsed && problems.empty(); }
+};
+// A build (or live rebuild) from a graph.
+struct GraphBuildReport {
+  std::string rig;
+  std::vector<std::string> rebuilt;  // rig ids, build order
+  std::vector<std::pair<std::string, std::string>> rig_ids;  // (node id, rigId)
+};
+// A scene rig's build graph: the graph file it was built from, or its
+// definition converted (rig::convert_definition).
+struct RigGraph {
+  rig::BuildGraph graph;
+  fs::path path;  // the graph file ("" when converted)
+  bool converted = false;
+};
+struct SavedGraph {
+  fs::path path;
+  std::string version;
+  std::vector<GraphProblem> problems;  // compile's: a graph being drawn may be saved with them
 };
 
 class Workspace {
@@ -611,6 +646,31 @@ class Workspace {
   // Saves the definition at `path` (.rig.xml or .rig.json by its name); over
   // a file with other content the version moves to the next one.
   Result<SavedDefinition> save_definition(rig::Definition definition, const fs::path& path);
+
+  // ---- build graphs (rig/build_graph.h) -----------------------------------------
+  // The node kinds a graph can hold now: the component types of factory()
+  // and the build functions registered now.
+  rig::NodeKindRegistry graph_kinds() const;
+  // Parses `.build.json` text (`where` names it in messages) and compiles it.
+  CheckedGraph check_graph(const std::string& text, const std::string& where) const;
+  CheckedGraph check_graph(rig::BuildGraph graph) const;
+  // Compiles the graph (kInvalidArgument naming "graph" with its first
+  // problem) and builds its rig, or live-rebuilds only the nodes that
+  // changed, and what reads them, when the scene has it: build_definition.
+  Result<GraphBuildReport> build_graph(rig::BuildGraph graph);
+  // Saves the graph at `path` (a .build.json) atomically; over a file with
+  // other content its version moves to the next one. A graph that does not
+  // compile is saved too (work in progress), its problems reported.
+  Result<SavedGraph> save_graph(rig::BuildGraph graph, const fs::path& path);
+  // Reads a .build.json (kInvalidArgument naming `path` with every problem
+  // of its text; kNotFound when it is missing).
+  Result<rig::BuildGraph> open_graph(const fs::path& path) const;
+  // The graph a rig was built from, or its definition as a graph.
+  Result<RigGraph> rig_graph(const std::string& name);
+  // The .build.json files under root() (relative to it, sorted; hidden
+  // folders and node_modules skipped, 8 levels deep, the first 1000).
+  // kFailedPrecondition when the workspace has no root.
+  Result<std::vector<fs::path>> graph_files() const;
 
   // Drops the rigs at step 0 whose step an undo took back and that the new
   // edit just made can no longer redo. Drivers call it around each mutating

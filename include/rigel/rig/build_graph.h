@@ -32,6 +32,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "rigel/base/status.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/definition_io.h"
@@ -122,6 +124,13 @@ class NodeKindRegistry {
 // get and set, branch, and one function kind per build function
 // registered now (build_functions()).
 NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas = builtin_schemas());
+
+// The palette an editor offers, as JSON: {"types": [{name, color, value
+// (whether a constant or a variable holds it), help}], "kinds": [{id,
+// niceName, category, help, inputs: [{name, type, help, default?}],
+// outputs: [...]}]}. An input's default is the value it takes unlinked on
+// a new node: a component parameter's schema default, else its type's zero.
+nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const SchemaRegistry& schemas = builtin_schemas());
 
 // ---- the graph ----------------------------------------------------------------
 
@@ -214,12 +223,25 @@ struct BuildGraphCompile {
   // children right after it).
   std::vector<Diagnostic> warnings;
   std::vector<std::string> order;  // the ids of the nodes the chain ran, in order
+  // (node id, rigId) of each component and function node the chain ran, so
+  // an editor can show which node a build step or a rebuilt rigId is.
+  std::vector<std::pair<std::string, std::string>> rig_ids;
   bool ok() const { return errors.empty(); }
 };
 BuildGraphCompile compile_build_graph(const BuildGraph& graph, const SchemaRegistry& schemas = builtin_schemas());
 // A graph file read and compiled: what `rigel graph validate` reports (the
 // file's problems when it cannot be read, else compile's).
 BuildGraphCompile check_build_graph(const std::filesystem::path& path, const SchemaRegistry& schemas = builtin_schemas());
+
+// What a diagnostic of `graph` is about, for an editor to mark: the node
+// its message names ("node 'ID'", or a link's "'ID.socket'"), else the node
+// whose block in the file holds its place; the socket is the input whose
+// value or link is at that place (or that the message names). Empty when
+// it is about the rig's settings, a variable, or nothing of a node.
+struct GraphPlace {
+  std::string node, socket;
+};
+GraphPlace place_of(const BuildGraph& graph, const Diagnostic& diagnostic);
 
 // The graph of a definition: start, then one component node per component
 // in build order (depth first) on the exec chain, each child's `parent`
