@@ -10,6 +10,8 @@
 #include "rigel/rig/build_graph.h"
 #include "rigel/rig/meta.h"
 
+#include <nlohmann/json.hpp>
+
 namespace rigel::python {
 namespace {
 
@@ -225,6 +227,14 @@ void wrap_build_graph(py::module_& m) {
       },
       py::arg("definition"), py::arg("graph"),
       "Writes the build graph of a definition (graph: a .build.json path); its files made relative to it.");
+  m.def(
+      "graph_palette",
+      [] {
+        const auto& schemas = rig::builtin_schemas();
+        return py::module_::import("json").attr("loads")(rig::graph_palette_json(rig::builtin_node_kinds(schemas), schemas).dump());
+      },
+      "What the graph editor's palette offers now: {types: [...], kinds: [{id, niceName, category, help, inputs, "
+      "outputs}]}, the functions registered in this process included.");
 }
 
 }  // namespace rigel::python

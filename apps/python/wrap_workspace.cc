@@ -747,6 +747,7 @@ cannot do it in its state.)");
   def_scene_settings(cls);
   def_rigging(cls);
   def_data(cls);
+  def_graphs(cls);
   def_space_tools(cls);
   def_poses(cls);
   def_rigs(cls);

@@ -4,7 +4,8 @@
 // values; wrap_workspace_spaces.cc: spaces; wrap_workspace_poses.cc: the pose
 // library; wrap_workspace_curves.cc: the graph editor;
 // wrap_workspace_settings.cc: playback range and selection sets;
-// wrap_workspace_rigging.cc: rigger actions).
+// wrap_workspace_rigging.cc: rigger actions; wrap_workspace_graphs.cc:
+// build graphs).
 
 #include <memory>
 #include <optional>
@@ -65,5 +66,8 @@ void def_rigging(WorkspaceClass& cls);
 // import_control_shapes, export_blend_shapes, import_blend_shapes
 // (wrap_pipeline.cc).
 void def_data(WorkspaceClass& cls);
+// Workspace.check_graph, build_graph, save_graph, rig_graph, graph_files
+// (wrap_workspace_graphs.cc).
+void def_graphs(WorkspaceClass& cls);
 
 }  // namespace rigel::python

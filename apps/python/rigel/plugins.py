@@ -85,3 +85,10 @@ def load_plugins(folder):
             path = os.path.join(folder, entry)
             loaded[path] = load_plugin(path)
     return loaded
+
+
+def load_root_plugins(root):
+    """Loads the ``plugins/`` folder of a project or asset root, when it has
+    one (what ``serve`` does); returns {file: [ids]}."""
+    folder = os.path.join(root, "plugins")
+    return load_plugins(folder) if os.path.isdir(folder) else {}
