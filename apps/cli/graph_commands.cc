@@ -31,11 +31,15 @@ int run_validate(const ValidateArgs& args) {
   Json files = Json::array();
   bool all_valid = true;
   for (const std::string& file : args.files) {
+    // check_build_graph's steps, keeping the graph to place each problem on its node.
     rig::BuildGraphCompile checked;
+    rig::BuildGraphParse parsed;
     if (!rig::is_build_graph_path(file))
       checked.errors.push_back({file, {}, "not a build graph: the file name must end in .build.json"});
+    else if (parsed = rig::load_build_graph(file); !parsed.ok())
+      checked.errors = std::move(parsed.errors);
     else
-      checked = rig::check_build_graph(file);
+      checked = rig::compile_build_graph(parsed.graph);
     const std::vector<rig::Diagnostic>& errors = checked.errors;
     const std::vector<rig::Diagnostic>& warnings = checked.warnings;
     const std::vector<std::string>& order = checked.order;
@@ -43,8 +47,8 @@ int run_validate(const ValidateArgs& args) {
     if (args.json) {
       files.push_back(Json{{"file", file},
                            {"valid", errors.empty()},
-                           {"errors", diagnostics_json(errors)},
-                           {"warnings", diagnostics_json(warnings)},
+                           {"errors", diagnostics_json(errors, &parsed.graph)},
+                           {"warnings", diagnostics_json(warnings, &parsed.graph)},
                            {"order", errors.empty() ? Json(order) : Json::array()}});
       continue;
     }

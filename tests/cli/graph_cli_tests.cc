@@ -82,6 +82,12 @@ TEST(CliGraph, a_wrong_graph_is_refused_naming_the_node_and_socket_and_nothing_i
   EXPECT_TRUE(contains(validate.err, "link 'hip.component' -> 'spine.kinematicType': a component output cannot feed a "
                                      "string input"))
       << validate;
+  // --json places it on the input's node and socket, for tools that mark them.
+  const CliRun json = rigel({"graph", "validate", graph.string(), "--json"});
+  ASSERT_TRUE(exited_with(json, 1)) << json;
+  const Json error = Json::parse(json.out)["files"][0]["errors"][0];
+  EXPECT_EQ(error["node"], "spine") << json;
+  EXPECT_EQ(error["socket"], "kinematicType") << json;
   const fs::path out = dir.path() / "out.rigel";
   const CliRun run = rigel({"graph", "run", graph.string(), "-o", out.string()});
   EXPECT_TRUE(exited_with(run, 1)) << run;
