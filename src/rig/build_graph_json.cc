@@ -299,10 +299,15 @@ nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const S
   for (const NodeKind& k : kinds.kinds()) {
     const ComponentSchema* schema =
         k.id.rfind("component:", 0) == 0 ? schemas.find(std::string_view(k.id).substr(std::string_view("component:").size())) : nullptr;
+    std::optional<BuildFunction> function;
+    if (k.id.rfind("function:", 0) == 0) function = build_functions().find(k.id.substr(std::string_view("function:").size()));
     const auto default_of = [&](const SocketSpec& s) -> std::optional<ParamValue> {
       if (schema)
         for (const ParamSpec& p : schema->params)
           if (p.name == s.name) return p.default_value;
+      if (function)
+        for (const Param& p : function->defaults)
+          if (p.name == s.name) return p.value;
       const DataType* t = builtin_data_types().find(s.type);
       if (!t || !t->value_type) return std::nullopt;
       return zero_value(*t->value_type);

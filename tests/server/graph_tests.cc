@@ -62,6 +62,9 @@ TEST(ServerGraph, PaletteListsEveryKindWithTypesAndDefaults) {
       EXPECT_FALSE(in.contains("default")) << in;
     }
   EXPECT_TRUE(seen);
+  // A function input's default is the function's.
+  for (const Json& in : kinds["function:rigel.setControlColor"]["inputs"])
+    if (in["name"] == "color") EXPECT_EQ(in["default"], Json::array({1.0, 1.0, 0.0})) << in;
   std::set<std::string> types;
   for (const Json& t : p["types"]) {
     types.insert(t["name"]);

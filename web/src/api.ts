@@ -370,6 +370,8 @@ export interface StepAnswer extends Revised {
   position: number;
   steps: number;
   step: string;
+  /** The rigId of the component whose step was built last, when the server says (the build-graph editor marks its node). */
+  rigId?: string;
 }
 
 // --------------------------------------------------------------- definitions
@@ -465,6 +467,12 @@ export interface SaveDefinitionAnswer {
   path: string;
   version: string;
 }
+
+// --------------------------------------------------------------- build graphs
+// The .build.json object and the graph routes' answers: graphtypes.ts.
+export type * from './graphtypes';
+import type { BuildGraphJson, GraphBuildAnswer, GraphFilesAnswer, GraphOpenAnswer } from './graphtypes';
+import type { GraphPaletteAnswer, GraphSaveAnswer, GraphValidateAnswer } from './graphtypes';
 
 // -------------------------------------------------------------------- routes
 
@@ -752,5 +760,37 @@ export class Api {
 
   saveDefinition(req: SaveDefinitionRequest): Promise<SaveDefinitionAnswer> {
     return this.http.post('/api/definition/save', req);
+  }
+
+  // build graphs
+
+  graphPalette(): Promise<GraphPaletteAnswer> {
+    return this.http.get('/api/graph/palette');
+  }
+
+  graphFiles(): Promise<GraphFilesAnswer> {
+    return this.http.get('/api/graph/files');
+  }
+
+  /** A `.build.json` file (relative to the root). */
+  graphFile(path: string): Promise<GraphOpenAnswer> {
+    return this.http.get(`/api/graph?path=${q(path)}`);
+  }
+
+  /** The graph of a scene's rig: its graph file, or its definition converted. */
+  graphOfRig(rig: string): Promise<GraphOpenAnswer> {
+    return this.http.get(`/api/graph?rig=${q(rig)}`);
+  }
+
+  validateGraph(graph: BuildGraphJson): Promise<GraphValidateAnswer> {
+    return this.http.post('/api/graph/validate', { graph });
+  }
+
+  buildGraph(graph: BuildGraphJson): Promise<GraphBuildAnswer> {
+    return this.http.post('/api/graph/build', { graph });
+  }
+
+  saveGraph(graph: BuildGraphJson, path: string): Promise<GraphSaveAnswer> {
+    return this.http.post('/api/graph/save', { graph, path });
   }
 }

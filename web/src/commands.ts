@@ -8,6 +8,9 @@
 import type {
   Api,
   BuildAnswer,
+  BuildGraphJson,
+  GraphBuildAnswer,
+  GraphSaveAnswer,
   ChannelKeysAnswer,
   ChannelValuesAnswer,
   CurveKeysAnswer,
@@ -263,6 +266,25 @@ export function buildDefinition(definition: RigJson): Command<BuildAnswer> {
 export function saveDefinition(definition: RigJson, path: string): Command<SaveDefinitionAnswer> {
   return {
     send: (api) => api.saveDefinition({ definition, path }),
+    affects: ['rigs'],
+  };
+}
+
+// -------------------------------------------------------------- build graphs
+
+/** Builds the build graph's rig into the scene (or live-rebuilds what changed): one undo step. */
+export function buildGraph(graph: BuildGraphJson): Command<GraphBuildAnswer> {
+  return {
+    send: (api) => api.buildGraph(graph),
+    message: (a) => `Built ${a.rig} from the graph (${a.rebuilt?.length ?? 0} rebuilt)`,
+    affects: ['everything'],
+  };
+}
+
+/** Saves the build graph to `path` (a .build.json, relative to the root); a rig built from it may now be out of date. */
+export function saveGraph(graph: BuildGraphJson, path: string): Command<GraphSaveAnswer> {
+  return {
+    send: (api) => api.saveGraph(graph, path),
     affects: ['rigs'],
   };
 }

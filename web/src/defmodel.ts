@@ -165,6 +165,24 @@ export class DefinitionModel {
     };
   }
 
+  /**
+   * A loose node (no parent, so not part of the definition) of component
+   * `c`: what the build graph editor's details panel edits of a component
+   * node, written back with `componentJson`.
+   */
+  looseComponent(c: ComponentJson): GNode {
+    const node = this.componentFromJson(c, kRig, 1, 0);
+    node.parent = null;
+    this.nodes.set(node.id, node);
+    this.order.push(node.id);
+    return node;
+  }
+
+  /** A component node in the `.rig.json` form, without its children. */
+  componentJson(n: GNode): ComponentJson {
+    return this.componentToJson(n, false);
+  }
+
   /** Adds a loose component node of a known type at (x, y) (by default the next free place); null for an unknown type. */
   addComponent(type: string, x?: number, y?: number): GNode | null {
     const schema = this.schemas.get(type);
@@ -317,7 +335,7 @@ export class DefinitionModel {
     return { rig: out };
   }
 
-  private componentToJson(n: GNode): ComponentJson {
+  private componentToJson(n: GNode, children = true): ComponentJson {
     const schema = this.schemas.get(n.type);
     const c: ComponentJson = {
       type: n.type,
@@ -349,7 +367,7 @@ export class DefinitionModel {
     if (controls.length) c.controls = controls;
     if (Object.keys(n.params).length) c.params = { ...n.params };
     Object.assign(c, n.extra);
-    const kids = this.children(n.id);
+    const kids = children ? this.children(n.id) : [];
     if (kids.length) c.children = kids.map((k) => this.componentToJson(k));
     return c;
   }

@@ -10,6 +10,7 @@ import { App, kModeKeys } from './app';
 import { installBoxSelect } from './boxselect';
 import { ChannelBox } from './channelbox';
 import { ContextMenu } from './contextmenu';
+import { BuildGraphEditor } from './buildgraph';
 import { DefinitionEditor } from './defeditor';
 import { GraphEditor } from './grapheditor';
 import { h, fill, typingTarget } from './dom';
@@ -192,6 +193,8 @@ const defPanel = byId('def-panel');
 const channelPanel = byId('channel-panel');
 const rigManager = new RigManager(rigPanel, theApp);
 const editor = new DefinitionEditor(defPanel, theApp);
+const buildPanel = byId('build-panel');
+const buildGraph = new BuildGraphEditor(buildPanel, theApp);
 const channelBox = new ChannelBox(channelPanel, theApp);
 const toolsPanel = byId('tools-panel');
 const animatorTools = new AnimatorTools(toolsPanel, theApp, () => timeline.range());
@@ -199,17 +202,20 @@ const pickerPanel = byId('picker-panel');
 const picker = new Picker(pickerPanel, theApp);
 
 const tabs = byId('tabs');
-function showTab(which: 'channels' | 'picker' | 'rigs' | 'def'): void {
+function showTab(which: 'channels' | 'picker' | 'rigs' | 'def' | 'build'): void {
   channelPanel.hidden = which !== 'channels';
   pickerPanel.hidden = which !== 'picker';
   picker.visible = which === 'picker';
   toolsPanel.hidden = which !== 'channels';
   rigPanel.hidden = which !== 'rigs';
   defPanel.hidden = which !== 'def';
+  buildPanel.hidden = which !== 'build';
+  buildGraph.visible = which === 'build';
   rigManager.visible = which === 'rigs';
   channelBox.visible = which === 'channels';
   if (which === 'channels') run(animatorTools.poses.refresh());
   byId('side').classList.toggle('wide', which === 'def');
+  byId('side').classList.toggle('wider', which === 'build');
   for (const b of tabs.querySelectorAll<HTMLButtonElement>('button')) b.classList.toggle('active', b.dataset.tab === which);
 }
 fill(
@@ -218,6 +224,7 @@ fill(
   h('button', { dataset: { tab: 'picker' }, testid: 'tab-picker', onclick: () => showTab('picker') }, 'Picker'),
   h('button', { dataset: { tab: 'rigs' }, testid: 'tab-rigs', onclick: () => showTab('rigs') }, 'Rig Manager'),
   h('button', { dataset: { tab: 'def' }, testid: 'tab-def', onclick: () => showTab('def') }, 'Definition Editor'),
+  h('button', { dataset: { tab: 'build' }, testid: 'tab-build', onclick: () => showTab('build') }, 'Build Graph'),
 );
 showTab('rigs');
 rigManager.openDefinition = (rig) => {
@@ -319,7 +326,7 @@ window.addEventListener('keydown', (e) => {
       run(theApp.setAutoKey(!store.scene?.autoKey));
       break;
     case ' ':
-      if ((e.target as HTMLElement | null)?.closest?.('#def-panel')) return;
+      if ((e.target as HTMLElement | null)?.closest?.('#def-panel, #build-panel')) return;
       timeline.toggle();
       break;
     case 'arrowleft':
@@ -351,13 +358,15 @@ window.addEventListener('keydown', (e) => {
 interface RigelHook {
   ready: Promise<void>;
   isReady: () => boolean;
-  /** True when no request, refresh, gesture or definition build is in flight. */
+  /** True when no request, refresh, gesture, definition or graph build is in flight. */
   settled: () => boolean;
   app: App;
   store: Store;
   viewport: Viewport;
   timeline: Timeline;
   editor: DefinitionEditor;
+  /** The build-graph editor (its model, idOf(title), builds, problems). */
+  buildGraph: BuildGraphEditor;
   channelBox: ChannelBox;
   graphEditor: GraphEditor;
   overlays: Overlays;
@@ -382,12 +391,13 @@ const uuidOf = (name: string): string | null => store.byName.get(name) ?? (store
 window.rigel = {
   ready: theApp.ready,
   isReady: () => theApp.isReady,
-  settled: () => theApp.settled() && editor.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy && !picker.busy && !overlays.busy,
+  settled: () => theApp.settled() && editor.idle() && buildGraph.idle() && !timeline.busy() && !channelBox.busy && !graphEditor.busy && !picker.busy && !overlays.busy,
   app: theApp,
   store,
   viewport,
   timeline,
   editor,
+  buildGraph,
   channelBox,
   graphEditor,
   overlays,

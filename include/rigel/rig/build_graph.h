@@ -129,7 +129,8 @@ NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas = builtin_sche
 // (whether a constant or a variable holds it), help}], "kinds": [{id,
 // niceName, category, help, inputs: [{name, type, help, default?}],
 // outputs: [...]}]}. An input's default is the value it takes unlinked on
-// a new node: a component parameter's schema default, else its type's zero.
+// a new node: a component parameter's schema default, a function input's
+// default, else its type's zero.
 nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const SchemaRegistry& schemas = builtin_schemas());
 
 // ---- the graph ----------------------------------------------------------------
