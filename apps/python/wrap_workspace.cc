@@ -571,6 +571,7 @@ py::object step_record(const app::StepReport& r) {
   d["position"] = r.position;
   d["steps"] = r.steps;
   d["step"] = r.step;
+  d["rig_id"] = r.rig_id;
   return record(d);
 }
 

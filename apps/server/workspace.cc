@@ -578,7 +578,7 @@ struct Workspace::Impl {
     if (const Json* t = opt(body, "to")) to = as_int(*t, "to", "a whole number of steps");
     else by = as_int(need(body, "by"), "by");
     const app::StepReport r = take(ws.step_rig(name, to, by));
-    return Json{{"rig", r.rig}, {"position", r.position}, {"steps", r.steps}, {"step", r.step}};
+    return Json{{"rig", r.rig}, {"position", r.position}, {"steps", r.steps}, {"step", r.step}, {"rigId", r.rig_id}};
   }
 
   Json post_rigs_feature(const Request&, const Json& body) {

@@ -198,7 +198,13 @@ Result<StepReport> Workspace::step_rig(const std::string& name, std::optional<in
   if (position == 0 && was_built)
     unbuilt_[name] = Unbuilt{b.definition(), b.options(), graph().undo_count(), ++unbuilt_serial_};
   bump_revision();
-  return StepReport{name, position, steps, position > 0 ? b.plan()[static_cast<std::size_t>(position - 1)].label() : ""};
+  StepReport report{name, position, steps, {}, {}};
+  if (position > 0) {
+    const rig::PlannedStep& last = b.plan()[static_cast<std::size_t>(position - 1)];
+    report.step = last.label();
+    if (last.component >= 0) report.rig_id = b.components()[static_cast<std::size_t>(last.component)]->rig_id;
+  }
+  return report;
 }
 
 Result<FeatureReport> Workspace::set_feature(const std::string& name, const std::string& feature,

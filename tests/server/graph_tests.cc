@@ -155,6 +155,20 @@ TEST(ServerGraph, BuildsLiveAndRebuildsOnlyWhatChanged) {
   EXPECT_NE(r.body.find("arm_L.name"), std::string::npos) << r.body;
   EXPECT_EQ(rig_node_uuids(graph, "arm"), nodes_before);
 
+  // A step names its component's rigId, so the editor marks its node:
+  // every step stands on one of the graph's components; from 0, the first
+  // component step is the global's; the last is the call's (built last).
+  const Json back = s.post("/api/rigs/step", {{"rig", "arm"}, {"by", -1}});
+  std::set<std::string> ids;
+  for (const auto& [node_id, rig_id] : built["rigIds"].items()) ids.insert(rig_id.get<std::string>());
+  EXPECT_TRUE(ids.count(back["rigId"].get<std::string>())) << back;
+  EXPECT_EQ(s.post("/api/rigs/step", {{"rig", "arm"}, {"to", 0}})["rigId"], "");
+  std::string first;
+  for (int i = 0; i < 3 && first.empty(); ++i) first = s.post("/api/rigs/step", {{"rig", "arm"}, {"by", 1}})["rigId"];
+  EXPECT_EQ(first, global_id);
+  const Json end = s.post("/api/rigs/step", {{"rig", "arm"}, {"to", back["steps"]}});
+  EXPECT_EQ(end["rigId"], built["rigIds"]["colour"]) << end;
+
   // Stepping the graph-built rig back to 0 and removing it give the character back.
   s.post("/api/rigs/remove", {{"rig", "arm"}});
   EXPECT_EQ(io::write_scene(s.workspace->workspace().scene()), character);

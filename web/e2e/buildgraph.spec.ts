@@ -152,6 +152,9 @@ test('build graph: draw the left arm, refuse a wrong link, build live, step, sav
   await page.getByTestId('bg-step-back').click();
   await expect(page.getByTestId('bg-step')).toHaveText(`step ${steps - 1} / ${steps}`);
   await expect.poll(async () => ((await server.get('/api/rigs')).rigs as any[])[0].buildPosition).toBe(steps - 1);
+  // The node whose component built the step the VCR stands on is marked.
+  await expect(page.getByTestId(`bg-node-${limb}`)).toHaveClass(/\bstepped\b/);
+  await expect(page.getByTestId(`bg-node-${global}`)).not.toHaveClass(/\bstepped\b/);
   await shots.take('stepped-back');
   await page.getByTestId('bg-step-forward').click();
   await expect(page.getByTestId('bg-step')).toHaveText(`step ${steps} / ${steps}`);

@@ -370,8 +370,8 @@ export interface StepAnswer extends Revised {
   position: number;
   steps: number;
   step: string;
-  /** The rigId of the component whose step was built last, when the server says (the build-graph editor marks its node). */
-  rigId?: string;
+  /** The rigId of the component whose step was built last ("" at 0 or for the rig's own step; the build-graph editor marks its node). */
+  rigId: string;
 }
 
 // --------------------------------------------------------------- definitions

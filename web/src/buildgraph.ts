@@ -17,13 +17,12 @@
 // the scene's character.
 
 import type { App } from './app';
-import { ApiError } from './api';
 import type { BuildGraphJson, GraphProblem } from './api';
 import { renderGraphDetails, renderVariables } from './buildgraphdetails';
 import type { GraphDetailsContext } from './buildgraphdetails';
 import { curve, dragLink, dragNode, graphPoint, socketPosition } from './buildgraphgestures';
 import type { Dir } from './buildgraphgestures';
-import { BuildGraphModel, kNodeW, kStart, kTitleH, fullName, linkKey, refText } from './buildgraphmodel';
+import { BuildGraphModel, kNodeW, kStart, kTitleH, linkKey, refText } from './buildgraphmodel';
 import type { GraphLink, GraphNode, SocketRef } from './buildgraphmodel';
 import { filterPalette, nodeElement, renderPalette } from './buildgraphnodes';
 import * as commands from './commands';
@@ -56,8 +55,8 @@ export class BuildGraphEditor {
   private buildError = '';
   /** The rig the graph built last (its name may have changed since). */
   private builtRig: string | null = null;
-  /** What the last step a step button built belongs to: its component's rigId, or its label ("arm_L/controls"); '' none. */
-  private stepOwner = { rigId: '', label: '' };
+  /** The rigId of the component of the last step a step button built ('' none). */
+  private stepOwner = '';
   private files: string[] = [];
   private shown = false;
   private palette: Promise<void> | null = null;
@@ -297,7 +296,7 @@ export class BuildGraphEditor {
     this.warnings = [];
     this.valid = null;
     this.buildState = 'none';
-    this.stepOwner = { rigId: '', label: '' };
+    this.stepOwner = '';
     this.renderAll();
     this.renderProblems();
     this.schedule('validate', 0);
@@ -314,7 +313,7 @@ export class BuildGraphEditor {
     this.valid = null;
     this.buildState = 'none';
     this.builtRig = null;
-    this.stepOwner = { rigId: '', label: '' };
+    this.stepOwner = '';
     this.savePath.value = '';
     this.defaultGeometry();
     this.renderAll();
@@ -483,29 +482,25 @@ export class BuildGraphEditor {
       this.app.status.error(`Graph not built: ${n} problem${n === 1 ? '' : 's'} (${this.problems[0]?.message ?? ''})`);
       return;
     }
-    let built = false;
-    const command = commands.also(commands.buildGraph(this.graphJson()), (a) => {
-      built = true;
-      this.builds.push({ ok: true, rig: a.rig });
-      this.builtRig = a.rig;
-      if (a.rigIds) this.rigIds = a.rigIds;
-      this.stepOwner = { rigId: '', label: '' };
-      this.buildState = 'built';
-      this.renderProblems();
-      this.applyMarks();
-    });
-    try {
-      await this.app.execute(command);
-    } catch (e) {
-      // A failure reading the scene again after the build is not the build's.
-      if (built) throw e;
-      const message = e instanceof Error ? e.message : String(e);
-      this.builds.push({ ok: false, error: message });
-      this.buildState = 'failed';
-      this.buildError = this.app.status.rename(e instanceof ApiError ? e.message : message);
-      this.renderProblems();
-      throw e;
-    }
+    await commands.runBuild(
+      (c) => this.app.execute(c),
+      commands.buildGraph(this.graphJson()),
+      (a) => {
+        this.builds.push({ ok: true, rig: a.rig });
+        this.builtRig = a.rig;
+        if (a.rigIds) this.rigIds = a.rigIds;
+        this.stepOwner = '';
+        this.buildState = 'built';
+        this.renderProblems();
+        this.applyMarks();
+      },
+      (message, reason) => {
+        this.builds.push({ ok: false, error: message });
+        this.buildState = 'failed';
+        this.buildError = this.app.status.rename(reason);
+        this.renderProblems();
+      },
+    );
   }
 
   /** The rig the step buttons move: the one built last, else the graph's. */
@@ -522,29 +517,19 @@ export class BuildGraphEditor {
     }
     await this.app.execute(
       commands.also(commands.step(rig, { by }), (a) => {
-        this.stepOwner = a.position > 0 ? { rigId: a.rigId ?? '', label: a.step } : { rigId: '', label: '' };
+        this.stepOwner = a.position > 0 ? (a.rigId ?? '') : '';
         this.stepEl.textContent = `step ${a.position} / ${a.steps}`;
         this.applyMarks();
       }),
     );
   }
 
-  /**
-   * The node whose component (or call) built the last step a step button
-   * went to: by the step's rigId when the server gives it, else by a label
-   * naming its component ("arm_L/controls"); null when neither says.
-   */
+  /** The node whose component (or call) built the last step a step button went to (the step's rigId); null when none. */
   private steppedNode(): string | null {
-    const { rigId, label } = this.stepOwner;
-    if (rigId) {
-      for (const [id, r] of Object.entries(this.rigIds)) if (r === rigId && this.model.nodes.has(id)) return id;
-      for (const n of this.model.nodes.values()) if ((n.component?.rigId ?? n.rigId) === rigId) return n.id;
-    }
-    const owner = label.includes('/') ? label.split('/')[0]! : '';
-    if (!owner) return null;
-    for (const n of this.model.nodes.values()) {
-      if (n.component ? fullName(n.component) === owner : n.kind.startsWith('function:') && n.id === owner) return n.id;
-    }
+    const rigId = this.stepOwner;
+    if (!rigId) return null;
+    for (const [id, r] of Object.entries(this.rigIds)) if (r === rigId && this.model.nodes.has(id)) return id;
+    for (const n of this.model.nodes.values()) if ((n.component?.rigId ?? n.rigId) === rigId) return n.id;
     return null;
   }
 

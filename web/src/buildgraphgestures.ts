@@ -1,8 +1,9 @@
-// The build-graph editor's pointer gestures and link geometry
-// (buildgraph.ts): dragging a node by its title, dragging a link from a
-// socket to a socket, where a socket sits, and the curve a link draws.
+// The node editors' pointer gestures and link geometry (buildgraph.ts;
+// defeditor.ts drags its nodes with dragNode): dragging a node, dragging a
+// link from a socket to a socket, where a socket sits, and the curve a
+// link draws.
 
-import type { BuildGraphModel, GraphNode, SocketRef } from './buildgraphmodel';
+import type { BuildGraphModel, SocketRef } from './buildgraphmodel';
 import { kNodeW, kRowH, kTitleH, refText } from './buildgraphmodel';
 
 export type Dir = 'in' | 'out';
@@ -30,11 +31,11 @@ export function curve(x1: number, y1: number, x2: number, y2: number): string {
 }
 
 /**
- * Drags node `n` from pointer event `e`: `move(x, y)` with its new corner
+ * Drags a node at (`n.x`, `n.y`) from pointer event `e`: `move(x, y)` with its new corner
  * once the pointer has moved 3 pixels, then `done(moved)` on release (a
  * click without motion is not a move).
  */
-export function dragNode(n: GraphNode, e: PointerEvent, on: { move(x: number, y: number): void; done(moved: boolean): void }): void {
+export function dragNode(n: { x: number; y: number }, e: PointerEvent, on: { move(x: number, y: number): void; done(moved: boolean): void }): void {
   const sx = e.clientX;
   const sy = e.clientY;
   const ox = n.x;

@@ -5,6 +5,7 @@
 // after it. Undo and redo are the server's (one history for every client),
 // so a command needs no undo of its own here.
 
+import { ApiError } from './api';
 import type {
   Api,
   BuildAnswer,
@@ -61,6 +62,34 @@ export function also<A>(base: Command<A>, extra: (answer: A) => void): Command<A
       extra(a);
     },
   };
+}
+
+/**
+ * Runs a build (a definition's or a graph's) through `execute`: `done` with
+ * its answer; a failure of the build itself (not of reading the scene again
+ * after it) goes to `failed` with the error's message (the server's, for an
+ * API error) and is thrown again.
+ */
+export async function runBuild<A>(
+  execute: (c: Command<A>) => Promise<A>,
+  command: Command<A>,
+  done: (answer: A) => void,
+  failed: (message: string, reason: string) => void,
+): Promise<void> {
+  let built = false;
+  try {
+    await execute(
+      also(command, (a) => {
+        built = true;
+        done(a);
+      }),
+    );
+  } catch (e) {
+    if (built) throw e;
+    const message = e instanceof Error ? e.message : String(e);
+    failed(message, e instanceof ApiError ? e.message : message);
+    throw e;
+  }
 }
 
 // ------------------------------------------------------------------ posing

@@ -13,9 +13,9 @@
 // character.
 
 import type { App } from './app';
-import { ApiError } from './api';
 import type { Problem, RigJson } from './api';
 import * as commands from './commands';
+import { dragNode } from './buildgraphgestures';
 import { renderDetails } from './defdetails';
 import type { DetailsContext } from './defdetails';
 import { DefinitionModel, kRig } from './defmodel';
@@ -365,26 +365,22 @@ export class DefinitionEditor {
       this.app.status.error(`Definition not built: ${this.problems.length} problem${this.problems.length === 1 ? '' : 's'} (${this.problems[0]?.message ?? ''})`);
       return false;
     }
-    let built = false;
-    const command = commands.also(commands.buildDefinition(this.definition()), (a) => {
-      built = true;
-      this.builds.push({ ok: true, rig: a.rig });
-      this.buildState = 'built';
-      this.renderProblems();
-    });
-    try {
-      await this.app.execute(command);
-    } catch (e) {
-      // A failure reading the scene again after the build is not the build's.
-      if (built) throw e;
-      const message = e instanceof Error ? e.message : String(e);
-      this.builds.push({ ok: false, error: message });
-      // Valid is not enough: the panel says the build failed, and why.
-      this.buildState = 'failed';
-      this.buildError = this.app.status.rename(e instanceof ApiError ? e.message : message);
-      this.renderProblems();
-      throw e;
-    }
+    await commands.runBuild(
+      (c) => this.app.execute(c),
+      commands.buildDefinition(this.definition()),
+      (a) => {
+        this.builds.push({ ok: true, rig: a.rig });
+        this.buildState = 'built';
+        this.renderProblems();
+      },
+      (message, reason) => {
+        this.builds.push({ ok: false, error: message });
+        // Valid is not enough: the panel says the build failed, and why.
+        this.buildState = 'failed';
+        this.buildError = this.app.status.rename(reason);
+        this.renderProblems();
+      },
+    );
     return true;
   }
 
@@ -517,35 +513,24 @@ export class DefinitionEditor {
   /** Moves a node by dragging its body; a click without motion selects it. */
   private moveNode(n: GNode, el: HTMLElement, e: PointerEvent): void {
     this.graph.focus();
-    const sx = e.clientX;
-    const sy = e.clientY;
-    const ox = n.x;
-    const oy = n.y;
-    let moved = false;
-    const move = (ev: PointerEvent): void => {
-      const dx = ev.clientX - sx;
-      const dy = ev.clientY - sy;
-      if (!moved && Math.hypot(dx, dy) < 3) return;
-      moved = true;
-      n.x = Math.max(0, ox + dx);
-      n.y = Math.max(0, oy + dy);
-      el.style.left = `${n.x}px`;
-      el.style.top = `${n.y}px`;
-      this.redrawLinks();
-    };
-    const up = (): void => {
-      window.removeEventListener('pointermove', move);
-      window.removeEventListener('pointerup', up);
-      if (!moved) {
+    dragNode(n, e, {
+      move: (x, y) => {
+        n.x = Math.max(0, x);
+        n.y = Math.max(0, y);
+        el.style.left = `${n.x}px`;
+        el.style.top = `${n.y}px`;
+        this.redrawLinks();
+      },
+      done: (moved) => {
+        if (moved) {
+          this.renderGraph();
+          return;
+        }
         this.selected = n.id;
         this.selectedLink = null;
         this.renderAll();
-      } else {
-        this.renderGraph();
-      }
-    };
-    window.addEventListener('pointermove', move);
-    window.addEventListener('pointerup', up);
+      },
+    });
   }
 
   /** Links by dragging from `n`'s output port onto another node (its new child). */

@@ -185,6 +185,7 @@ struct StepReport {
   std::string rig;
   int position = 0, steps = 0;
   std::string step;  // the label of the last step built ("" at 0)
+  std::string rig_id;  // the rigId of its component ("" at 0 or for the rig's own step)
 };
 // A feature of a rig's steps (seed 003), with its rig-level state.
 struct FeatureState {
