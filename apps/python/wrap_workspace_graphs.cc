@@ -36,21 +36,23 @@ py::dict rig_ids_dict(const std::vector<std::pair<std::string, std::string>>& id
   return d;
 }
 
-// The text of a graph file a call names (kNotFound when missing).
-std::string graph_text(const WorkspaceRef& w, const std::string& path) {
-  const fs::path p = unwrap(w.ws->resolve_path(path, "graph"));
+// The `.build.json` text a call names and the name its messages give it:
+// the text itself ("graph"), or a file's (kNotFound when it is missing).
+std::pair<std::string, std::string> graph_source(const WorkspaceRef& w, const std::string& graph) {
+  if (graph.find('{') != std::string::npos) return {graph, "graph"};
+  const fs::path p = unwrap(w.ws->resolve_path(graph, "graph"));
   std::ifstream in(p, std::ios::binary);
   if (!in) raise(ErrorCode::kNotFound, "graph: cannot read '" + p.string() + "'");
   std::ostringstream text;
   text << in.rdbuf();
-  return text.str();
+  return {text.str(), p.string()};
 }
 
-// The graph a call names: `.build.json` text, or else a file's path.
+// The graph a call names, read (kInvalidArgument with its first problem
+// when its text cannot be read as a graph).
 rig::BuildGraph graph_arg(const WorkspaceRef& w, const std::string& graph) {
-  const bool text = graph.find('{') != std::string::npos;
-  if (!text) return unwrap(w.ws->open_graph(unwrap(w.ws->resolve_path(graph, "graph"))));
-  app::CheckedGraph c = w.ws->check_graph(graph, "graph");
+  const auto [text, where] = graph_source(w, graph);
+  app::CheckedGraph c = w.ws->check_graph(text, where);
   if (!c.parsed) raise(ErrorCode::kInvalidArgument, "graph: " + c.problems.front().diagnostic.str());
   return std::move(c.graph);
 }
@@ -61,8 +63,8 @@ void def_graphs(WorkspaceClass& cls) {
   cls.def(
          "check_graph",
          [](const WorkspaceRef& w, const std::string& graph) {
-           app::CheckedGraph c = graph.find('{') != std::string::npos ? w.ws->check_graph(graph, "graph")
-                                                                     : w.ws->check_graph(graph_text(w, graph), graph);
+           const auto [text, where] = graph_source(w, graph);
+           const app::CheckedGraph c = w.ws->check_graph(text, where);
            py::dict d;
            d["ok"] = c.ok();
            d["problems"] = problems_list(c.problems);

@@ -139,11 +139,12 @@ Json graph_build(app::Workspace& ws, const Json& body) {
 }
 
 Json graph_save(app::Workspace& ws, const Json& body) {
-  const fs::path path = take(ws.resolve_path(as_string(need(body, "path"), "path"), "path"));
+  const std::string asked = as_string(need(body, "path"), "path");
+  const fs::path path = take(ws.resolve_path(asked, "path"));
   app::CheckedGraph c = request_graph(ws, body);
   if (!c.parsed) refuse(400, "graph: " + c.problems.front().diagnostic.str(), "graph");
   const app::SavedGraph saved = take(ws.save_graph(std::move(c.graph), path));
-  return Json{{"path", as_string(need(body, "path"), "path")},
+  return Json{{"path", asked},
               {"version", saved.version},
               {"problems", graph_problems_json(saved.problems)}};
 }

@@ -290,6 +290,14 @@ export class BuildGraphEditor {
   /** Replaces the graph with a `.build.json` object whose relative files are relative to `folder`. */
   load(graph: BuildGraphJson, folder: string): void {
     this.model.load(graph, folder);
+    this.forget();
+    this.renderAll();
+    this.renderProblems();
+    this.schedule('validate', 0);
+  }
+
+  /** Forgets what belonged to the graph shown before: selection, problems, outcome, the stepped node. */
+  private forget(): void {
     this.selected = null;
     this.selectedLink = null;
     this.problems = [];
@@ -297,23 +305,14 @@ export class BuildGraphEditor {
     this.valid = null;
     this.buildState = 'none';
     this.stepOwner = '';
-    this.renderAll();
-    this.renderProblems();
-    this.schedule('validate', 0);
   }
 
   // ------------------------------------------------------------------ edits
 
   reset(): void {
     this.model.reset();
-    this.selected = null;
-    this.selectedLink = null;
-    this.problems = [];
-    this.warnings = [];
-    this.valid = null;
-    this.buildState = 'none';
+    this.forget();
     this.builtRig = null;
-    this.stepOwner = '';
     this.savePath.value = '';
     this.defaultGeometry();
     this.renderAll();
