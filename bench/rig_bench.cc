@@ -20,6 +20,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "rigel/app/graphs.h"
 #include "rigel/ephemeral/component.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/io/gltf_import.h"

@@ -13,6 +13,7 @@
 #include "cli_util.h"
 #include "diagnostics_json.h"
 #include "rig_commands.h"
+#include "rigel/app/graphs.h"
 #include "rigel/app/rig_files.h"
 #include "rigel/rig/build_graph.h"
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rigel/app/graphs.h"
 #include "rigel/rig/build_graph.h"
 #include "wrap_workspace.h"
 

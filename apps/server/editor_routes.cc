@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "api_fields.h"
+#include "rigel/app/graphs.h"
 #include "rigel/rig/build_graph.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/manager.h"

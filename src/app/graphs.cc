@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "internal.h"
+#include "rigel/app/graphs.h"
 #include "rigel/app/workspace.h"
 #include "rigel/rig/definition_io.h"
 

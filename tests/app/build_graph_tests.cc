@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "../rig/rig_test_util.h"
+#include "rigel/app/graphs.h"
 #include "rigel/app/rig_files.h"
 #include "rigel/ephemeral/rig.h"
 #include "rigel/rig/build_function.h"

@@ -5,6 +5,7 @@
 
 #include <set>
 
+#include "rigel/app/graphs.h"
 #include "rigel/rig/build_graph.h"
 #include "rigel/rig/definition_io.h"
 #include "rigel/rig/meta.h"

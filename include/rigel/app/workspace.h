@@ -32,7 +32,6 @@
 #include "rigel/graph/graph.h"
 #include "rigel/math/types.h"
 #include "rigel/rig/build.h"
-#include "rigel/rig/build_graph.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/definition.h"
 #include "rigel/rig/manager.h"
@@ -53,6 +52,11 @@
 #include "rigel/tools/shape_data.h"
 #include "rigel/tools/skin_weights.h"
 #include "rigel/tools/tween.h"
+
+namespace rigel::rig {
+struct BuildGraph;
+class NodeKindRegistry;
+}  // namespace rigel::rig
 
 namespace rigel::app {
 
@@ -232,40 +236,12 @@ struct SavedDefinition {
   fs::path path;
   std::string version;
 };
-// A build graph's problem (or warning) and the node and socket it is about
-// (rig::place_of), for an editor to mark.
-struct GraphProblem {
-  rig::Diagnostic diagnostic;
-  rig::GraphPlace place;
-};
-// A build graph read and compiled.
-struct CheckedGraph {
-  rig::BuildGraph graph;
-  bool parsed = false;  // false: `problems` are the text's (nothing compiled)
-  rig::Definition definition;  // what it compiles to (when no problems)
-  std::vector<GraphProblem> problems, warnings;
-  std::vector<std::string> order;  // the nodes the exec chain ran
-  std::vector<std::pair<std::string, std::string>> rig_ids;  // (node id, rigId)
-  bool ok() const { return parsed && problems.empty(); }
-};
-// A build (or live rebuild) from a graph.
-struct GraphBuildReport {
-  std::string rig;
-  std::vector<std::string> rebuilt;  // rig ids, build order
-  std::vector<std::pair<std::string, std::string>> rig_ids;  // (node id, rigId)
-};
-// A scene rig's build graph: the graph file it was built from, or its
-// definition converted (rig::convert_definition).
-struct RigGraph {
-  rig::BuildGraph graph;
-  fs::path path;  // the graph file ("" when converted)
-  bool converted = false;
-};
-struct SavedGraph {
-  fs::path path;
-  std::string version;
-  std::vector<GraphProblem> problems;  // compile's: a graph being drawn may be saved with them
-};
+// The build graph calls' answers (app/graphs.h, so that the files that
+// include this one do not depend on the build graph model).
+struct CheckedGraph;
+struct GraphBuildReport;
+struct RigGraph;
+struct SavedGraph;
 
 class Workspace {
  public:
@@ -649,10 +625,13 @@ class Workspace {
   Result<SavedDefinition> save_definition(rig::Definition definition, const fs::path& path);
 
   // ---- build graphs (rig/build_graph.h) -----------------------------------------
-  // The node kinds a graph can hold now: the component types of factory()
-  // and the build functions registered now.
+  // The node kinds a graph can hold now: the component types of factory(),
+  // the build functions registered now, and the graph files under root()
+  // (graph_files) as sub-graph nodes, by their path from the root.
   rig::NodeKindRegistry graph_kinds() const;
-  // Parses `.build.json` text (`where` names it in messages) and compiles it.
+  // Parses `.build.json` text (`where` names it in messages) and compiles
+  // it; its graph:PATH nodes' files are beside `where` when it is a file,
+  // else under root().
   CheckedGraph check_graph(const std::string& text, const std::string& where) const;
   CheckedGraph check_graph(rig::BuildGraph graph) const;
   // Compiles the graph (kInvalidArgument naming "graph" with its first
