@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cctype>
 #include <functional>
+#include <limits>
 #include <regex>
+#include <string>
 #include <set>
 
 namespace rigel::rig {
@@ -59,9 +61,38 @@ const DataTypeRegistry& builtin_data_types() {
     add({"string", "#e056fd", ParamType::kString, "text"});
     add({"vector", "#f5c542", ParamType::kVec3, "three numbers [x, y, z]"});
     add({"component", "#4aa3ff", std::nullopt, "a component the build made (a component node's output)"});
+    // A list's colour is its element's, darker, so the two read as kin.
+    for (const char* element : {"bool", "int", "number", "string", "vector"}) {
+      std::string color = r.find(element)->color;
+      for (std::size_t k = 1; k < color.size(); k += 2) {
+        const int v = std::stoi(color.substr(k, 2), nullptr, 16) * 2 / 3;
+        static constexpr char kHex[] = "0123456789abcdef";
+        color[k] = kHex[v / 16];
+        color[k + 1] = kHex[v % 16];
+      }
+      add({std::string("list:") + element, color, std::nullopt,
+           std::string("a list of ") + element + " values (a for-each node runs its body once per item)"});
+    }
     return r;
   }();
   return registry;
+}
+
+std::string list_element(std::string_view type) {
+  constexpr std::string_view kList = "list:";
+  if (type.substr(0, kList.size()) != kList) return "";
+  const DataType* t = builtin_data_types().find(type.substr(kList.size()));
+  return t && t->value_type ? t->name : "";
+}
+
+bool holds_values(std::string_view type) {
+  const DataType* t = builtin_data_types().find(type);
+  return t && (t->value_type || !list_element(type).empty());
+}
+
+bool list_fits(const ValueList& list, std::string_view list_type) {
+  const DataType* t = builtin_data_types().find(list_element(list_type));
+  return t && std::all_of(list.begin(), list.end(), [&](const ParamValue& v) { return value_fits(v, *t->value_type); });
 }
 
 const char* data_type_of(ParamType type) {
@@ -153,7 +184,7 @@ NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas) {
     add(std::move(k));
   }
   for (const DataType& t : builtin_data_types().types()) {
-    if (!t.value_type) continue;
+    if (!holds_values(t.name)) continue;
     add({"constant:" + t.name, t.name, "Constants", {}, {{"value", t.name, "the node's value"}}, "a " + t.name + " value"});
   }
   add({"variable:get", "Get", "Variables", {}, {{"value", kVariableType, "the variable's value when it is read"}},
@@ -163,8 +194,35 @@ NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas) {
   add({"branch", "Branch", "Flow", {{"exec", "exec", ""}, {"condition", "bool", "which way to go"}},
        {{"true", "exec", "runs when the condition is true"}, {"false", "exec", "runs when it is false"}},
        "goes on one way or the other"});
+  for (const DataType& t : builtin_data_types().types()) {
+    const std::string element = list_element(t.name);
+    if (element.empty()) continue;
+    add({"forEach:" + element, "For each " + element, "Flow",
+         {{"exec", "exec", ""}, {"list", t.name, "the items, in order"}},
+         {{"body", "exec", "runs once per item"},
+          {"element", element, "the item the body runs for"},
+          {"index", "int", "its index in the list, from 0"},
+          {"completed", "exec", "runs after the last item"}},
+         "runs its body once per item of a list: a component node in the body builds one component per item "
+         "(give each its own name or side, from the element)"});
+  }
   for (const BuildFunction& f : build_functions().functions()) add(function_node_kind(f));
   return r;
+}
+
+NodeKind subgraph_node_kind(const std::string& path, const BuildGraph& sub) {
+  NodeKind k;
+  k.id = "graph:" + path;
+  k.nice_name = sub.rig.name.empty() ? path : sub.rig.name;
+  k.category = "Graphs";
+  k.help = "runs the build graph " + path + ": its variables are the inputs and outputs";
+  k.inputs = {{"exec", "exec", "runs the graph"}};
+  k.outputs = {{"then", "exec", "the next node, after the graph's chain"}};
+  for (const GraphVariable& v : sub.variables) {
+    k.inputs.push_back({v.name, v.type, "the graph's variable (unlinked: its value in the graph)"});
+    k.outputs.push_back({v.name, v.type, "the variable as the graph's chain leaves it"});
+  }
+  return k;
 }
 
 // ---- the model ------------------------------------------------------------------
@@ -244,6 +302,16 @@ GraphPlace place_of(const BuildGraph& graph, const Diagnostic& d) {
   static const std::regex socket_re(R"(^node '[^']+': (?:input '([^']+)'|'([^']+)' is not a data input|the value of '([^']+)'))");
   std::smatch m;
   GraphPlace place;
+  // A problem in a sub-graph's file: the graph:PATH node it runs in, when
+  // the message names a node of it ("node 'arm/ik'"); else none of this
+  // graph's.
+  if (!d.file.empty() && d.file != graph.source) {
+    if (!std::regex_search(d.message, m, node_re)) return place;
+    const std::string named = m[1].str();
+    const std::string use = named.substr(0, named.find('/'));
+    if (named.find('/') != std::string::npos && graph.find(use)) place.node = use;
+    return place;
+  }
   if (std::regex_search(d.message, m, link_re) || std::regex_search(d.message, m, two_re)) return {m[1].str(), m[2].str()};
   if (std::regex_search(d.message, m, node_re)) {
     place.node = m[1].str();
@@ -253,24 +321,39 @@ GraphPlace place_of(const BuildGraph& graph, const Diagnostic& d) {
   }
   const int line = d.where.line;
   if (line <= 0) return place;
-  // The node whose block holds the line: the last one starting at or before
-  // it, with no link or variable starting between them.
+  // The block (node, link or variable) that holds the place: the last one
+  // starting at or before it, by line and column (a file may be one line).
+  using At = std::pair<int, int>;
+  const auto at = [](const SourceLocation& w) { return At{w.line, w.column}; };
+  const At here{line, d.where.column > 0 ? d.where.column : std::numeric_limits<int>::max()};
   const GraphNode* in = nullptr;
+  const GraphLink* on = nullptr;
+  At best{0, 0};
+  const auto consider = [&](const SourceLocation& w) {
+    if (w.line <= 0 || at(w) > here || at(w) < best) return false;
+    best = at(w);
+    in = nullptr;
+    on = nullptr;
+    return true;
+  };
   for (const GraphNode& n : graph.nodes)
-    if (n.where.line > 0 && n.where.line <= line && (!in || n.where.line > in->where.line)) in = &n;
-  const auto between = [&](const SourceLocation& w) { return in && w.line > in->where.line && w.line <= line; };
-  for (const GraphLink& l : graph.links) {
-    if (l.where.line == line) return place.node.empty() ? GraphPlace{l.to.node, l.to.socket} : place;
-    if (between(l.where)) in = nullptr;
-  }
-  for (const GraphVariable& v : graph.variables)
-    if (between(v.where)) in = nullptr;
+    if (consider(n.where)) in = &n;
+  for (const GraphLink& l : graph.links)
+    if (consider(l.where)) on = &l;
+  for (const GraphVariable& v : graph.variables) consider(v.where);
+  if (on) return place.node.empty() && on->where.line == line ? GraphPlace{on->to.node, on->to.socket} : place;
   if (!in || (!place.node.empty() && place.node != in->id)) return place;
   place.node = in->id;
-  if (place.socket.empty())
+  // The input whose value starts on the place's line, last at or before it.
+  if (place.socket.empty()) {
+    At socket_at{0, 0};
     for (const std::vector<Param>* params : {&in->values, &in->component.params})
       for (const Param& p : *params)
-        if (p.where.line == line) place.socket = p.name;
+        if (p.where.line == line && at(p.where) <= here && at(p.where) >= socket_at) {
+          socket_at = at(p.where);
+          place.socket = p.name;
+        }
+  }
   return place;
 }
 

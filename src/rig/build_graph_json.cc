@@ -3,6 +3,8 @@
 // The rig's settings and each component node's component are in the
 // `.rig.json` syntax and go through its reader and writer
 // (DefinitionJsonParts), so the two files never disagree.
+#include <algorithm>
+
 #include "definition_io_internal.h"
 #include "rigel/io/diffable_json.h"
 #include "rigel/io/scene_file.h"
@@ -101,6 +103,28 @@ class Reader {
     return parts_.read_value(name, v, path, t && t->value_type ? &spec : nullptr);
   }
 
+  // A list of data type `type` (list:T): an array of T values.
+  std::optional<ValueList> typed_list(const std::string& name, const Json& v, const std::string& path,
+                                      const std::string& type) {
+    if (!v.is_array()) {
+      parts_.error(path, "'" + name + "' is a " + type + ": an array of " + list_element(type) + " values");
+      return std::nullopt;
+    }
+    ValueList items;
+    bool ok = true;
+    const DataType* element = builtin_data_types().find(list_element(type));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      auto item = typed_value(name, v[i], child(path, i), element->name);
+      if (item && !value_fits(*item, *element->value_type)) {
+        parts_.error(child(path, i), "'" + name + "': item " + std::to_string(i) + " is not a " + element->name);
+        item.reset();
+      }
+      if (item) items.push_back(std::move(*item));
+      else ok = false;
+    }
+    return ok ? std::optional<ValueList>(std::move(items)) : std::nullopt;
+  }
+
   void variable(const Json& v, const std::string& path) {
     if (!v.is_object()) {
       parts_.error(path, "a variable must be an object {\"name\", \"type\", \"value\"}");
@@ -111,7 +135,12 @@ class Reader {
     var.where = parts_.at(path);
     string_member(v, path, "name", var.name, true);
     string_member(v, path, "type", var.type, true);
-    if (v.contains("value")) {
+    if (var.type == "component") {
+      if (v.contains("value") && !v["value"].is_null())
+        parts_.error(child(path, "value"), "variable '" + var.name + "': a component variable's value is null (none)");
+    } else if (v.contains("value") && !list_element(var.type).empty()) {
+      if (auto items = typed_list(var.name, v["value"], child(path, "value"), var.type)) var.items = std::move(*items);
+    } else if (v.contains("value")) {
       if (auto value = typed_value(var.name, v["value"], child(path, "value"), var.type)) var.value = std::move(*value);
     } else {
       parts_.error(path, "variable '" + var.name + "': missing 'value'");
@@ -164,8 +193,11 @@ class Reader {
     }
     if (n.contains("value")) {
       const std::string type = node.kind.rfind("constant:", 0) == 0 ? node.kind.substr(9) : "";
-      if (auto v = typed_value("value", n["value"], child(path, "value"), type))
+      if (!list_element(type).empty()) {
+        if (auto items = typed_list("value", n["value"], child(path, "value"), type)) node.lists["value"] = std::move(*items);
+      } else if (auto v = typed_value("value", n["value"], child(path, "value"), type)) {
         node.values.push_back(Param{"value", std::move(*v), parts_.at(child(path, "value"))});
+      }
     }
     if (n.contains("values")) {
       const Json& values = n["values"];
@@ -174,8 +206,21 @@ class Reader {
       } else {
         for (auto it = values.begin(); it != values.end(); ++it) {
           const std::string p = child(child(path, "values"), it.key());
-          if (auto v = typed_value(it.key(), it.value(), p, input_type(node, it.key())))
+          const std::string type = input_type(node, it.key());
+          const bool untyped_list = node.kind.rfind("graph:", 0) == 0 && it.value().is_array() &&
+                                    !(it.value().size() == 3 && std::all_of(it.value().begin(), it.value().end(),
+                                                                            [](const Json& x) { return x.is_number(); }));
+          if (untyped_list) {
+            // A sub-graph's input: the file does not say its type; typed when it runs.
+            ValueList items;
+            for (std::size_t k = 0; k < it.value().size(); ++k)
+              if (auto item = typed_value(it.key(), it.value()[k], child(p, k), "")) items.push_back(std::move(*item));
+            node.lists[it.key()] = std::move(items);
+          } else if (!list_element(type).empty()) {
+            if (auto items = typed_list(it.key(), it.value(), p, type)) node.lists[it.key()] = std::move(*items);
+          } else if (auto v = typed_value(it.key(), it.value(), p, type)) {
             node.values.push_back(Param{it.key(), std::move(*v), parts_.at(p)});
+          }
         }
       }
     }
@@ -189,6 +234,7 @@ class Reader {
       return v ? v->type : "";
     }
     if (node.kind == "branch" && input == "condition") return "bool";
+    if (node.kind.rfind("forEach:", 0) == 0 && input == "list") return "list:" + node.kind.substr(8);
     if (node.kind.rfind("function:", 0) == 0)
       if (const auto f = build_functions().find(node.kind.substr(9)))
         if (const SocketSpec* in = f->input(input)) return in->type;
@@ -221,6 +267,11 @@ class Reader {
 };
 
 Json value_json(const ParamValue& v) { return detail::param_value_json(v); }
+Json list_json(const ValueList& items) {
+  Json a = Json::array();
+  for (const ParamValue& v : items) a.push_back(value_json(v));
+  return a;
+}
 
 }  // namespace
 
@@ -241,7 +292,11 @@ std::string write_build_graph(const BuildGraph& graph) {
   if (!graph.variables.empty()) {
     Json a = Json::array();
     for (const GraphVariable& v : graph.variables)
-      a.push_back(Json{{"name", v.name}, {"type", v.type}, {"value", value_json(v.value)}});
+      a.push_back(Json{{"name", v.name},
+                       {"type", v.type},
+                       {"value", v.type == "component"        ? Json(nullptr)
+                                 : list_element(v.type).empty() ? value_json(v.value)
+                                                                : list_json(v.items)}});
     g["variables"] = std::move(a);
   }
   Json nodes = Json::array();
@@ -261,6 +316,10 @@ std::string write_build_graph(const BuildGraph& graph) {
     for (const Param& p : n.values) {
       if (p.name == "value" && n.kind.rfind("constant:", 0) == 0) j["value"] = value_json(p.value);
       else values[p.name] = value_json(p.value);
+    }
+    for (const auto& [name, items] : n.lists) {
+      if (name == "value" && n.kind.rfind("constant:", 0) == 0) j["value"] = list_json(items);
+      else values[name] = list_json(items);
     }
     if (!values.empty()) j["values"] = std::move(values);
     nodes.push_back(std::move(j));
@@ -285,12 +344,18 @@ nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const S
   using Json = nlohmann::ordered_json;
   Json types = Json::array();
   for (const DataType& t : builtin_data_types().types())
-    types.push_back(Json{{"name", t.name}, {"color", t.color}, {"value", t.value_type.has_value()}, {"help", t.help}});
-  const auto sockets = [](const std::vector<SocketSpec>& specs, const auto& default_of) {
+    types.push_back(Json{{"name", t.name},
+                         {"color", t.color},
+                         {"value", holds_values(t.name)},
+                         {"variable", holds_values(t.name) || t.name == "component"},
+                         {"element", list_element(t.name)},
+                         {"help", t.help}});
+  const auto sockets = [](const std::vector<SocketSpec>& specs, const auto& default_of, bool inputs) {
     Json list = Json::array();
     for (const SocketSpec& s : specs) {
       Json j{{"name", s.name}, {"type", s.type}, {"help", s.help}};
       if (std::optional<ParamValue> d = default_of(s)) j["default"] = detail::param_value_json(*d);
+      else if (inputs && !list_element(s.type).empty()) j["default"] = Json::array();
       list.push_back(std::move(j));
     }
     return list;
@@ -317,8 +382,8 @@ nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const S
                         {"niceName", k.nice_name},
                         {"category", k.category},
                         {"help", k.help},
-                        {"inputs", sockets(k.inputs, default_of)},
-                        {"outputs", sockets(k.outputs, none)}});
+                        {"inputs", sockets(k.inputs, default_of, true)},
+                        {"outputs", sockets(k.outputs, none, false)}});
   }
   return Json{{"types", std::move(types)}, {"kinds", std::move(list)}};
 }

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -99,6 +100,59 @@ TEST(CliGraph, a_wrong_graph_is_refused_naming_the_node_and_socket_and_nothing_i
   EXPECT_TRUE(exited_with(rigel({"graph"}), 2));
   const CliRun missing = rigel({"graph", "validate", (dir.path() / "none.build.json").string()});
   EXPECT_TRUE(exited_with(missing, 1)) << missing;
+}
+
+// An arm drawn on the left joints, hanging from its `parent` variable, of
+// side `side`.
+constexpr const char* kArmGraph = R"({"buildGraph": {"format": 1, "rig": {"name": "arm", "version": "1.0"},
+  "variables": [{"name": "side", "type": "string", "value": "L"}, {"name": "parent", "type": "component", "value": null}],
+  "nodes": [{"id": "start", "kind": "start"},
+    {"id": "arm", "kind": "component:fkChain", "component": {"type": "fkChain", "name": "arm", "side": "L",
+      "version": "1.0", "guides": [{"joint": "upper_arm.L"}, {"joint": "forearm.L"}, {"joint": "hand.L"}]}},
+    {"id": "side", "kind": "variable:get", "variable": "side"},
+    {"id": "parent", "kind": "variable:get", "variable": "parent"}],
+  "links": [{"from": "start.then", "to": "arm.exec"}, {"from": "side.value", "to": "arm.side"},
+    {"from": "parent.value", "to": "arm.parent"}]}})";
+
+// For each side in ["L", "R"], the arm sub-graph under the global.
+constexpr const char* kHeroGraph = R"({"buildGraph": {"format": 1, "rig": {"name": "hero", "version": "1.0"},
+  "nodes": [{"id": "start", "kind": "start"},
+    {"id": "global", "kind": "component:global", "component": {"type": "global", "name": "global", "side": "C",
+      "version": "1.0", "guides": [{"name": "main"}]}},
+    {"id": "sides", "kind": "constant:list:string", "value": ["L", "R"]},
+    {"id": "each", "kind": "forEach:string"},
+    {"id": "arm", "kind": "graph:lib/arm.build.json"}],
+  "links": [{"from": "start.then", "to": "global.exec"}, {"from": "global.then", "to": "each.exec"},
+    {"from": "sides.value", "to": "each.list"}, {"from": "each.body", "to": "arm.exec"},
+    {"from": "each.element", "to": "arm.side"}, {"from": "global.component", "to": "arm.parent"}]}})";
+
+TEST(CliGraph, a_graph_with_a_for_each_over_a_sub_graph_builds_one_arm_per_side) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "lib");
+  write(dir.path() / "lib" / "arm.build.json", kArmGraph);
+  const fs::path hero = dir.path() / "hero.build.json";
+  write(hero, kHeroGraph);
+  const std::string character = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb").string();
+  const CliRun validate = rigel({"graph", "validate", hero.string(), "--json"});
+  ASSERT_TRUE(exited_with(validate, 0)) << validate;
+  EXPECT_EQ(Json::parse(validate.out)["files"][0]["order"],
+            Json::parse(R"(["global", "each", "arm", "arm/arm", "arm", "arm/arm"])"));
+  const fs::path out = dir.path() / "hero.rigel";
+  const CliRun run = rigel({"graph", "run", hero.string(), "--character", character, "-o", out.string(), "--json"});
+  ASSERT_TRUE(exited_with(run, 0)) << run;
+  const Json report = Json::parse(run.out);
+  std::vector<std::string> made;
+  for (const Json& c : report["components"]) made.push_back(c["name"].get<std::string>() + "_" + c["side"].get<std::string>());
+  std::sort(made.begin(), made.end());
+  EXPECT_EQ(made, (std::vector<std::string>{"arm_L", "arm_R", "global_C"})) << run;
+
+  // A problem in the sub-graph names its file; nothing is written.
+  write(dir.path() / "lib" / "arm.build.json",
+        replaced(kArmGraph, R"({"from": "side.value", "to": "arm.side"})", R"({"from": "side.value", "to": "arm.parent"})"));
+  const CliRun broken = rigel({"graph", "run", hero.string(), "--character", character, "-o", (dir.path() / "x.rigel").string()});
+  EXPECT_TRUE(exited_with(broken, 1)) << broken;
+  EXPECT_TRUE(contains(broken.err, "arm.build.json")) << broken;
+  EXPECT_FALSE(fs::exists(dir.path() / "x.rigel"));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "build_graph_test_util.h"
 #include "rig_test_util.h"
 #include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
@@ -22,78 +23,12 @@ namespace {
 using namespace testing;
 namespace fs = std::filesystem;
 
-const fs::path kSource = RIGEL_SOURCE_DIR;
-
-Definition example(const std::string& name) {
-  ParseResult p = load_definition(kSource / "examples" / name);
-  EXPECT_TRUE(p.ok()) << (p.errors.empty() ? "" : p.errors[0].str());
-  return p.definition;
-}
-
-// The graph text, read back: the parse must succeed.
-BuildGraph reread(const BuildGraph& g) {
-  BuildGraphParse p = parse_build_graph(write_build_graph(g), "graph.build.json");
-  EXPECT_TRUE(p.ok()) << (p.errors.empty() ? "" : p.errors[0].str());
-  return p.graph;
-}
-
-Definition compiled(const BuildGraph& g) {
-  BuildGraphCompile c = compile_build_graph(g);
-  EXPECT_TRUE(c.ok()) << (c.errors.empty() ? "" : c.errors[0].str());
-  return c.definition;
-}
-
-// Every problem's text, one per line.
-std::string problems(const BuildGraph& g) {
-  std::string out;
-  for (const Diagnostic& d : compile_build_graph(g).errors) out += d.str() + "\n";
-  return out;
-}
-
-std::string problems(std::string_view text) {
-  BuildGraphParse p = parse_build_graph(text, "g.build.json");
-  if (!p.ok()) {
-    std::string out;
-    for (const Diagnostic& d : p.errors) out += d.str() + "\n";
-    return out;
-  }
-  return problems(p.graph);
-}
-
-GraphNode node(std::string id, std::string kind) {
-  GraphNode n;
-  n.id = std::move(id);
-  n.kind = std::move(kind);
-  return n;
-}
-
-GraphLink link(std::string from, std::string from_socket, std::string to, std::string to_socket) {
-  return GraphLink{{std::move(from), std::move(from_socket)}, {std::move(to), std::move(to_socket)}, {}};
-}
-
-GraphNode component_node(const std::string& id, Component c) {
-  GraphNode n = node(id, "component:" + c.type);
-  c.children.clear();
-  n.component = std::move(c);
-  return n;
-}
-
-Component fk_chain(std::string name, Side side, std::vector<std::string> joints) {
-  Component c;
-  c.type = "fkChain";
-  c.name = std::move(name);
-  c.side = side;
-  c.rig_id = new_rig_id();
-  for (std::string& j : joints) c.guides.push_back(at_joint(std::move(j)));
-  return c;
-}
-
 // global -> hip -> torso (fkChain), drawn by hand: the arm's side comes
 // from a variable that a set node changes between two arms.
 BuildGraph drawn() {
   BuildGraph g;
   g.rig.name = "drawn";
-  g.variables.push_back(GraphVariable{"side", "string", std::string("L"), {}});
+  g.variables.push_back(GraphVariable{"side", "string", std::string("L"), {}, {}});
   Component global;
   global.type = "global";
   global.name = "global";
@@ -368,7 +303,7 @@ void register_test_functions() {
 BuildGraph with_functions() {
   register_test_functions();
   BuildGraph g = drawn();
-  g.variables.push_back(GraphVariable{"v", "number", 0.0, {}});
+  g.variables.push_back(GraphVariable{"v", "number", 0.0, {}, {}});
   const auto add = [&](std::string id, std::string kind) {
     g.nodes.push_back(node(std::move(id), std::move(kind)));
     return &g.nodes.back();

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -69,8 +70,21 @@ class DataTypeRegistry {
   std::vector<DataType> types_;
 };
 
-// exec, bool, int, number, string, vector, component.
+// exec, bool, int, number, string, vector, component, and a list of each
+// value type: list:bool, list:int, list:number, list:string, list:vector.
 const DataTypeRegistry& builtin_data_types();
+
+// A list type's element type ("list:number" -> "number"); "" for a type
+// that is not a list. A list type has no value_type (no component
+// parameter or function socket takes one); constants, variables and
+// for-each nodes hold its values as a ValueList.
+std::string list_element(std::string_view type);
+// Whether `type` holds a value a constant or a variable can keep: a value
+// type or a list of one.
+bool holds_values(std::string_view type);
+using ValueList = std::vector<ParamValue>;
+// Whether every item of `list` is a value of the list type's element type.
+bool list_fits(const ValueList& list, std::string_view list_type);
 // The data type of a component parameter (an enum is a string).
 const char* data_type_of(ParamType type);
 // Whether `value` is a value of `type` (an int is a double's too).
@@ -94,6 +108,15 @@ inline constexpr const char* kVariableType = "$variable";
 //   constant:TYPE         a value (bool, int, number, string, vector)
 //   variable:get / :set   reads / writes a graph variable
 //   branch                goes on through `true` or `false` by `condition`
+//   forEach:TYPE          runs `body` once per item of its `list` (a
+//                         list:TYPE), `element` and `index` the item's,
+//                         then goes on through `completed`
+//   graph:PATH            runs the build graph in file PATH (relative to
+//                         the graph's folder, inside it): its variables
+//                         are the node's inputs (unlinked: the node's own
+//                         values, else the sub-graph's) and, as its chain
+//                         leaves them, its outputs; its components join
+//                         the rig, each use with its own rigIds
 //   function:ID           runs build function ID (build_function.h)
 struct NodeKind {
   std::string id;
@@ -121,9 +144,14 @@ class NodeKindRegistry {
 // The kinds a graph over `schemas` has: start, one component kind per
 // component type (inputs: exec, parent, name, side, attach and every
 // parameter; outputs: then, component), the constants, the variables'
-// get and set, branch, and one function kind per build function
+// get and set, branch, a for-each per list type, and one function kind per build function
 // registered now (build_functions()).
 NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas = builtin_schemas());
+
+struct BuildGraph;
+// The kind of a graph:PATH node running `sub`: exec and one input per
+// variable of `sub`; then and one output per variable (category "Graphs").
+NodeKind subgraph_node_kind(const std::string& path, const BuildGraph& sub);
 
 // The palette an editor offers, as JSON: {"types": [{name, color, value
 // (whether a constant or a variable holds it), help}], "kinds": [{id,
@@ -137,8 +165,11 @@ nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const S
 
 struct GraphVariable {
   std::string name;
-  std::string type;  // a DataType with a value type
+  // A DataType with a value type, a list of one, or `component` (none
+  // until a set node gives it a component node's output).
+  std::string type;
   ParamValue value;  // its value when the build starts
+  ValueList items;   // a list type's: its items when the build starts
   SourceLocation where;
 };
 
@@ -148,11 +179,17 @@ struct GraphNode {
   std::optional<std::pair<double, double>> position;  // in the editor
   // component:TYPE: the component (type TYPE, no children). Its name,
   // side, attach and parameters are the values of those inputs when they
-  // are not linked.
+  // are not linked. A component drawn for one side (L or R) whose linked
+  // `side` brings the other is built mirrored (mirror_component: its
+  // guides' joints and rotations, its attach), so a for-each over sides
+  // builds both from one node.
   Component component;
   // Other kinds: the values of inputs that are not linked (a branch's
   // condition, a set's value) and a constant's `value`.
   std::vector<Param> values;
+  // The values of list inputs that are not linked (a for-each's `list`, a
+  // set's `value` of a list variable) and a list constant's `value`.
+  std::map<std::string, ValueList> lists;
   std::string variable;  // variable:get / :set
   // function:ID: the rigId of the call it builds (empty: made from the
   // rig's name and the node's id, so it stays as long as they do).
@@ -182,6 +219,8 @@ struct BuildGraph {
   std::vector<GraphNode> nodes;
   std::vector<GraphLink> links;
   std::string source;  // the file it was read from, for messages
+  // Where its graph:PATH nodes' files are ("": the folder of `source`).
+  std::filesystem::path folder;
 
   const GraphNode* find(std::string_view id) const;
   const GraphVariable* variable(std::string_view name) const;
@@ -223,8 +262,12 @@ struct BuildGraphCompile {
   // order the build cannot keep (a build is depth first: a component's
   // children right after it).
   std::vector<Diagnostic> warnings;
-  std::vector<std::string> order;  // the ids of the nodes the chain ran, in order
-  // (node id, rigId) of each component and function node the chain ran, so
+  // The ids of the nodes the chain ran, in order (a for-each's body once
+  // per item).
+  std::vector<std::string> order;
+  // (node id, rigId) of each component and function node the chain ran (a
+  // node in a for-each's body once per item: its rigId made from its own,
+  // or its id, and the item's index), so
   // an editor can show which node a build step or a rebuilt rigId is.
   std::vector<std::pair<std::string, std::string>> rig_ids;
   bool ok() const { return errors.empty(); }
