@@ -33,7 +33,7 @@ py::list problems_list(const std::vector<app::GraphProblem>& problems) {
 
 py::dict rig_ids_dict(const std::vector<std::pair<std::string, std::string>>& ids) {
   py::dict d;
-  for (const auto& [node, rig_id] : ids) d[py::str(node)] = rig_id;
+  for (const auto& [node, rig_id] : ids) d[py::str(rig_id)] = node;
   return d;
 }
 
@@ -76,7 +76,7 @@ void def_graphs(WorkspaceClass& cls) {
          },
          py::arg("graph"),
          "Reads and compiles a build graph (its .build.json text, or a file's path): ok, problems and warnings "
-         "(each: where, message, node, socket), order (the nodes the exec chain runs), rig_ids ({node: rigId}).")
+         "(each: where, message, node, socket), order (the nodes the exec chain runs), rig_ids ({rigId: node}: the node each component and call comes from; a for-each's body has one per item).")
       .def(
           "build_graph",
           [](const WorkspaceRef& w, const std::string& graph) {

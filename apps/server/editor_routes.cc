@@ -32,7 +32,7 @@ Json graph_problems_json(const std::vector<app::GraphProblem>& problems) {
 
 Json rig_ids_json(const std::vector<std::pair<std::string, std::string>>& ids) {
   Json out = Json::object();
-  for (const auto& [node, rig_id] : ids) out[node] = rig_id;
+  for (const auto& [node, rig_id] : ids) out[rig_id] = node;
   return out;
 }
 

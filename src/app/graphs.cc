@@ -36,10 +36,23 @@ Status refused(const std::string& field, const std::vector<rig::Diagnostic>& pro
 
 }  // namespace
 
-rig::NodeKindRegistry Workspace::graph_kinds() const { return rig::builtin_node_kinds(factory_.schemas()); }
+rig::NodeKindRegistry Workspace::graph_kinds() const {
+  rig::NodeKindRegistry kinds = rig::builtin_node_kinds(factory_.schemas());
+  // The root's graph files, as sub-graph nodes of a graph at the root.
+  if (auto files = graph_files()) {
+    for (const fs::path& rel : *files) {
+      rig::BuildGraphParse p = rig::load_build_graph(root_ / rel, factory_.schemas());
+      if (p.ok()) (void)kinds.add(rig::subgraph_node_kind(rel.generic_string(), p.graph));
+    }
+  }
+  return kinds;
+}
 
 CheckedGraph Workspace::check_graph(const std::string& text, const std::string& where) const {
   rig::BuildGraphParse p = rig::parse_build_graph(text, where, factory_.schemas());
+  // Its sub-graphs' files are beside it, or at the root when it is no file.
+  std::error_code ec;
+  if (!root_.empty() && !fs::is_regular_file(where, ec)) p.graph.folder = root_;
   if (!p.ok()) {
     CheckedGraph out;
     out.problems = placed(p.graph, std::move(p.errors));

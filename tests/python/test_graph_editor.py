@@ -69,7 +69,7 @@ def test_a_graph_with_a_python_function_builds_the_same_in_the_editor_as_headles
         assert checked["ok"], checked["problems"]
         status, built = call(server, "POST", "/api/graph/build", {"graph": graph})
         assert status == 200, built
-        assert {"scaleL", "scaleR"} <= set(built["rigIds"])
+        assert {"scaleL", "scaleR"} <= set(built["rigIds"].values())
         status, saved = call(server, "POST", "/api/save", {"path": "editor.rigel"})
         assert status == 200, saved
     finally:
@@ -81,7 +81,7 @@ def test_a_graph_with_a_python_function_builds_the_same_in_the_editor_as_headles
     report = ws.check_graph(str(root / "biped.build.json"))
     assert report.ok and report.order[-3:] == ["setFactor", "scaleL", "scaleR"]
     built = ws.build_graph(str(root / "biped.build.json"))
-    assert built.rig == "hero" and set(built.rig_ids) >= {"scaleL", "scaleR"}
+    assert built.rig == "hero" and set(built.rig_ids.values()) >= {"scaleL", "scaleR"}
     headless = controls(ws.scene)
     editor = controls(rigel.open(str(root / "editor.rigel")))
     assert set(headless) == set(editor) and len(headless) > 50

@@ -64,8 +64,11 @@ TEST(ServerGraph, PaletteListsEveryKindWithTypesAndDefaults) {
     }
   EXPECT_TRUE(seen);
   // A function input's default is the function's.
-  for (const Json& in : kinds["function:rigel.setControlColor"]["inputs"])
-    if (in["name"] == "color") EXPECT_EQ(in["default"], Json::array({1.0, 1.0, 0.0})) << in;
+  for (const Json& in : kinds["function:rigel.setControlColor"]["inputs"]) {
+    if (in["name"] == "color") {
+      EXPECT_EQ(in["default"], Json::array({1.0, 1.0, 0.0})) << in;
+    }
+  }
   std::set<std::string> types;
   for (const Json& t : p["types"]) {
     types.insert(t["name"]);
@@ -80,7 +83,7 @@ TEST(ServerGraph, ProblemsNameTheirNodeAndSocket) {
   Json v = s.post("/api/graph/validate", {{"graph", g}});
   EXPECT_TRUE(v["ok"].get<bool>()) << v;
   EXPECT_EQ(v["order"], Json::array({"global", "arm_L"}));
-  EXPECT_EQ(v["rigIds"]["arm_L"], "7c2d4b9e-3f1a-4e6b-8d0c-5a9b2e1f3c02");
+  EXPECT_EQ(v["rigIds"]["7c2d4b9e-3f1a-4e6b-8d0c-5a9b2e1f3c02"], "arm_L");
 
   // A wrong-typed link: named on the input's node and socket.
   Json typed = g;
@@ -128,7 +131,7 @@ TEST(ServerGraph, BuildsLiveAndRebuildsOnlyWhatChanged) {
   Json built = s.post("/api/graph/build", {{"graph", g}});
   EXPECT_EQ(built["rig"], "arm");
   EXPECT_EQ(built["rebuilt"].size(), 3u) << built;
-  EXPECT_EQ(built["rigIds"]["arm_L"], "7c2d4b9e-3f1a-4e6b-8d0c-5a9b2e1f3c02");
+  EXPECT_EQ(built["rigIds"]["7c2d4b9e-3f1a-4e6b-8d0c-5a9b2e1f3c02"], "arm_L");
   const graph::Graph& graph = s.workspace->workspace().graph();
   const std::string global_id = "0b9f1e36-5a1e-4d8c-9a55-2f3c1d7e8a01";
   std::set<std::string> global_nodes;
@@ -161,14 +164,14 @@ TEST(ServerGraph, BuildsLiveAndRebuildsOnlyWhatChanged) {
   // component step is the global's; the last is the call's (built last).
   const Json back = s.post("/api/rigs/step", {{"rig", "arm"}, {"by", -1}});
   std::set<std::string> ids;
-  for (const auto& [node_id, rig_id] : built["rigIds"].items()) ids.insert(rig_id.get<std::string>());
+  for (const auto& [rig_id, node_id] : built["rigIds"].items()) ids.insert(rig_id);
   EXPECT_TRUE(ids.count(back["rigId"].get<std::string>())) << back;
   EXPECT_EQ(s.post("/api/rigs/step", {{"rig", "arm"}, {"to", 0}})["rigId"], "");
   std::string first;
   for (int i = 0; i < 3 && first.empty(); ++i) first = s.post("/api/rigs/step", {{"rig", "arm"}, {"by", 1}})["rigId"];
   EXPECT_EQ(first, global_id);
   const Json end = s.post("/api/rigs/step", {{"rig", "arm"}, {"to", back["steps"]}});
-  EXPECT_EQ(end["rigId"], built["rigIds"]["colour"]) << end;
+  EXPECT_EQ(built["rigIds"][end["rigId"].get<std::string>()], "colour") << end;
 
   // Stepping the graph-built rig back to 0 and removing it give the character back.
   s.post("/api/rigs/remove", {{"rig", "arm"}});

@@ -43,7 +43,7 @@ export class BuildGraphEditor {
   private selectedLink: string | null = null;
   problems: GraphProblem[] = [];
   warnings: GraphProblem[] = [];
-  /** What the last validation or build said: the chain's order and each node's rigId. */
+  /** What the last validation or build said: the chain's order and the node of each rigId. */
   order: string[] = [];
   rigIds: Record<string, string> = {};
   /** Builds sent (live or by Run) and their outcome, for tests. */
@@ -527,7 +527,8 @@ export class BuildGraphEditor {
   private steppedNode(): string | null {
     const rigId = this.stepOwner;
     if (!rigId) return null;
-    for (const [id, r] of Object.entries(this.rigIds)) if (r === rigId && this.model.nodes.has(id)) return id;
+    const id = this.rigIds[rigId];
+    if (id !== undefined && this.model.nodes.has(id)) return id;
     for (const n of this.model.nodes.values()) if ((n.component?.rigId ?? n.rigId) === rigId) return n.id;
     return null;
   }

@@ -1,0 +1,152 @@
+"""Build graphs' lists and for-each nodes from Python (docs/BUILD_GRAPH.md
+"For-each"): one arm drawn on the left joints, in the body of a for-each
+over ["L", "R"], builds both arms (the right one mirrored), with a Python
+function node called once per item; the file keeps the list."""
+
+import json
+
+import pytest
+
+import rigel
+from conftest import METARIG
+from test_build_graph import PLUGIN, write
+
+
+def sides_graph(sides=("L", "R")):
+    arm = {"type": "fkChain", "name": "arm", "side": "L", "version": "1.0",
+           "guides": [{"joint": j} for j in ("upper_arm.L", "forearm.L", "hand.L")]}
+    return {"buildGraph": {
+        "format": 1,
+        "rig": {"name": "sides", "version": "1.0"},
+        "variables": [{"name": "sides", "type": "list:string", "value": list(sides)}],
+        "nodes": [
+            {"id": "start", "kind": "start"},
+            {"id": "global", "kind": "component:global",
+             "component": {"type": "global", "name": "global", "side": "C", "version": "1.0",
+                           "guides": [{"name": "main"}]}},
+            {"id": "list", "kind": "variable:get", "variable": "sides"},
+            {"id": "each", "kind": "forEach:string"},
+            {"id": "arm", "kind": "component:fkChain", "component": arm},
+            {"id": "scale", "kind": "function:studio.scaleShapes", "values": {"factor": 2.0}},
+        ],
+        "links": [
+            {"from": "start.then", "to": "global.exec"},
+            {"from": "global.then", "to": "each.exec"},
+            {"from": "list.value", "to": "each.list"},
+            {"from": "each.body", "to": "arm.exec"},
+            {"from": "each.element", "to": "arm.side"},
+            {"from": "global.component", "to": "arm.parent"},
+            {"from": "arm.then", "to": "scale.exec"},
+            {"from": "arm.component", "to": "scale.component"},
+        ],
+    }}
+
+
+@pytest.fixture
+def plugin(tmp_path):
+    path = write(tmp_path / "shapes.py", PLUGIN)
+    assert rigel.load_plugin(str(path)) == ["studio.scaleShapes"]
+    yield path
+    rigel.unregister_functions(str(path))
+
+
+def fk_controls(scene):
+    return {n.name: n for n in scene.nodes() if n.type == "control" and "_arm_" in n.name}
+
+
+def test_a_for_each_over_sides_builds_both_arms_from_one_node(tmp_path, plugin):
+    ws = rigel.Workspace(str(METARIG))
+    report = ws.check_graph(json.dumps(sides_graph()))
+    assert report.ok, [p.message for p in report.problems]
+    assert report.order == ["global", "each", "arm", "scale", "arm", "scale"]
+    built = ws.build_graph(json.dumps(sides_graph()))
+    assert built.rig == "sides"
+    ids = {}
+    for rig_id, node in built.rig_ids.items():
+        ids.setdefault(node, []).append(rig_id)
+    assert len(ids["arm"]) == 2 and len(set(ids["arm"])) == 2 and len(set(ids["scale"])) == 2
+    controls = fk_controls(ws.scene)
+    left = sorted(n for n in controls if "_arm_L_" in n)
+    right = sorted(n for n in controls if "_arm_R_" in n)
+    assert len(left) == 3 and [n.replace("_arm_L_", "_arm_R_") for n in left] == right
+    # The right arm stands on the right joints: its controls mirror the left's.
+    for name in left:
+        a = controls[name].world_matrix
+        b = controls[name.replace("_arm_L_", "_arm_R_")].world_matrix
+        assert abs(a[12] + b[12]) < 1e-6 and abs(a[13] - b[13]) < 1e-6 and abs(a[14] - b[14]) < 1e-6, name
+
+    # The file keeps the list.
+    path = tmp_path / "sides.build.json"
+    saved = ws.save_graph(json.dumps(sides_graph()), str(path))
+    assert saved.problems == []
+    assert '"value": ["L", "R"]' in path.read_text()
+
+
+def test_lists_of_the_wrong_type_are_refused_naming_the_node(plugin):
+    ws = rigel.Workspace(str(METARIG))
+    doc = sides_graph()
+    doc["buildGraph"]["nodes"].append({"id": "numbers", "kind": "constant:list:number", "value": [1, "two"]})
+    report = ws.check_graph(json.dumps(doc))
+    assert not report.ok and "item 1 is not a number" in report.problems[0].message
+    assert report.problems[0].node == "numbers"
+    doc = sides_graph(("L", "L"))
+    report = ws.check_graph(json.dumps(doc))
+    assert not report.ok and any("duplicate component name 'arm' on side L" in p.message for p in report.problems)
+    assert report.problems[0].node == "arm"
+    with pytest.raises(rigel.InvalidArgumentError):
+        ws.build_graph(json.dumps(doc))
+    assert ws.scene.rigs() == []
+
+
+ARM = {"buildGraph": {
+    "format": 1, "rig": {"name": "arm", "version": "1.0"},
+    "variables": [{"name": "side", "type": "string", "value": "L"},
+                  {"name": "parent", "type": "component", "value": None}],
+    "nodes": [
+        {"id": "start", "kind": "start"},
+        {"id": "arm", "kind": "component:fkChain",
+         "component": {"type": "fkChain", "name": "arm", "side": "L", "version": "1.0",
+                       "guides": [{"joint": j} for j in ("upper_arm.L", "forearm.L", "hand.L")]}},
+        {"id": "side", "kind": "variable:get", "variable": "side"},
+        {"id": "parent", "kind": "variable:get", "variable": "parent"},
+    ],
+    "links": [
+        {"from": "start.then", "to": "arm.exec"},
+        {"from": "side.value", "to": "arm.side"},
+        {"from": "parent.value", "to": "arm.parent"},
+    ],
+}}
+
+
+def test_a_sub_graph_used_twice_builds_two_arms_and_is_in_the_palette(tmp_path):
+    (tmp_path / "lib").mkdir()
+    write(tmp_path / "lib" / "arm.build.json", json.dumps(ARM))
+    hero = json.loads(json.dumps(sides_graph()))
+    g = hero["buildGraph"]
+    g["nodes"] = [n for n in g["nodes"] if n["id"] not in ("arm", "scale")]
+    g["nodes"].append({"id": "arm", "kind": "graph:lib/arm.build.json"})
+    g["links"] = [l for l in g["links"] if "scale" not in l["from"] + l["to"]]
+    path = write(tmp_path / "hero.build.json", json.dumps(hero))
+
+    ws = rigel.Workspace(str(METARIG))
+    report = ws.check_graph(str(path))
+    assert report.ok, [p.message for p in report.problems]
+    assert report.order == ["global", "each", "arm", "arm/arm", "arm", "arm/arm"]
+    ws.build_graph(str(path))
+    controls = fk_controls(ws.scene)
+    assert len([n for n in controls if "_arm_L_" in n]) == 3 and len([n for n in controls if "_arm_R_" in n]) == 3
+
+    # The served root's graph files are sub-graph nodes of the palette.
+    from test_graph_editor import call
+    server = rigel.serve(str(METARIG), root=str(tmp_path))
+    try:
+        status, palette = call(server, "GET", "/api/graph/palette")
+        assert status == 200
+        kind = [k for k in palette["kinds"] if k["id"] == "graph:lib/arm.build.json"]
+        assert kind and kind[0]["category"] == "Graphs"
+        assert [s["name"] for s in kind[0]["inputs"]] == ["exec", "side", "parent"]
+        # A graph sent by the editor finds its sub-graphs under the root.
+        status, answer = call(server, "POST", "/api/graph/validate", {"graph": hero})
+        assert status == 200 and answer["ok"], answer
+    finally:
+        server.stop()
