@@ -8,57 +8,13 @@ import { spawnSync } from 'node:child_process';
 import { existsSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import type { Locator, Page } from '@playwright/test';
+import type { Page } from '@playwright/test';
+import { addNode, drawnLinks, graphOf, link, nodeIds, panel } from './buildgraphhelpers';
 import { character, expect, rigelBin, settle, test } from './fixtures';
 import type { RigelServer } from './fixtures';
 
 // The limb drives the joints itself: no ephemeral controls on this character.
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
-
-const panel = (page: Page): Locator => page.locator('#build-panel');
-
-/** The ids of the graph's nodes, in order. */
-async function nodeIds(page: Page): Promise<string[]> {
-  return page.evaluate(() => [...(window as any).rigel.buildGraph.model.nodes.keys()] as string[]);
-}
-
-/** Adds a node from the palette, found with the search box; returns its id. */
-async function addNode(page: Page, search: string, kind: string): Promise<string> {
-  await page.getByTestId('bg-search').fill(search);
-  const entry = page.getByTestId(`bg-palette-${kind}`);
-  await expect(entry).toBeVisible();
-  const before = await nodeIds(page);
-  await entry.click();
-  await expect.poll(async () => (await nodeIds(page)).length).toBe(before.length + 1);
-  const id = (await nodeIds(page)).find((x) => !before.includes(x))!;
-  await expect(page.getByTestId(`bg-node-${id}`)).toBeVisible();
-  return id;
-}
-
-/** Drags from output socket `from` ("node.socket") to input socket `to`. */
-async function link(page: Page, from: string, to: string): Promise<void> {
-  await page.getByTestId('bg-graph').scrollIntoViewIfNeeded();
-  const a = (await page.getByTestId(`bg-out-${from}`).boundingBox())!;
-  const b = (await page.getByTestId(`bg-in-${to}`).boundingBox())!;
-  await page.mouse.move(a.x + a.width / 2, a.y + a.height / 2);
-  await page.mouse.down();
-  await page.mouse.move(a.x + 30, a.y + 15, { steps: 3 });
-  await page.mouse.move(b.x + b.width / 2, b.y + b.height / 2, { steps: 6 });
-  await page.mouse.up();
-}
-
-/** The links the page draws, as "FROM->TO". */
-async function drawnLinks(page: Page): Promise<string[]> {
-  return page.locator('path.bg-link').evaluateAll((ps) => ps.map((p) => `${(p as SVGElement).dataset.from}->${(p as SVGElement).dataset.to}`).sort());
-}
-
-/** The graph the editor holds: nodes (no geometry) and links. */
-async function graphOf(page: Page): Promise<{ rig: string; nodes: unknown[]; links: unknown[] }> {
-  return page.evaluate(() => {
-    const g = (window as any).rigel.buildGraph.model.toJson(null).buildGraph;
-    return { rig: g.rig.name, nodes: g.nodes, links: g.links };
-  });
-}
 
 const errors = (page: Page): Promise<string[]> => page.evaluate(() => (window as any).rigel.errors as string[]);
 

@@ -229,7 +229,7 @@ function inputField(n: GraphNode, s: GraphSocket, ctx: GraphDetailsContext): HTM
 /** Fills `el` with the graph's variables (name, type, value when the build starts, remove) and a row to add one. */
 export function renderVariables(el: HTMLElement, ctx: GraphDetailsContext): void {
   const { model } = ctx;
-  const types = model.valueTypes().map((t) => t.name);
+  const types = model.variableTypes().map((t) => t.name);
   const typeSelect = (value: string, testid: string): HTMLSelectElement =>
     h('select', { testid }, (types.length ? types : [value]).map((t) => h('option', { value: t, selected: t === value }, t)));
   const rows = model.variables.map((v, i) => {
@@ -294,7 +294,7 @@ function newVariableRow(ctx: GraphDetailsContext, type: HTMLSelectElement): HTML
 
 /** A value as a node's box shows it. */
 export function valueText(v: unknown): string {
-  if (Array.isArray(v)) return `(${v.map((x) => (typeof x === 'number' ? +x.toFixed(3) : x)).join(', ')})`;
+  if (Array.isArray(v)) return `(${v.map((x) => (typeof x === 'number' ? String(+x.toFixed(3)) : valueText(x))).join(', ')})`;
   if (typeof v === 'string') return JSON.stringify(v);
   return v === undefined ? '' : String(v);
 }
@@ -310,8 +310,13 @@ function textInput(value: string, placeholder: string, testid: string, set: (v: 
   return input;
 }
 
-/** The field of a value of a data type: a checkbox (bool), a number (int, number), three numbers (vector) or text. */
+/**
+ * The field of a value of a data type: a checkbox (bool), a number (int, number), three numbers (vector), a list of
+ * its element's fields with a button to add one and one to remove each (list:TYPE), or text.
+ */
 function valueInput(type: string, value: unknown, testid: string, set: (v: unknown) => void): HTMLElement {
+  if (type.startsWith('list:')) return listInput(type.slice('list:'.length), value, testid, set);
+  if (type === 'component') return h('span.hint', { testid, title: 'A Set node gives it a component node\'s output' }, 'none');
   switch (type) {
     case 'bool': {
       const c = h('input', { type: 'checkbox', checked: value === true, testid });
@@ -340,4 +345,44 @@ function valueInput(type: string, value: unknown, testid: string, set: (v: unkno
       return t;
     }
   }
+}
+
+/** The items of a list value, one field each, and buttons to add an item (its type's zero) or remove one. */
+function listInput(element: string, value: unknown, testid: string, set: (v: unknown) => void): HTMLElement {
+  const items = Array.isArray(value) ? [...(value as unknown[])] : [];
+  const box = h('span.bg-list', { testid });
+  const draw = (): void => {
+    const rows = items.map((item, i) =>
+      h(
+        'span.bg-list-item',
+        { testid: `${testid}-item-${i}` },
+        valueInput(element, item, `${testid}-${i}`, (v) => {
+          items[i] = v;
+          set([...items]);
+        }),
+        h('button.link', {
+          title: 'Remove this item',
+          testid: `${testid}-remove-${i}`,
+          onclick: (e: Event) => {
+            e.preventDefault();
+            items.splice(i, 1);
+            set([...items]);
+            draw();
+          },
+        }, '✕'),
+      ),
+    );
+    const add = h('button.small', {
+      testid: `${testid}-add`,
+      onclick: (e: Event) => {
+        e.preventDefault();
+        items.push(zeroOf(element));
+        set([...items]);
+        draw();
+      },
+    }, '+ item');
+    fill(box, rows, add);
+  };
+  draw();
+  return box;
 }

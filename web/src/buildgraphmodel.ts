@@ -99,6 +99,8 @@ export function canLink(from: string, to: string): boolean {
 
 /** The zero of a value type: false, 0, '', [0, 0, 0]. */
 export function zeroOf(type: string): unknown {
+  if (type.startsWith('list:')) return [];
+  if (type === 'component') return null;
   switch (type) {
     case 'bool':
       return false;
@@ -164,6 +166,11 @@ export class BuildGraphModel {
   /** The types a constant or a variable can hold. */
   valueTypes(): GraphType[] {
     return [...this.types.values()].filter((t) => t.value);
+  }
+
+  /** The types a variable can hold: the value types, their lists, component. */
+  variableTypes(): GraphType[] {
+    return [...this.types.values()].filter((t) => t.variable ?? t.value);
   }
 
   /** A new graph: a `start` node, no variables. */
@@ -438,7 +445,8 @@ export class BuildGraphModel {
   }
 
   addVariable(name: string, type: string, value: unknown = zeroOf(type)): string | null {
-    const problem = this.variableProblem(name) ?? (this.types.get(type)?.value ? null : `a variable cannot hold a ${type}`);
+    const t = this.types.get(type);
+    const problem = this.variableProblem(name) ?? ((t?.variable ?? t?.value) ? null : `a variable cannot hold a ${type}`);
     if (problem) return problem;
     this.variables.push({ name, type, value, extra: {} });
     return null;

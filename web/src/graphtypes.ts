@@ -11,6 +11,10 @@ export interface GraphType {
   color: string;
   /** True when a constant or a variable can hold it. */
   value: boolean;
+  /** True when a graph variable can hold it: the value types, their lists, and component (none until a Set gives it one). */
+  variable?: boolean;
+  /** A list type's element type ("list:number" -> "number"); "" for the others. */
+  element?: string;
   help: string;
 }
 
@@ -22,7 +26,7 @@ export interface GraphSocket {
   default?: unknown;
 }
 
-/** A node kind of the palette: start, component:TYPE, constant:TYPE, variable:get|set, branch, function:ID. */
+/** A node kind of the palette: start, component:TYPE, constant:TYPE, variable:get|set, branch, forEach:TYPE, graph:PATH, function:ID. */
 export interface GraphKind {
   id: string;
   niceName: string;
@@ -96,7 +100,7 @@ export interface GraphValidateAnswer {
   warnings: GraphProblem[];
   /** The node ids the exec chain runs, in order. */
   order: string[];
-  /** The rigId each component or function node builds. */
+  /** rigId -> the node it comes from (a for-each body's node has one per item, a sub-graph node one per component). */
   rigIds: Record<string, string>;
 }
 

@@ -1,0 +1,94 @@
+// The build-graph editor's lists and for-each nodes: one arm drawn on the
+// left joints, in the body of a for-each over a list constant edited in the
+// details panel, builds live one arm per item (the right one mirrored);
+// removing an item removes its arm and keeps the other.
+
+import type { Page } from '@playwright/test';
+import { addNode, drawnLinks, link, panel } from './buildgraphhelpers';
+import { expect, settle, test } from './fixtures';
+import type { RigelServer } from './fixtures';
+
+test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
+
+/** The components of rig `rig` in the server's scene, as TYPE:NAME, sorted; null when it has none. */
+async function componentsOf(server: RigelServer, rig: string): Promise<string[] | null> {
+  const r = ((await server.get('/api/rigs')).rigs as any[]).find((x) => x.name === rig);
+  return r ? r.components.map((c: any) => `${c.type}:${c.name}`).sort() : null;
+}
+
+/** Sets item `i` of the list field `testid` in the details panel. */
+async function setItem(page: Page, testid: string, i: number, value: string): Promise<void> {
+  const field = panel(page).getByTestId(`${testid}-${i}`);
+  await field.fill(value);
+  await field.press('Enter');
+}
+
+test('build graph: a for-each over a list builds one arm per item live; removing an item removes its arm', async ({ app: page, server, shots }) => {
+  await page.getByTestId('tab-build').click();
+  await panel(page).getByTestId('bg-rig-name').fill('looprig');
+  await panel(page).getByTestId('bg-rig-name').press('Enter');
+
+  const global = await addNode(page, 'glob', 'component:global');
+  const sides = await addNode(page, 'list:string', 'constant:list:string');
+  const each = await addNode(page, 'for each', 'forEach:string');
+  const limb = await addNode(page, 'limb', 'component:limb');
+  await page.getByTestId('bg-search').fill('');
+
+  // The list constant's items, edited in the details panel.
+  await page.getByTestId(`bg-title-${sides}`).click();
+  await panel(page).getByTestId('bg-value-add').click();
+  await panel(page).getByTestId('bg-value-add').click();
+  await setItem(page, 'bg-value', 0, 'L');
+  await setItem(page, 'bg-value', 1, 'R');
+  await expect.poll(() => page.evaluate((id) => (window as any).rigel.buildGraph.model.nodes.get(id).value, sides)).toEqual(['L', 'R']);
+  await expect(page.getByTestId(`bg-node-${sides}`)).toContainText('("L", "R")');
+
+  // The arm, drawn on the left joints.
+  await page.getByTestId(`bg-title-${limb}`).click();
+  await panel(page).getByTestId('def-name').fill('arm');
+  await panel(page).getByTestId('def-name').press('Enter');
+  await panel(page).getByTestId('def-side').selectOption('L');
+  for (const [i, joint] of ['upper_arm.L', 'forearm.L', 'hand.L'].entries()) {
+    await panel(page).getByTestId(`def-guide-joint-${i}`).fill(joint);
+    await panel(page).getByTestId(`def-guide-joint-${i}`).press('Enter');
+  }
+  await panel(page).getByTestId('def-param-defaultMode').selectOption('fk');
+
+  await link(page, 'start.then', `${global}.exec`);
+  await link(page, `${global}.then`, `${each}.exec`);
+  await link(page, `${sides}.value`, `${each}.list`);
+  await link(page, `${each}.body`, `${limb}.exec`);
+  await link(page, `${each}.element`, `${limb}.side`);
+  await link(page, `${global}.component`, `${limb}.parent`);
+  await expect.poll(() => drawnLinks(page)).toHaveLength(6);
+  // A list cannot feed a string input: refused.
+  await link(page, `${sides}.value`, `${limb}.name`);
+  await expect.poll(() => page.evaluate(() => (window as any).rigel.buildGraph.lastRefusal?.to)).toBe(`${limb}.name`);
+  expect(await drawnLinks(page)).toHaveLength(6);
+
+  // Live: both arms, the right one built from the left one's node.
+  await page.getByTestId('bg-live').check();
+  await expect.poll(() => componentsOf(server, 'looprig')).toEqual(['global:global', 'limb:arm_L', 'limb:arm_R']);
+  await expect(page.getByTestId('bg-problems')).toContainText('✔ valid and built');
+  await settle(page, server);
+  const world = await server.worldPose();
+  const controls = ((await server.get('/api/nodes')).controls as { name: string; rig: string }[]).filter((c) => c.rig === 'looprig').map((c) => c.name);
+  const left = controls.filter((n) => n.includes('_arm_L_'));
+  expect(controls.filter((n) => n.includes('_arm_R_'))).toHaveLength(left.length);
+  expect(left.length).toBeGreaterThan(0);
+  for (const name of left) {
+    const a = world.get(name)!;
+    const b = world.get(name.replace('arm_L', 'arm_R'));
+    expect(b, `${name.replace('arm_L', 'arm_R')} in the scene`).toBeDefined();
+    expect(Math.abs(a[0]! + b![0]!)).toBeLessThan(1e-6);
+    expect(Math.abs(a[1]! - b![1]!)).toBeLessThan(1e-6);
+  }
+  await shots.take('both-arms');
+
+  // One item removed: its arm goes, the other stays.
+  await page.getByTestId(`bg-title-${sides}`).click();
+  await panel(page).getByTestId('bg-value-remove-1').click();
+  await expect.poll(() => componentsOf(server, 'looprig')).toEqual(['global:global', 'limb:arm_L']);
+  await settle(page, server);
+  expect(((await page.evaluate(() => (window as any).rigel.errors)) as string[]).filter((x) => /^(GET|POST) /.test(x))).toEqual([]);
+});
