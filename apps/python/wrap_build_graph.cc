@@ -71,6 +71,12 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
       py::dict kwargs;
       for (const auto& [name, value] : call.values()) kwargs[py::str(name)] = param_to_python(value);
       for (const auto& [name, meta] : call.components()) kwargs[py::str(name)] = node_ref(ref->scene, meta);
+      // A component's controls, joints or hooks: a list of nodes.
+      for (const auto& [name, ids] : call.node_lists()) {
+        py::list nodes;
+        for (NodeId id : ids) nodes.append(node_ref(ref->scene, id));
+        kwargs[py::str(name)] = nodes;
+      }
       py::object result = (*held)(py::cast(ref), **kwargs);
       ref->call = nullptr;
       if (result.is_none()) return Status::ok();
@@ -188,7 +194,9 @@ void wrap_build_graph(py::module_& m) {
       py::arg("origin") = "",
       "Registers a build function written in Python: fn(call, **inputs) returns None, the value of its one "
       "output or {output: value}. inputs and outputs are [(name, type)] or {name: type} (bool, int, number, "
-      "string, vector; inputs also component, which arrives as the component's meta node). AlreadyExistsError "
+      "string, vector; inputs also component, which arrives as the component's meta node, and list:control, "
+      "list:joint or list:node, which arrive as the linked component's controls, joints or hooks). "
+      "AlreadyExistsError "
       "when the id is taken (naming who has it).");
   m.def(
       "unregister_functions", [](const std::string& origin) { return rig::build_functions().remove_origin(origin); },

@@ -3,6 +3,7 @@
 #include "rigel/rig/build_function.h"
 
 #include <algorithm>
+#include <charconv>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +21,40 @@ const SocketSpec* find_socket(const std::vector<SocketSpec>& list, std::string_v
   for (const SocketSpec& s : list)
     if (s.name == name) return &s;
   return nullptr;
+}
+
+// The input types that take what a component node's build makes: its
+// controls, joints or hooks, as {"$controls" | "$joints" | "$hooks": rigId}.
+bool is_node_list_type(const std::string& type) {
+  return type == "list:control" || type == "list:joint" || type == "list:node";
+}
+
+// What a component input of one of those types gives: its controls (build
+// order), the joints its guides name, or its hooks (by index).
+Result<std::vector<graph::NodeId>> component_nodes(BuildContext& ctx, graph::NodeId meta, const std::string& what) {
+  const graph::Graph& g = ctx.graph();
+  if (what == "controls") return meta_controls(g, meta);
+  std::vector<graph::NodeId> out;
+  if (what == "hooks") {
+    std::vector<std::pair<int, graph::NodeId>> hooks;
+    for (graph::NodeId m : meta_members(g, meta))
+      if (const std::string* h = g.node(m)->tag_find(kTagHook)) {
+        int index = 0;
+        if (std::from_chars(h->data(), h->data() + h->size(), index).ec == std::errc()) hooks.emplace_back(index, m);
+      }
+    std::stable_sort(hooks.begin(), hooks.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [index, node] : hooks) out.push_back(node);
+    return out;
+  }
+  const Component* c = ctx.definition().find_by_rig_id(meta_string(g, meta, "rigId"));
+  if (!c) return error(ErrorCode::kNotFound, "its component is not in the definition");
+  for (const Guide& guide : c->guides) {
+    if (guide.joint.empty()) continue;
+    const graph::NodeId j = g.find(guide.joint);
+    if (!j.is_valid()) return error(ErrorCode::kNotFound, "the scene has no joint '" + guide.joint + "'");
+    out.push_back(j);
+  }
+  return out;
 }
 
 bool is_value_type(const std::string& type) {
@@ -65,20 +100,31 @@ Status run_call(BuildContext& ctx) {
   graph::Graph& g = ctx.graph();
   std::map<std::string, ParamValue> values;
   std::map<std::string, graph::NodeId> components;
+  std::map<std::string, std::vector<graph::NodeId>> nodes;
   for (auto it = args.begin(); it != args.end(); ++it)
     if (!fn->input(it.key()))
       return error(ErrorCode::kInvalidArgument, who + ": args: '" + it.key() + "' is not an input of the function");
   for (const SocketSpec& in : fn->inputs) {
     const std::string where = who + ": input '" + in.name + "'";
     if (!args.contains(in.name)) {
-      if (in.type == "component") return error(ErrorCode::kInvalidArgument, where + ": no component given");
+      if (in.type == "component" || is_node_list_type(in.type))
+        return error(ErrorCode::kInvalidArgument, where + ": no component given");
       const auto d =
           std::find_if(fn->defaults.begin(), fn->defaults.end(), [&](const Param& p) { return p.name == in.name; });
       values[in.name] = d != fn->defaults.end() ? d->value : zero(in.type);
       continue;
     }
     const Json& a = args[in.name];
-    if (a.is_object() && a.contains("$component")) {
+    const std::string made = in.type == "list:control" ? "$controls" : in.type == "list:joint" ? "$joints" : "$hooks";
+    if (is_node_list_type(in.type) && a.is_object() && a.contains(made) && a[made].is_string()) {
+      const graph::NodeId meta = find_component(g, ctx.root(), a[made].get<std::string>());
+      if (!meta.is_valid()) return error(ErrorCode::kNotFound, where + ": component " + a[made].dump() + " is not built");
+      auto list = component_nodes(ctx, meta, made.substr(1));
+      if (!list) return list.status().with_context(where);
+      nodes[in.name] = std::move(*list);
+    } else if (is_node_list_type(in.type)) {
+      return error(ErrorCode::kInvalidArgument, where + ": " + a.dump() + " names no component's " + made.substr(1));
+    } else if (a.is_object() && a.contains("$component")) {
       const graph::NodeId meta = find_component(g, ctx.root(), a["$component"].get<std::string>());
       if (!meta.is_valid() || in.type != "component")
         return error(ErrorCode::kNotFound, where + ": component " + a["$component"].dump() + " is not built");
@@ -99,7 +145,8 @@ Status run_call(BuildContext& ctx) {
       values[in.name] = std::move(*v);
     }
   }
-  FunctionCall call(ctx.scene(), ctx.definition(), ctx.root(), ctx.meta(), std::move(values), std::move(components));
+  FunctionCall call(ctx.scene(), ctx.definition(), ctx.root(), ctx.meta(), std::move(values), std::move(components),
+                    std::move(nodes));
   if (!fn->run) return error(ErrorCode::kInvalidArgument, who + ": the function has no body");
   if (Status s = fn->run(call); !s) return s.with_context(who);
   Json out = Json::object();
@@ -140,6 +187,11 @@ const Component* FunctionCall::component_definition(std::string_view input) cons
   return definition_.find_by_rig_id(meta_string(scene_.graph(), meta, "rigId"));
 }
 
+const std::vector<graph::NodeId>* FunctionCall::nodes(std::string_view input) const {
+  const auto it = nodes_.find(std::string(input));
+  return it == nodes_.end() ? nullptr : &it->second;
+}
+
 graph::NodeId FunctionCall::component(std::string_view input) const {
   const auto it = components_.find(std::string(input));
   return it == components_.end() ? graph::NodeId{} : it->second;
@@ -157,16 +209,18 @@ Status FunctionRegistry::add(BuildFunction f) {
     for (const SocketSpec& s : *list) {
       if (s.name.empty() || !names.insert(s.name).second)
         return error(ErrorCode::kInvalidArgument, who + ": an empty or repeated socket name '" + s.name + "'");
-      const bool ok = is_value_type(s.type) || (list == &f.inputs && s.type == "component");
+      const bool ok =
+          is_value_type(s.type) || (list == &f.inputs && (s.type == "component" || is_node_list_type(s.type)));
       if (!ok)
         return error(ErrorCode::kInvalidArgument,
-                     who + ": socket '" + s.name + "' has type '" + s.type + "' (inputs: bool, int, number, string, "
-                                                                            "vector or component; outputs: the values)");
+                     who + ": socket '" + s.name + "' has type '" + s.type +
+                         "' (inputs: bool, int, number, string, vector, component, list:control, list:joint or "
+                         "list:node; outputs: the values)");
     }
   }
   for (const Param& d : f.defaults) {
     const SocketSpec* in = f.input(d.name);
-    if (!in || in->type == "component" || !fits_type(d.value, in->type))
+    if (!in || !is_value_type(in->type) || !fits_type(d.value, in->type))
       return error(ErrorCode::kInvalidArgument,
                    who + ": the default of '" + d.name + "' is not one of its value inputs' type");
   }

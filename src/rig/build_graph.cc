@@ -61,6 +61,10 @@ const DataTypeRegistry& builtin_data_types() {
     add({"string", "#e056fd", ParamType::kString, "text"});
     add({"vector", "#f5c542", ParamType::kVec3, "three numbers [x, y, z]"});
     add({"component", "#4aa3ff", std::nullopt, "a component the build made (a component node's output)"});
+    // What a component node's build makes, for function nodes to take.
+    add({"list:control", "#ff9f43", std::nullopt, "the controls a component the build made has, in build order"});
+    add({"list:joint", "#dfe6e9", std::nullopt, "the joints a component the build made drives (its guides' joints)"});
+    add({"list:node", "#a29bfe", std::nullopt, "the hooks a component the build made publishes, by index"});
     // A list's colour is its element's, darker, so the two read as kin.
     for (const char* element : {"bool", "int", "number", "string", "vector"}) {
       std::string color = r.find(element)->color;
@@ -180,7 +184,11 @@ NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas) {
                 {"side", "string", "C, L or R"},
                 {"attach", "string", "the parent's hook it attaches to, or OTHER.HOOK (empty: hook 0)"}};
     for (const ParamSpec& p : schema.params) k.inputs.push_back({p.name, data_type_of(p.type), p.help});
-    k.outputs = {{"then", "exec", "the next node"}, {"component", "component", "the component, for its children"}};
+    k.outputs = {{"then", "exec", "the next node"},
+                 {"component", "component", "the component, for its children"},
+                 {"controls", "list:control", "its controls, for a function node"},
+                 {"joints", "list:joint", "the joints it drives (its guides' joints), for a function node"},
+                 {"hooks", "list:node", "the hooks it publishes, by index, for a function node"}};
     add(std::move(k));
   }
   for (const DataType& t : builtin_data_types().types()) {

@@ -36,7 +36,9 @@ std::optional<Flow> Compiler::input(std::size_t n, const std::string& socket) {
       return f;
     }
     if (src.kind.rfind("function:", 0) == 0) return runtime_flow(ran_.at(s).call, l.from.socket);
-    return ran_.at(s);
+    Flow f = ran_.at(s);
+    if (l.from.socket != "component") f.output = l.from.socket;  // a component's controls, joints or hooks
+    return f;
   }
   if (src.kind == "variable:get") {
     Flow f = variables_.at(src.variable);
@@ -326,6 +328,12 @@ bool Compiler::make_call(std::size_t n) {
         fail(n, "input '" + in.name + "' needs a link from a component node's 'component' output");
         return false;
       }
+      if (in.type.rfind("list:", 0) == 0 && list_element(in.type).empty()) {
+        fail(n, "input '" + in.name + "' needs a link from a component node's " +
+                    (in.type == "list:control" ? "'controls'" : in.type == "list:joint" ? "'joints'" : "'hooks'") +
+                    " output");
+        return false;
+      }
       if (const Param* p = node.value(in.name)) args[in.name] = param_value_json(as_type(p->value, in.type));
       continue;
     }
@@ -334,8 +342,9 @@ bool Compiler::make_call(std::size_t n) {
       args[in.name] = {{"$output", {f->call, f->output}}};
       from = f->call;
     } else if (f->component >= 0) {
+      // {"$component": rigId}, or its {"$controls" | "$joints" | "$hooks": rigId}.
       from = run_.made[static_cast<std::size_t>(f->component)].rig_id;
-      args[in.name] = {{"$component", from}};
+      args[in.name] = {{"$" + (f->output.empty() ? std::string("component") : f->output), from}};
     } else if (!f->value) {
       fail(n, "input '" + in.name + "' reads no component (a component variable no node has set)");
       return false;

@@ -150,3 +150,29 @@ def test_a_sub_graph_used_twice_builds_two_arms_and_is_in_the_palette(tmp_path):
         assert status == 200 and answer["ok"], answer
     finally:
         server.stop()
+
+
+def test_a_python_function_takes_a_components_controls_joints_and_hooks(tmp_path):
+    seen = {}
+
+    def made(call, controls, joints, hooks):
+        seen["controls"] = sorted(c.name for c in controls)
+        seen["joints"] = [j.name for j in joints]
+        return len(hooks)
+
+    rigel.register_function(made, "test.made", origin=str(tmp_path / "made.py"),
+                            inputs=[("controls", "list:control"), ("joints", "list:joint"), ("hooks", "list:node")],
+                            outputs=[("hooks", "int")])
+    try:
+        doc = sides_graph(("L",))
+        g = doc["buildGraph"]
+        g["nodes"] = [n for n in g["nodes"] if n["id"] != "scale"] + [{"id": "made", "kind": "function:test.made"}]
+        g["links"] = [l for l in g["links"] if "scale" not in l["from"] + l["to"]]
+        g["links"] += [{"from": "arm.then", "to": "made.exec"}] + [
+            {"from": f"arm.{what}", "to": f"made.{what}"} for what in ("controls", "joints", "hooks")]
+        ws = rigel.Workspace(str(METARIG))
+        ws.build_graph(json.dumps(doc))
+        assert seen["joints"] == ["upper_arm.L", "forearm.L", "hand.L"]
+        assert seen["controls"] == sorted(fk_controls(ws.scene))
+    finally:
+        rigel.unregister_functions(str(tmp_path / "made.py"))

@@ -413,6 +413,51 @@ TEST(BuildGraphFunctions, calls_are_build_steps_stepped_rebuilt_by_data_flow_and
   EXPECT_TRUE(text == r.before) << first_difference(text, r.before);
 }
 
+TEST(BuildGraphFunctions, a_component_nodes_controls_joints_and_hooks_reach_a_function) {
+  static const bool registered = [] {
+    BuildFunction f{"test.countMade", "Count what a component made", "Test", "",
+                    {{"controls", "list:control", ""}, {"joints", "list:joint", ""}, {"hooks", "list:node", ""}},
+                    {{"controls", "int", ""}, {"joints", "string", ""}, {"hooks", "int", ""}},
+                    {},
+                    [](FunctionCall& call) -> Status {
+                      const graph::Graph& g = call.scene().graph();
+                      std::string joints;
+                      for (NodeId j : *call.nodes("joints")) joints += g.node(j)->name() + " ";
+                      call.set_output("controls", static_cast<std::int64_t>(call.nodes("controls")->size()));
+                      call.set_output("joints", joints);
+                      call.set_output("hooks", static_cast<std::int64_t>(call.nodes("hooks")->size()));
+                      return Status::ok();
+                    },
+                    {}};
+    return build_functions().add(std::move(f)).is_ok();
+  }();
+  ASSERT_TRUE(registered);
+  BuildGraph g = drawn();
+  g.nodes.push_back(node("count", "function:test.countMade"));
+  g.links.push_back(link("armR", "then", "count", "exec"));
+  for (const char* what : {"controls", "joints", "hooks"}) g.links.push_back(link("armL", what, "count", what));
+  const Definition d = compiled(g);
+  const Component* count = component_named(d, "count");
+  ASSERT_TRUE(count);
+  const std::string arm = component_named(d, "arm")->rig_id;
+  EXPECT_EQ(std::get<std::string>(count->param("args")->value),
+            "{\"controls\":{\"$controls\":\"" + arm + "\"},\"joints\":{\"$joints\":\"" + arm +
+                "\"},\"hooks\":{\"$hooks\":\"" + arm + "\"}}");
+  BuiltRig r = built_rig(d);
+  ASSERT_TRUE(r.build);
+  const NodeId meta = find_component(r.g(), find_rig(r.g(), "drawn"), "count");
+  EXPECT_EQ(meta_string(r.g(), meta, kOutputsAttr),
+            "{\"controls\":4,\"joints\":\"shoulder.L upper_arm.L forearm.L hand.L \",\"hooks\":4}");
+  // Only function nodes take them; a function's node-list input needs its link.
+  g.links.push_back(link("armL", "controls", "armR", "parent"));
+  EXPECT_NE(problems(g).find("a list:control output cannot feed a component input"), std::string::npos) << problems(g);
+  g.links.pop_back();
+  g.links.pop_back();
+  EXPECT_NE(problems(g).find("node 'count': input 'hooks' needs a link from a component node's 'hooks' output"),
+            std::string::npos)
+      << problems(g);
+}
+
 TEST(BuildGraphFunctions, a_function_that_fails_stops_the_build_at_its_step_naming_it) {
   BuildGraph g = with_functions();
   g.nodes.push_back(node("oops", "function:test.fail"));

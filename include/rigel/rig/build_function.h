@@ -41,13 +41,15 @@ inline constexpr const char* kOutputsAttr = "outputs";
 class FunctionCall {
  public:
   FunctionCall(scene::Scene& scene, const Definition& definition, graph::NodeId rig, graph::NodeId call,
-               std::map<std::string, ParamValue> values, std::map<std::string, graph::NodeId> components)
+               std::map<std::string, ParamValue> values, std::map<std::string, graph::NodeId> components,
+               std::map<std::string, std::vector<graph::NodeId>> nodes = {})
       : scene_(scene),
         definition_(definition),
         rig_(rig),
         call_(call),
         values_(std::move(values)),
-        components_(std::move(components)) {}
+        components_(std::move(components)),
+        nodes_(std::move(nodes)) {}
   scene::Scene& scene() { return scene_; }
   // The definition being built (the graph compiled).
   const Definition& definition() const { return definition_; }
@@ -61,6 +63,10 @@ class FunctionCall {
   graph::NodeId component(std::string_view input) const;
   const std::map<std::string, ParamValue>& values() const { return values_; }
   const std::map<std::string, graph::NodeId>& components() const { return components_; }
+  // A list:control, list:joint or list:node input: the controls, joints or
+  // hooks of the component linked to it (nullptr for another input).
+  const std::vector<graph::NodeId>* nodes(std::string_view input) const;
+  const std::map<std::string, std::vector<graph::NodeId>>& node_lists() const { return nodes_; }
   void set_output(const std::string& output, ParamValue value) { outputs_[output] = std::move(value); }
   const std::map<std::string, ParamValue>& outputs() const { return outputs_; }
 
@@ -70,6 +76,7 @@ class FunctionCall {
   graph::NodeId rig_, call_;
   std::map<std::string, ParamValue> values_;
   std::map<std::string, graph::NodeId> components_;
+  std::map<std::string, std::vector<graph::NodeId>> nodes_;
   std::map<std::string, ParamValue> outputs_;
 };
 
@@ -78,7 +85,8 @@ struct BuildFunction {
   std::string nice_name;  // the palette's and the node's title
   std::string category;   // the palette's group
   std::string help;
-  // Inputs: a value type or `component`; outputs: value types.
+  // Inputs: a value type, `component`, or what a component node's build
+  // makes (list:control, list:joint, list:node); outputs: value types.
   std::vector<SocketSpec> inputs, outputs;
   // Values of inputs a node leaves unlinked and unset (else the type's zero).
   std::vector<Param> defaults;

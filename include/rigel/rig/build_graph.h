@@ -70,8 +70,11 @@ class DataTypeRegistry {
   std::vector<DataType> types_;
 };
 
-// exec, bool, int, number, string, vector, component, and a list of each
-// value type: list:bool, list:int, list:number, list:string, list:vector.
+// exec, bool, int, number, string, vector, component, a list of each
+// value type (list:bool, list:int, list:number, list:string, list:vector),
+// and what a component node's build makes, which only function nodes take:
+// list:control (its controls), list:joint (its guides' joints), list:node
+// (its hooks).
 const DataTypeRegistry& builtin_data_types();
 
 // A list type's element type ("list:number" -> "number"); "" for a type
@@ -143,7 +146,8 @@ class NodeKindRegistry {
 
 // The kinds a graph over `schemas` has: start, one component kind per
 // component type (inputs: exec, parent, name, side, attach and every
-// parameter; outputs: then, component), the constants, the variables'
+// parameter; outputs: then, component, controls, joints, hooks), the
+// constants, the variables'
 // get and set, branch, a for-each per list type, and one function kind per build function
 // registered now (build_functions()).
 NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas = builtin_schemas());
