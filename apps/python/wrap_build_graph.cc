@@ -35,6 +35,14 @@ rig::ParamValue value_from_python(py::handle v, const std::string& type, const s
     return v.cast<double>();
   if (type == "string" && py::isinstance<py::str>(v)) return v.cast<std::string>();
   if (type == "vector") return vec3_from_python(v, where);
+  // A plugin's type: any value JSON can write, kept as its text.
+  if (rig::is_plugin_type(type)) {
+    try {
+      return py::module_::import("json").attr("dumps")(v).cast<std::string>();
+    } catch (py::error_already_set& e) {
+      raise(ErrorCode::kInvalidArgument, where + ": a " + type + " is a value JSON can write: " + e.what());
+    }
+  }
   raise(ErrorCode::kInvalidArgument, where + ": " + std::string(py::str(py::repr(v))) + " is not a " + type);
 }
 
@@ -55,13 +63,14 @@ std::vector<rig::SocketSpec> sockets_from_python(py::handle h, const std::string
 // output) or {output: value}. Any exception is the step's failure, with
 // the function's origin named.
 std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::string id, std::string origin,
+                                                      std::vector<rig::SocketSpec> inputs,
                                                       std::vector<rig::SocketSpec> outputs) {
   // The function object is released under the GIL whenever the registry lets it go.
   auto held = std::shared_ptr<py::function>(new py::function(std::move(fn)), [](py::function* f) {
     py::gil_scoped_acquire gil;
     delete f;
   });
-  return [held, id, origin, outputs](rig::FunctionCall& call) -> Status {
+  return [held, id, origin, inputs, outputs](rig::FunctionCall& call) -> Status {
     py::gil_scoped_acquire gil;
     const std::string who = "python function " + id + (origin.empty() ? "" : " (" + origin + ")");
     auto ref = std::make_shared<CallRef>();
@@ -69,7 +78,14 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
     ref->scene = SceneRef(&call.scene(), [](scene::Scene*) {});
     try {
       py::dict kwargs;
-      for (const auto& [name, value] : call.values()) kwargs[py::str(name)] = param_to_python(value);
+      for (const auto& [name, value] : call.values()) {
+        const auto in = std::find_if(inputs.begin(), inputs.end(), [&](const rig::SocketSpec& s) { return s.name == name; });
+        // A plugin type's value arrives as the Python value of its JSON.
+        if (in != inputs.end() && rig::is_plugin_type(in->type))
+          kwargs[py::str(name)] = py::module_::import("json").attr("loads")(std::get<std::string>(value));
+        else
+          kwargs[py::str(name)] = param_to_python(value);
+      }
       for (const auto& [name, meta] : call.components()) kwargs[py::str(name)] = node_ref(ref->scene, meta);
       // A component's controls, joints or hooks: a list of nodes.
       for (const auto& [name, ids] : call.node_lists()) {
@@ -80,7 +96,13 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
       py::object result = (*held)(py::cast(ref), **kwargs);
       ref->call = nullptr;
       if (result.is_none()) return Status::ok();
-      if (py::isinstance<py::dict>(result)) {
+      // A dict is {output: value} when its keys are outputs' names; else,
+      // with one output, that output's value (a plugin type's may be a dict).
+      bool by_output = py::isinstance<py::dict>(result);
+      if (by_output && outputs.size() == 1)
+        for (auto [key, value] : py::reinterpret_borrow<py::dict>(result))
+          if (!py::isinstance<py::str>(key) || py::str(key).cast<std::string>() != outputs[0].name) by_output = false;
+      if (by_output) {
         for (auto [key, value] : py::reinterpret_borrow<py::dict>(result)) {
           const std::string name = py::str(key);
           const rig::SocketSpec* o = nullptr;
@@ -185,7 +207,7 @@ void wrap_build_graph(py::module_& m) {
             if (!in) raise(ErrorCode::kInvalidArgument, "register_function '" + id + "': default for '" + name + "', which is not an input");
             f.defaults.push_back(rig::Param{name, value_from_python(value, in->type, "default '" + name + "'"), {}});
           }
-        f.run = python_body(std::move(fn), id, origin, f.outputs);
+        f.run = python_body(std::move(fn), id, origin, f.inputs, f.outputs);
         if (Status s = rig::build_functions().add(std::move(f)); !s) raise(s);
         python_ids().push_back(id);
       },
@@ -199,8 +221,42 @@ void wrap_build_graph(py::module_& m) {
       "AlreadyExistsError "
       "when the id is taken (naming who has it).");
   m.def(
-      "unregister_functions", [](const std::string& origin) { return rig::build_functions().remove_origin(origin); },
-      py::arg("origin"), "Removes every build function registered from `origin` (a plugin's file); how many.");
+      "unregister_functions",
+      [](const std::string& origin) {
+        rig::unregister_data_types(origin);
+        return rig::build_functions().remove_origin(origin);
+      },
+      py::arg("origin"),
+      "Removes every build function and data type registered from `origin` (a plugin's file); how many functions.");
+  m.def(
+      "register_data_type",
+      [](const std::string& name, const std::string& color, const std::string& help, const std::string& origin) {
+        rig::DataType t;
+        t.name = name;
+        t.color = color;
+        t.help = help;
+        t.origin = origin;
+        if (Status s = rig::register_data_type(std::move(t)); !s) raise(s);
+      },
+      py::arg("name"), py::arg("color"), py::arg("help") = "", py::arg("origin"),
+      "Registers a plugin's data type: a socket colour (#rrggbb) and values (anything JSON can write) that "
+      "its functions' outputs pass to functions' inputs. AlreadyExistsError naming both origins when the name is "
+      "taken.");
+  m.def(
+      "data_types",
+      []() {
+        py::list out;
+        for (const rig::DataType& t : rig::builtin_data_types().types()) {
+          py::dict d;
+          d["name"] = t.name;
+          d["color"] = t.color;
+          d["help"] = t.help;
+          d["origin"] = t.origin;
+          out.append(d);
+        }
+        return out;
+      },
+      "The build graphs' data types: the built-in ones (origin \"\"), then the plugins'.");
   m.def(
       "build_functions",
       []() {

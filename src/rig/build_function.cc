@@ -63,7 +63,9 @@ bool is_value_type(const std::string& type) {
 }
 
 // A JSON value as a value of data type `type`; nullopt when it is not one.
+// A plugin's type holds any JSON, kept as its text.
 std::optional<ParamValue> from_json(const Json& j, const std::string& type) {
+  if (is_plugin_type(type)) return j.dump();
   if (type == "bool" && j.is_boolean()) return j.get<bool>();
   if (type == "int" && j.is_number_integer()) return j.get<std::int64_t>();
   if (type == "number" && j.is_number()) return j.get<double>();
@@ -76,11 +78,26 @@ std::optional<ParamValue> from_json(const Json& j, const std::string& type) {
 // Whether `v` is a value of data type `type` (a value type: the sockets
 // of a registered function are checked to be).
 bool fits_type(const ParamValue& v, const std::string& type) {
+  if (is_plugin_type(type)) {
+    const auto* text = std::get_if<std::string>(&v);
+    return text && Json::accept(*text);
+  }
   const DataType* t = builtin_data_types().find(type);
   return t && t->value_type && value_fits(v, *t->value_type);
 }
 
-ParamValue zero(const std::string& type) { return zero_value(*builtin_data_types().find(type)->value_type); }
+// The value of an input no node gives: its type's zero (a plugin type's: null).
+ParamValue zero(const std::string& type) {
+  if (is_plugin_type(type)) return std::string("null");
+  return zero_value(*builtin_data_types().find(type)->value_type);
+}
+
+// An output as it is kept on the call's meta node: a plugin type's as the
+// JSON its text holds.
+Json output_json(const ParamValue& v, const std::string& type) {
+  if (is_plugin_type(type)) return Json::parse(std::get<std::string>(v));
+  return detail::param_value_json(v);
+}
 
 // The `call` component: one step that runs its function.
 Status run_call(BuildContext& ctx) {
@@ -160,7 +177,7 @@ Status run_call(BuildContext& ctx) {
   }
   for (const SocketSpec& o : fn->outputs) {
     const auto it = call.outputs().find(o.name);
-    out[o.name] = detail::param_value_json(it != call.outputs().end() ? it->second : zero(o.type));
+    out[o.name] = output_json(it != call.outputs().end() ? it->second : zero(o.type), o.type);
   }
   if (fn->outputs.empty()) return Status::ok();
   return g.set_value(graph::Plug{ctx.meta(), g.node(ctx.meta())->type().attr_find(kOutputsAttr), -1},
@@ -209,13 +226,13 @@ Status FunctionRegistry::add(BuildFunction f) {
     for (const SocketSpec& s : *list) {
       if (s.name.empty() || !names.insert(s.name).second)
         return error(ErrorCode::kInvalidArgument, who + ": an empty or repeated socket name '" + s.name + "'");
-      const bool ok =
-          is_value_type(s.type) || (list == &f.inputs && (s.type == "component" || is_node_list_type(s.type)));
+      const bool ok = is_value_type(s.type) || is_plugin_type(s.type) ||
+                      (list == &f.inputs && (s.type == "component" || is_node_list_type(s.type)));
       if (!ok)
         return error(ErrorCode::kInvalidArgument,
                      who + ": socket '" + s.name + "' has type '" + s.type +
-                         "' (inputs: bool, int, number, string, vector, component, list:control, list:joint or "
-                         "list:node; outputs: the values)");
+                         "' (inputs: bool, int, number, string, vector, a plugin's data type, component, "
+                         "list:control, list:joint or list:node; outputs: the values and plugins' types)");
     }
   }
   for (const Param& d : f.defaults) {

@@ -31,40 +31,88 @@ const SocketSpec* find_socket(const std::vector<SocketSpec>& list, std::string_v
 // ---- data types -----------------------------------------------------------------
 
 Status DataTypeRegistry::add(DataType type) {
+  const std::string who = "data type '" + type.name + "'" + (type.origin.empty() ? "" : " (" + type.origin + ")");
   if (type.name.empty()) return error(ErrorCode::kInvalidArgument, "a data type needs a name");
   if (!is_colour(type.color))
-    return error(ErrorCode::kInvalidArgument,
-                 "data type '" + type.name + "': colour '" + type.color + "' is not #rrggbb");
-  if (find(type.name)) return error(ErrorCode::kAlreadyExists, "data type '" + type.name + "' is already registered");
+    return error(ErrorCode::kInvalidArgument, who + ": colour '" + type.color + "' is not #rrggbb");
+  std::lock_guard lock(mutex_);
+  for (const DataType& t : types_)
+    if (t.name == type.name)
+      return error(ErrorCode::kAlreadyExists,
+                   who + " is already registered, by " + (t.origin.empty() ? std::string("rigel") : t.origin));
   types_.push_back(std::move(type));
   return Status::ok();
 }
 
+std::size_t DataTypeRegistry::remove_origin(std::string_view origin) {
+  std::lock_guard lock(mutex_);
+  const std::size_t before = types_.size();
+  std::erase_if(types_, [&](const DataType& t) { return !origin.empty() && t.origin == origin; });
+  return before - types_.size();
+}
+
 const DataType* DataTypeRegistry::find(std::string_view name) const {
+  std::lock_guard lock(mutex_);
   for (const DataType& t : types_)
     if (t.name == name) return &t;
   return nullptr;
+}
+
+std::vector<DataType> DataTypeRegistry::types() const {
+  std::lock_guard lock(mutex_);
+  return {types_.begin(), types_.end()};
 }
 
 bool DataTypeRegistry::can_link(std::string_view from, std::string_view to) {
   return from == to || (from == "int" && to == "number");
 }
 
-const DataTypeRegistry& builtin_data_types() {
-  static const DataTypeRegistry registry = [] {
-    DataTypeRegistry r;
-    const auto add = [&](DataType t) { (void)r.add(std::move(t)); };
-    add({"exec", "#ffffff", std::nullopt, "orders the build: a node runs after the node whose exec output feeds it"});
-    add({"bool", "#c0392b", ParamType::kBool, "true or false"});
-    add({"int", "#1abc9c", ParamType::kInt, "a whole number"});
-    add({"number", "#7fd857", ParamType::kDouble, "a real number"});
-    add({"string", "#e056fd", ParamType::kString, "text"});
-    add({"vector", "#f5c542", ParamType::kVec3, "three numbers [x, y, z]"});
-    add({"component", "#4aa3ff", std::nullopt, "a component the build made (a component node's output)"});
+namespace {
+DataTypeRegistry& process_data_types();
+}  // namespace
+
+const DataTypeRegistry& builtin_data_types() { return process_data_types(); }
+
+Status register_data_type(DataType type) {
+  if (type.origin.empty())
+    return error(ErrorCode::kInvalidArgument, "data type '" + type.name + "': a plugin's type names its origin");
+  if (type.name.find_first_of(":$") != std::string::npos)
+    return error(ErrorCode::kInvalidArgument, "data type '" + type.name + "' (" + type.origin +
+                                                  "): a name with ':' or '$' is the built-in families' (list:TYPE)");
+  return process_data_types().add(std::move(type));
+}
+
+std::size_t unregister_data_types(std::string_view origin) { return process_data_types().remove_origin(origin); }
+
+bool is_plugin_type(std::string_view type) {
+  const DataType* t = builtin_data_types().find(type);
+  return t && !t->origin.empty();
+}
+
+namespace {
+DataTypeRegistry& process_data_types() {
+  static DataTypeRegistry registry;
+  static const bool filled = [] {
+    DataTypeRegistry& r = registry;
+    const auto add = [&](std::string name, std::string color, std::optional<ParamType> value, std::string help) {
+      DataType t;
+      t.name = std::move(name);
+      t.color = std::move(color);
+      t.value_type = value;
+      t.help = std::move(help);
+      (void)r.add(std::move(t));
+    };
+    add("exec", "#ffffff", std::nullopt, "orders the build: a node runs after the node whose exec output feeds it");
+    add("bool", "#c0392b", ParamType::kBool, "true or false");
+    add("int", "#1abc9c", ParamType::kInt, "a whole number");
+    add("number", "#7fd857", ParamType::kDouble, "a real number");
+    add("string", "#e056fd", ParamType::kString, "text");
+    add("vector", "#f5c542", ParamType::kVec3, "three numbers [x, y, z]");
+    add("component", "#4aa3ff", std::nullopt, "a component the build made (a component node's output)");
     // What a component node's build makes, for function nodes to take.
-    add({"list:control", "#ff9f43", std::nullopt, "the controls a component the build made has, in build order"});
-    add({"list:joint", "#dfe6e9", std::nullopt, "the joints a component the build made drives (its guides' joints)"});
-    add({"list:node", "#a29bfe", std::nullopt, "the hooks a component the build made publishes, by index"});
+    add("list:control", "#ff9f43", std::nullopt, "the controls a component the build made has, in build order");
+    add("list:joint", "#dfe6e9", std::nullopt, "the joints a component the build made drives (its guides' joints)");
+    add("list:node", "#a29bfe", std::nullopt, "the hooks a component the build made publishes, by index");
     // A list's colour is its element's, darker, so the two read as kin.
     for (const char* element : {"bool", "int", "number", "string", "vector"}) {
       std::string color = r.find(element)->color;
@@ -74,13 +122,15 @@ const DataTypeRegistry& builtin_data_types() {
         color[k] = kHex[v / 16];
         color[k + 1] = kHex[v % 16];
       }
-      add({std::string("list:") + element, color, std::nullopt,
-           std::string("a list of ") + element + " values (a for-each node runs its body once per item)"});
+      add(std::string("list:") + element, color, std::nullopt,
+           std::string("a list of ") + element + " values (a for-each node runs its body once per item)");
     }
-    return r;
+    return true;
   }();
+  (void)filled;
   return registry;
 }
+}  // namespace
 
 std::string list_element(std::string_view type) {
   constexpr std::string_view kList = "list:";

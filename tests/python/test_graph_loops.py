@@ -176,3 +176,56 @@ def test_a_python_function_takes_a_components_controls_joints_and_hooks(tmp_path
         assert seen["controls"] == sorted(fk_controls(ws.scene))
     finally:
         rigel.unregister_functions(str(tmp_path / "made.py"))
+
+
+WEIGHTS_PLUGIN = '''
+import rigel
+
+def measure(call, component):
+    """A weight map of the component's controls: any JSON value."""
+    return {c.name: 1.0 / (i + 1) for i, c in enumerate(call.controls("component"))}
+
+def total(call, weights):
+    return sum(weights.values())
+
+def register_plugin():
+    rigel.register_data_type("studio.weights", "#336699", help="a weight per control")
+    rigel.register_function(measure, "studio.measure", inputs=[("component", "component")],
+                            outputs=[("weights", "studio.weights")])
+    rigel.register_function(total, "studio.total", inputs=[("weights", "studio.weights")],
+                            outputs=[("total", "number")])
+'''
+
+
+def test_a_plugins_data_type_carries_any_value_between_its_functions(tmp_path):
+    path = write(tmp_path / "weights.py", WEIGHTS_PLUGIN)
+    assert rigel.load_plugin(str(path)) == ["studio.measure", "studio.total"]
+    try:
+        types = {t["name"]: t for t in rigel.data_types()}
+        assert types["studio.weights"]["origin"] == str(path) and types["number"]["origin"] == ""
+        # A second plugin with the type's name is refused, naming its file; nothing of it stays.
+        other = write(tmp_path / "other.py", "import rigel\n\ndef register_plugin():\n"
+                                             "    rigel.register_data_type('studio.weights', '#000000')\n")
+        with pytest.raises(rigel.PluginError) as refused:
+            rigel.load_plugin(str(other))
+        assert str(other) in str(refused.value) and str(path) in str(refused.value)
+
+        doc = sides_graph(("L",))
+        g = doc["buildGraph"]
+        g["nodes"] = [n for n in g["nodes"] if n["id"] != "scale"] + [
+            {"id": "measure", "kind": "function:studio.measure"}, {"id": "total", "kind": "function:studio.total"}]
+        g["links"] = [l for l in g["links"] if "scale" not in l["from"] + l["to"]] + [
+            {"from": "arm.then", "to": "measure.exec"}, {"from": "measure.then", "to": "total.exec"},
+            {"from": "arm.component", "to": "measure.component"}, {"from": "measure.weights", "to": "total.weights"}]
+        ws = rigel.Workspace(str(METARIG))
+        built = ws.build_graph(json.dumps(doc))
+        # In the for-each's body: one call per item, named by its index.
+        outputs = json.loads(ws.scene.find_component(built.rig, "total_0")["outputs"])
+        assert abs(outputs["total"] - (1 + 1 / 2 + 1 / 3)) < 1e-12
+        # A weights output into a number input is refused by type.
+        g["links"].append({"from": "measure.weights", "to": "arm.name"})
+        report = ws.check_graph(json.dumps(doc))
+        assert not report.ok and "a studio.weights output cannot feed a string input" in report.problems[0].message
+    finally:
+        rigel.unregister_functions(str(path))
+    assert "studio.weights" not in {t["name"] for t in rigel.data_types()}

@@ -10,6 +10,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "build_graph_test_util.h"
 #include "rig_test_util.h"
@@ -242,9 +243,17 @@ TEST(BuildGraph, node_kinds_follow_the_schemas_and_types_refuse_what_does_not_fi
   }
   EXPECT_TRUE(DataTypeRegistry::can_link("int", "number"));
   EXPECT_FALSE(DataTypeRegistry::can_link("number", "int"));
-  DataTypeRegistry types = builtin_data_types();
-  EXPECT_EQ(types.add(DataType{"number", "#000000", ParamType::kDouble, ""}).code(), ErrorCode::kAlreadyExists);
-  EXPECT_EQ(types.add(DataType{"curve", "red", std::nullopt, ""}).code(), ErrorCode::kInvalidArgument);
+  DataTypeRegistry types;
+  DataType number;
+  number.name = "number";
+  number.color = "#000000";
+  number.value_type = ParamType::kDouble;
+  ASSERT_TRUE(types.add(number).is_ok());
+  EXPECT_EQ(types.add(number).code(), ErrorCode::kAlreadyExists);
+  DataType curve;
+  curve.name = "curve";
+  curve.color = "red";
+  EXPECT_EQ(types.add(curve).code(), ErrorCode::kInvalidArgument);
   NodeKindRegistry more = kinds;
   EXPECT_EQ(more.add(NodeKind{"branch", "", "", {}, {}, ""}).code(), ErrorCode::kAlreadyExists);
   EXPECT_EQ(more.add(NodeKind{"x", "", "", {{"a", "curve", ""}}, {}, ""}).code(), ErrorCode::kInvalidArgument);
@@ -456,6 +465,72 @@ TEST(BuildGraphFunctions, a_component_nodes_controls_joints_and_hooks_reach_a_fu
   EXPECT_NE(problems(g).find("node 'count': input 'hooks' needs a link from a component node's 'hooks' output"),
             std::string::npos)
       << problems(g);
+}
+
+TEST(BuildGraphFunctions, a_plugins_data_type_carries_a_value_from_one_function_to_another) {
+  DataType curve;
+  curve.name = "test.curve";
+  curve.color = "#12ab34";
+  curve.origin = "curves.py";
+  ASSERT_TRUE(register_data_type(curve).is_ok());
+  DataType again = curve;
+  again.origin = "other.py";
+  const Status taken = register_data_type(again);
+  EXPECT_EQ(taken.code(), ErrorCode::kAlreadyExists);
+  EXPECT_NE(taken.message().find("other.py"), std::string::npos) << taken.message();
+  EXPECT_NE(taken.message().find("by curves.py"), std::string::npos) << taken.message();
+  again.name = "list:curve";
+  EXPECT_EQ(register_data_type(again).code(), ErrorCode::kInvalidArgument);
+  again.name = "curve2";
+  again.origin.clear();
+  EXPECT_EQ(register_data_type(again).code(), ErrorCode::kInvalidArgument);
+  EXPECT_TRUE(is_plugin_type("test.curve"));
+  EXPECT_FALSE(is_plugin_type("number"));
+  ASSERT_TRUE(build_functions()
+                  .add({"test.makeCurve", "Make a curve", "Test", "", {}, {{"curve", "test.curve", ""}}, {},
+                        [](FunctionCall& call) -> Status {
+                          call.set_output("curve", std::string(R"({"points": [0, 0.5, 1]})"));
+                          return Status::ok();
+                        },
+                        "curves.py"})
+                  .is_ok());
+  ASSERT_TRUE(build_functions()
+                  .add({"test.curveLength", "Count a curve's points", "Test", "", {{"curve", "test.curve", ""}},
+                        {{"points", "int", ""}}, {},
+                        [](FunctionCall& call) -> Status {
+                          const auto j = nlohmann::json::parse(std::get<std::string>(*call.value("curve")));
+                          call.set_output("points", static_cast<std::int64_t>(j.is_null() ? -1 : j["points"].size()));
+                          return Status::ok();
+                        },
+                        "curves.py"})
+                  .is_ok());
+  BuildGraph g = drawn();
+  g.nodes.push_back(node("make", "function:test.makeCurve"));
+  g.nodes.push_back(node("length", "function:test.curveLength"));
+  g.nodes.push_back(node("none", "function:test.curveLength"));
+  g.links.push_back(link("armR", "then", "make", "exec"));
+  g.links.push_back(link("make", "then", "length", "exec"));
+  g.links.push_back(link("length", "then", "none", "exec"));
+  g.links.push_back(link("make", "curve", "length", "curve"));
+  // The palette shows the type, with its colour and origin.
+  bool listed = false;
+  const auto palette = graph_palette_json(builtin_node_kinds());
+  for (const auto& t : palette["types"]) listed |= t["name"] == "test.curve";
+  EXPECT_TRUE(listed);
+  // A constant or a variable cannot hold it; a value of it is no input's.
+  BuildGraph wrong = g;
+  wrong.variables.push_back(GraphVariable{"c", "test.curve", {}, {}, {}});
+  EXPECT_NE(problems(wrong).find("type 'test.curve' is not one a variable holds"), std::string::npos);
+  BuiltRig r = built_rig(compiled(g));
+  ASSERT_TRUE(r.build);
+  const NodeId rig = find_rig(r.g(), "drawn");
+  EXPECT_EQ(meta_string(r.g(), find_component(r.g(), rig, "make"), kOutputsAttr), R"({"curve":{"points":[0,0.5,1]}})");
+  EXPECT_EQ(meta_string(r.g(), find_component(r.g(), rig, "length"), kOutputsAttr), R"({"points":3})");
+  EXPECT_EQ(meta_string(r.g(), find_component(r.g(), rig, "none"), kOutputsAttr), R"({"points":-1})")
+      << "an unlinked input of a plugin's type is null";
+  EXPECT_EQ(build_functions().remove_origin("curves.py"), 2u);
+  EXPECT_EQ(unregister_data_types("curves.py"), 1u);
+  EXPECT_FALSE(is_plugin_type("test.curve"));
 }
 
 TEST(BuildGraphFunctions, a_function_that_fails_stops_the_build_at_its_step_naming_it) {

@@ -16,7 +16,15 @@ Conventions: angles in degrees, vectors (x, y, z), quaternions
 from ._rigel import *  # noqa: F401,F403
 from ._rigel import __doc__ as _extension_doc  # noqa: F401
 from .pybuild import PyBuild  # noqa: F401
-from .plugins import PluginError, function, load_plugin, load_plugins, load_root_plugins, register_function  # noqa: F401
+from .plugins import (  # noqa: F401
+    PluginError,
+    function,
+    load_plugin,
+    load_plugins,
+    load_root_plugins,
+    register_data_type,
+    register_function,
+)
 from .serving import serve  # noqa: F401
 
 #: The base class of build scripts (seed 004's PyBuild).

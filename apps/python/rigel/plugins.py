@@ -3,8 +3,9 @@ build functions, loaded from a folder (a project's or an asset's
 ``plugins/``), as Luna loads its rig-node plugins (seed 004 §4.11.2).
 
 A plugin is a ``.py`` file whose ``register_plugin()`` registers
-functions with ``rigel.register_function``; while it runs, functions it
-registers are marked with the file as their origin (so a second
+functions with ``rigel.register_function`` (and data types with
+``rigel.register_data_type``); while it runs, what it registers is marked
+with the file as its origin (so a second
 registration of an id names both files). A plugin that raises, or whose
 id is taken, is refused with its file named: ``PluginError``, and nothing
 it registered stays.
@@ -34,6 +35,16 @@ def register_function(fn, id, inputs=None, outputs=None, nice_name="", category=
     if origin is None:
         origin = _loading[-1] if _loading else ""
     _rigel.register_function(fn, id, inputs, outputs, nice_name, category, help, defaults, origin)
+
+
+def register_data_type(name, color, help="", origin=None):
+    """Registers a plugin's data type (see _rigel.register_data_type): its
+    sockets' colour, and values (anything JSON can write) that its
+    functions pass along; inside a plugin its origin is the plugin's file.
+    Register it before the functions whose sockets have it."""
+    if origin is None:
+        origin = _loading[-1] if _loading else ""
+    _rigel.register_data_type(name, color, help, origin)
 
 
 def function(id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None):

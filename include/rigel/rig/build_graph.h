@@ -25,8 +25,10 @@
 // `.rig.json` syntax) and one line per link.
 #pragma once
 
+#include <deque>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -53,29 +55,48 @@ struct DataType {
   // (exec, component: a component node's output).
   std::optional<ParamType> value_type;
   std::string help;
+  // "" for the built-in types; else who registered it (a plugin's file),
+  // which messages name. A plugin's type carries any JSON value from a
+  // function's output to a function's input (a curve, a weight map, a
+  // studio's asset record); no constant or variable holds it.
+  std::string origin;
 };
 
+// Reading is thread-safe against adding; a type found stays valid until
+// its origin is removed.
 class DataTypeRegistry {
  public:
-  // Fails (kAlreadyExists) on a name that is taken, (kInvalidArgument) on an
-  // empty name or a colour that is not "#rrggbb".
+  // Fails (kAlreadyExists) on a name that is taken, naming who has it;
+  // (kInvalidArgument) on an empty name or a colour that is not "#rrggbb".
   Status add(DataType type);
+  // Removes the types of `origin` (a plugin reloaded); how many.
+  std::size_t remove_origin(std::string_view origin);
   const DataType* find(std::string_view name) const;
-  const std::vector<DataType>& types() const { return types_; }
+  std::vector<DataType> types() const;
   // Whether a value of `from` may flow into a socket of `to`: the same type,
   // or an int into a number.
   static bool can_link(std::string_view from, std::string_view to);
 
  private:
-  std::vector<DataType> types_;
+  mutable std::mutex mutex_;
+  std::deque<DataType> types_;  // a deque: adding keeps what find() gave valid
 };
 
-// exec, bool, int, number, string, vector, component, a list of each
+// The process's data types: exec, bool, int, number, string, vector, component, a list of each
 // value type (list:bool, list:int, list:number, list:string, list:vector),
 // and what a component node's build makes, which only function nodes take:
 // list:control (its controls), list:joint (its guides' joints), list:node
-// (its hooks).
+// (its hooks); then those plugins registered.
 const DataTypeRegistry& builtin_data_types();
+// Registers a plugin's data type (its origin must be set; no ':' or '$' in
+// its name, which the built-in families use): kAlreadyExists naming both
+// origins when the name is taken. Register types before the functions
+// whose sockets have them.
+Status register_data_type(DataType type);
+// Removes every data type `origin` registered; how many.
+std::size_t unregister_data_types(std::string_view origin);
+// Whether `type` is a plugin's (registered with an origin).
+bool is_plugin_type(std::string_view type);
 
 // A list type's element type ("list:number" -> "number"); "" for a type
 // that is not a list. A list type has no value_type (no component
