@@ -12,33 +12,37 @@ from conftest import METARIG
 from test_build_graph import PLUGIN, write
 
 
-def sides_graph(sides=("L", "R")):
+def sides_graph(sides=("L", "R"), scale=True):
+    """For each side, the arm; then (with `scale`) its control shapes scaled
+    by the Python plugin's function, once per item."""
     arm = {"type": "fkChain", "name": "arm", "side": "L", "version": "1.0",
            "guides": [{"joint": j} for j in ("upper_arm.L", "forearm.L", "hand.L")]}
+    nodes = [
+        {"id": "start", "kind": "start"},
+        {"id": "global", "kind": "component:global",
+         "component": {"type": "global", "name": "global", "side": "C", "version": "1.0",
+                       "guides": [{"name": "main"}]}},
+        {"id": "list", "kind": "variable:get", "variable": "sides"},
+        {"id": "each", "kind": "forEach:string"},
+        {"id": "arm", "kind": "component:fkChain", "component": arm},
+    ]
+    links = [
+        {"from": "start.then", "to": "global.exec"},
+        {"from": "global.then", "to": "each.exec"},
+        {"from": "list.value", "to": "each.list"},
+        {"from": "each.body", "to": "arm.exec"},
+        {"from": "each.element", "to": "arm.side"},
+        {"from": "global.component", "to": "arm.parent"},
+    ]
+    if scale:
+        nodes.append({"id": "scale", "kind": "function:studio.scaleShapes", "values": {"factor": 2.0}})
+        links += [{"from": "arm.then", "to": "scale.exec"}, {"from": "arm.component", "to": "scale.component"}]
     return {"buildGraph": {
         "format": 1,
         "rig": {"name": "sides", "version": "1.0"},
         "variables": [{"name": "sides", "type": "list:string", "value": list(sides)}],
-        "nodes": [
-            {"id": "start", "kind": "start"},
-            {"id": "global", "kind": "component:global",
-             "component": {"type": "global", "name": "global", "side": "C", "version": "1.0",
-                           "guides": [{"name": "main"}]}},
-            {"id": "list", "kind": "variable:get", "variable": "sides"},
-            {"id": "each", "kind": "forEach:string"},
-            {"id": "arm", "kind": "component:fkChain", "component": arm},
-            {"id": "scale", "kind": "function:studio.scaleShapes", "values": {"factor": 2.0}},
-        ],
-        "links": [
-            {"from": "start.then", "to": "global.exec"},
-            {"from": "global.then", "to": "each.exec"},
-            {"from": "list.value", "to": "each.list"},
-            {"from": "each.body", "to": "arm.exec"},
-            {"from": "each.element", "to": "arm.side"},
-            {"from": "global.component", "to": "arm.parent"},
-            {"from": "arm.then", "to": "scale.exec"},
-            {"from": "arm.component", "to": "scale.component"},
-        ],
+        "nodes": nodes,
+        "links": links,
     }}
 
 
@@ -121,11 +125,9 @@ ARM = {"buildGraph": {
 def test_a_sub_graph_used_twice_builds_two_arms_and_is_in_the_palette(tmp_path):
     (tmp_path / "lib").mkdir()
     write(tmp_path / "lib" / "arm.build.json", json.dumps(ARM))
-    hero = json.loads(json.dumps(sides_graph()))
+    hero = sides_graph(scale=False)
     g = hero["buildGraph"]
-    g["nodes"] = [n for n in g["nodes"] if n["id"] not in ("arm", "scale")]
-    g["nodes"].append({"id": "arm", "kind": "graph:lib/arm.build.json"})
-    g["links"] = [l for l in g["links"] if "scale" not in l["from"] + l["to"]]
+    g["nodes"] = [n for n in g["nodes"] if n["id"] != "arm"] + [{"id": "arm", "kind": "graph:lib/arm.build.json"}]
     path = write(tmp_path / "hero.build.json", json.dumps(hero))
 
     ws = rigel.Workspace(str(METARIG))
@@ -164,10 +166,9 @@ def test_a_python_function_takes_a_components_controls_joints_and_hooks(tmp_path
                             inputs=[("controls", "list:control"), ("joints", "list:joint"), ("hooks", "list:node")],
                             outputs=[("hooks", "int")])
     try:
-        doc = sides_graph(("L",))
+        doc = sides_graph(("L",), scale=False)
         g = doc["buildGraph"]
-        g["nodes"] = [n for n in g["nodes"] if n["id"] != "scale"] + [{"id": "made", "kind": "function:test.made"}]
-        g["links"] = [l for l in g["links"] if "scale" not in l["from"] + l["to"]]
+        g["nodes"].append({"id": "made", "kind": "function:test.made"})
         g["links"] += [{"from": "arm.then", "to": "made.exec"}] + [
             {"from": f"arm.{what}", "to": f"made.{what}"} for what in ("controls", "joints", "hooks")]
         ws = rigel.Workspace(str(METARIG))
@@ -210,11 +211,10 @@ def test_a_plugins_data_type_carries_any_value_between_its_functions(tmp_path):
             rigel.load_plugin(str(other))
         assert str(other) in str(refused.value) and str(path) in str(refused.value)
 
-        doc = sides_graph(("L",))
+        doc = sides_graph(("L",), scale=False)
         g = doc["buildGraph"]
-        g["nodes"] = [n for n in g["nodes"] if n["id"] != "scale"] + [
-            {"id": "measure", "kind": "function:studio.measure"}, {"id": "total", "kind": "function:studio.total"}]
-        g["links"] = [l for l in g["links"] if "scale" not in l["from"] + l["to"]] + [
+        g["nodes"] += [{"id": "measure", "kind": "function:studio.measure"}, {"id": "total", "kind": "function:studio.total"}]
+        g["links"] += [
             {"from": "arm.then", "to": "measure.exec"}, {"from": "measure.then", "to": "total.exec"},
             {"from": "arm.component", "to": "measure.component"}, {"from": "measure.weights", "to": "total.weights"}]
         ws = rigel.Workspace(str(METARIG))

@@ -72,6 +72,29 @@ inline GraphNode component_node(const std::string& id, Component c) {
   return n;
 }
 
+// The components a compile made under its one root (the global): for the
+// loop and sub-graph tests, arm_L then arm_R, each with its own rigId;
+// empty (with the failure) otherwise.
+inline std::vector<Component> two_arms(const BuildGraphCompile& c) {
+  EXPECT_TRUE(c.ok()) << (c.errors.empty() ? "" : c.errors[0].str());
+  if (!c.ok() || c.definition.components.size() != 1u) return {};
+  const std::vector<Component>& arms = c.definition.components[0].children;
+  const bool two = arms.size() == 2u && arms[0].full_name() == "arm_L" && arms[1].full_name() == "arm_R" &&
+                   arms[0].rig_id != arms[1].rig_id;
+  EXPECT_TRUE(two) << write_definition(c.definition, Syntax::kJson);
+  return two ? arms : std::vector<Component>{};
+}
+
+// The global component, with a fixed rigId.
+inline Component global_component() {
+  Component global;
+  global.type = "global";
+  global.name = "global";
+  global.rig_id = "7d0c5a52-8a4e-4c4b-9d8f-2b1a55e0c001";
+  global.guides = {Guide{}};
+  return global;
+}
+
 inline Component fk_chain(std::string name, Side side, std::vector<std::string> joints) {
   Component c;
   c.type = "fkChain";

@@ -9,7 +9,7 @@ import { existsSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import type { Page } from '@playwright/test';
-import { addNode, drawnLinks, graphOf, link, nodeIds, panel } from './buildgraphhelpers';
+import { addNode, drawLeftArm, drawnLinks, graphOf, link, nodeIds, panel } from './buildgraphhelpers';
 import { character, expect, rigelBin, settle, test } from './fixtures';
 import type { RigelServer } from './fixtures';
 
@@ -54,16 +54,7 @@ test('build graph: draw the left arm, refuse a wrong link, build live, step, sav
   await shots.take('two-nodes');
 
   // The biped's left arm (examples/biped.rig.xml), set in the details panel.
-  await page.getByTestId(`bg-title-${limb}`).click();
-  await panel(page).getByTestId('def-name').fill('arm');
-  await panel(page).getByTestId('def-name').press('Enter');
-  await panel(page).getByTestId('def-side').selectOption('L');
-  for (const [i, joint] of ['upper_arm.L', 'forearm.L', 'hand.L'].entries()) {
-    await panel(page).getByTestId(`def-guide-joint-${i}`).fill(joint);
-    await panel(page).getByTestId(`def-guide-joint-${i}`).press('Enter');
-  }
-  await panel(page).getByTestId('def-param-kind').selectOption('arm');
-  await panel(page).getByTestId('def-param-defaultMode').selectOption('fk');
+  await drawLeftArm(page, limb);
   await expect(page.getByTestId(`bg-title-${limb}`)).toContainText('arm_L');
   expect(await page.evaluate(() => (window as any).rigel.buildGraph.idOf('arm_L'))).toBe(limb);
 

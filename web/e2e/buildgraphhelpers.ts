@@ -48,3 +48,17 @@ export async function graphOf(page: Page): Promise<{ rig: string; nodes: unknown
     return { rig: g.rig.name, nodes: g.nodes, links: g.links };
   });
 }
+
+/** Makes limb node `limb` the biped's left arm (examples/biped.rig.xml) in the details panel: name, side, joints, FK. */
+export async function drawLeftArm(page: Page, limb: string): Promise<void> {
+  await page.getByTestId(`bg-title-${limb}`).click();
+  await panel(page).getByTestId('def-name').fill('arm');
+  await panel(page).getByTestId('def-name').press('Enter');
+  await panel(page).getByTestId('def-side').selectOption('L');
+  for (const [i, joint] of ['upper_arm.L', 'forearm.L', 'hand.L'].entries()) {
+    await panel(page).getByTestId(`def-guide-joint-${i}`).fill(joint);
+    await panel(page).getByTestId(`def-guide-joint-${i}`).press('Enter');
+  }
+  await panel(page).getByTestId('def-param-kind').selectOption('arm');
+  await panel(page).getByTestId('def-param-defaultMode').selectOption('fk');
+}

@@ -4,7 +4,7 @@
 // removing an item removes its arm and keeps the other.
 
 import type { Page } from '@playwright/test';
-import { addNode, drawnLinks, link, panel } from './buildgraphhelpers';
+import { addNode, drawLeftArm, drawnLinks, link, panel } from './buildgraphhelpers';
 import { expect, settle, test } from './fixtures';
 import type { RigelServer } from './fixtures';
 
@@ -44,15 +44,7 @@ test('build graph: a for-each over a list builds one arm per item live; removing
   await expect(page.getByTestId(`bg-node-${sides}`)).toContainText('("L", "R")');
 
   // The arm, drawn on the left joints.
-  await page.getByTestId(`bg-title-${limb}`).click();
-  await panel(page).getByTestId('def-name').fill('arm');
-  await panel(page).getByTestId('def-name').press('Enter');
-  await panel(page).getByTestId('def-side').selectOption('L');
-  for (const [i, joint] of ['upper_arm.L', 'forearm.L', 'hand.L'].entries()) {
-    await panel(page).getByTestId(`def-guide-joint-${i}`).fill(joint);
-    await panel(page).getByTestId(`def-guide-joint-${i}`).press('Enter');
-  }
-  await panel(page).getByTestId('def-param-defaultMode').selectOption('fk');
+  await drawLeftArm(page, limb);
 
   await link(page, 'start.then', `${global}.exec`);
   await link(page, `${global}.then`, `${each}.exec`);
