@@ -5,6 +5,9 @@
 #include "rigel/rig/build_function.h"
 
 #include <algorithm>
+#include <map>
+
+#include <nlohmann/json.hpp>
 #include <cctype>
 #include <functional>
 #include <limits>
@@ -325,9 +328,15 @@ BuildGraph convert_definition(const Definition& definition) {
   std::string previous = "start";
   std::string previous_output = "then";
   int column = 1;
+  std::map<std::string, std::string> node_of;  // rigId -> node id
+  std::vector<const Component*> calls;
   // Depth first, parents before children: the order the build runs them.
   std::function<void(const Component&, const std::string&, int)> walk = [&](const Component& c,
                                                                            const std::string& parent, int depth) {
+    if (c.type == kCallType) {  // a function node's: after the components, as the build runs them
+      calls.push_back(&c);
+      return;
+    }
     const std::string base = c.full_name().empty() ? c.type : c.full_name();
     std::string id = base;
     for (int k = 2; !ids.insert(id).second; ++k) id = base + "_" + std::to_string(k);
@@ -339,6 +348,7 @@ BuildGraph convert_definition(const Definition& definition) {
     n.component.children.clear();
     n.where = c.where;
     g.nodes.push_back(std::move(n));
+    node_of[c.rig_id] = id;
     g.links.push_back(GraphLink{{previous, previous_output}, {id, "exec"}, {}});
     if (!parent.empty()) g.links.push_back(GraphLink{{parent, "component"}, {id, "parent"}, {}});
     previous = id;
@@ -347,6 +357,52 @@ BuildGraph convert_definition(const Definition& definition) {
     for (const Component& child : c.children) walk(child, id, depth + 1);
   };
   for (const Component& root : definition.components) walk(root, "", 0);
+  // Each call back as its function node: its args' values as the node's,
+  // its references to components and calls as links.
+  for (const Component* c : calls) {
+    const Param* function = c->param("function");
+    const Param* args = c->param("args");
+    const std::string base = c->name.empty() ? "call" : c->name;
+    std::string id = base;
+    for (int k = 2; !ids.insert(id).second; ++k) id = base + "_" + std::to_string(k);
+    GraphNode n;
+    n.id = id;
+    n.kind = "function:" + (function ? std::get<std::string>(function->value) : std::string());
+    n.rig_id = c->rig_id;
+    n.position = c->gui_location ? *c->gui_location : std::pair{kColumn * column++, 0.0};
+    n.where = c->where;
+    const auto parsed = args ? nlohmann::ordered_json::parse(std::get<std::string>(args->value), nullptr, false)
+                             : nlohmann::ordered_json::object();
+    const std::optional<BuildFunction> fn = build_functions().find(n.kind.substr(std::string_view("function:").size()));
+    for (auto it = parsed.begin(); parsed.is_object() && it != parsed.end(); ++it) {
+      const auto& a = it.value();
+      const auto from = [&](const std::string& rig_id, const std::string& output) {
+        const auto node = node_of.find(rig_id);
+        if (node != node_of.end()) g.links.push_back(GraphLink{{node->second, output}, {id, it.key()}, {}});
+      };
+      if (a.is_object() && a.size() == 1 && a.begin().value().is_string() && a.begin().key().starts_with("$")) {
+        const std::string what = a.begin().key().substr(1);
+        from(a.begin().value().get<std::string>(), what);
+      } else if (a.is_object() && a.contains("$output") && a["$output"].is_array() && a["$output"].size() == 2) {
+        from(a["$output"][0].get<std::string>(), a["$output"][1].get<std::string>());
+      } else if (a.is_boolean()) {
+        n.values.push_back(Param{it.key(), a.get<bool>(), {}});
+      } else if (a.is_number_integer() && !(fn && fn->input(it.key()) && fn->input(it.key())->type == "number")) {
+        n.values.push_back(Param{it.key(), a.get<std::int64_t>(), {}});
+      } else if (a.is_number()) {
+        n.values.push_back(Param{it.key(), a.get<double>(), {}});
+      } else if (a.is_string()) {
+        n.values.push_back(Param{it.key(), a.get<std::string>(), {}});
+      } else if (a.is_array() && a.size() == 3 && a[0].is_number() && a[1].is_number() && a[2].is_number()) {
+        n.values.push_back(Param{it.key(), math::Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()), {}});
+      }
+    }
+    g.nodes.push_back(std::move(n));
+    node_of[c->rig_id] = id;
+    g.links.push_back(GraphLink{{previous, previous_output}, {id, "exec"}, {}});
+    previous = id;
+    previous_output = "then";
+  }
   return g;
 }
 

@@ -362,6 +362,8 @@ nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const S
   };
   Json list = Json::array();
   for (const NodeKind& k : kinds.kinds()) {
+    // A call is a function node's component: the palette offers the functions.
+    if (k.id == std::string("component:") + kCallType) continue;
     const ComponentSchema* schema =
         k.id.rfind("component:", 0) == 0 ? schemas.find(std::string_view(k.id).substr(std::string_view("component:").size())) : nullptr;
     std::optional<BuildFunction> function;

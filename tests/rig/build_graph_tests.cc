@@ -357,6 +357,15 @@ TEST(BuildGraphFunctions, function_nodes_compile_to_calls_after_what_they_read) 
   EXPECT_EQ(dbl2->after, std::vector<std::string>{dbl->rig_id});
   // Stable ids: the same graph compiles to the same rigIds.
   EXPECT_EQ(component_named(compiled(with_functions()), "dbl2")->rig_id, dbl2->rig_id);
+  // The definition's graph has the calls as function nodes again, and
+  // compiles to the same definition.
+  const BuildGraph back = convert_definition(d);
+  ASSERT_TRUE(back.find("dbl2") && back.find("tag"));
+  EXPECT_EQ(back.find("dbl2")->kind, "function:test.double");
+  EXPECT_EQ(back.find("tag")->rig_id, tag->rig_id);
+  EXPECT_EQ(write_definition(compiled(reread(back)), Syntax::kJson), write_definition(d, Syntax::kJson));
+  for (const auto& k : graph_palette_json(builtin_node_kinds())["kinds"].get<std::vector<nlohmann::ordered_json>>())
+    EXPECT_NE(k["id"], "component:call") << "the palette offers functions, not their calls";
   // The definition round-trips through both syntaxes with its calls.
   for (Syntax syntax : {Syntax::kXml, Syntax::kJson}) {
     ParseResult back = parse_definition(write_definition(d, syntax), syntax, "calls");

@@ -314,7 +314,9 @@ GraphPlace place_of(const BuildGraph& graph, const Diagnostic& diagnostic);
 
 // The graph of a definition: start, then one component node per component
 // in build order (depth first) on the exec chain, each child's `parent`
-// linked from its parent's `component`, laid out for the editor.
+// linked from its parent's `component`, then each `call` component as its
+// function node (its args' values as the node's, its references to
+// components and calls as links), laid out for the editor.
 // compile_build_graph() of it gives `definition` back.
 BuildGraph convert_definition(const Definition& definition);
 
