@@ -1,11 +1,16 @@
-// The build-graph editor's lists and for-each nodes: one arm drawn on the
-// left joints, in the body of a for-each over a list constant edited in the
-// details panel, builds live one arm per item (the right one mirrored);
-// removing an item removes its arm and keeps the other.
+// The build-graph editor's lists, for-each nodes and sub-graphs: one arm
+// drawn on the left joints, in the body of a for-each over a list constant
+// edited in the details panel, builds live one arm per item (the right one
+// mirrored); removing an item removes its arm and keeps the other. A graph
+// file under the root is a node of the palette's Graphs: used in a loop, it
+// builds an arm per side, and the saved graph builds the same from the CLI.
 
+import { spawnSync } from 'node:child_process';
+import { mkdirSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
 import type { Page } from '@playwright/test';
 import { addNode, drawLeftArm, drawnLinks, link, panel } from './buildgraphhelpers';
-import { expect, settle, test } from './fixtures';
+import { character, expect, rigelBin, settle, test } from './fixtures';
 import type { RigelServer } from './fixtures';
 
 test.use({ serverOptions: { ephemeral: false, token: 'e2e-token' } });
@@ -82,5 +87,79 @@ test('build graph: a for-each over a list builds one arm per item live; removing
   await panel(page).getByTestId('bg-value-remove-1').click();
   await expect.poll(() => componentsOf(server, 'looprig')).toEqual(['global:global', 'limb:arm_L']);
   await settle(page, server);
+  expect(((await page.evaluate(() => (window as any).rigel.errors)) as string[]).filter((x) => /^(GET|POST) /.test(x))).toEqual([]);
+});
+
+/** An arm drawn on the left joints, hanging from its `parent` variable, of side `side`. */
+const kArmGraph = {
+  buildGraph: {
+    format: 1,
+    rig: { name: 'arm', version: '1.0' },
+    variables: [
+      { name: 'side', type: 'string', value: 'L' },
+      { name: 'parent', type: 'component', value: null },
+    ],
+    nodes: [
+      { id: 'start', kind: 'start' },
+      {
+        id: 'arm',
+        kind: 'component:fkChain',
+        component: { type: 'fkChain', name: 'arm', side: 'L', version: '1.0', guides: ['upper_arm.L', 'forearm.L', 'hand.L'].map((joint) => ({ joint })) },
+      },
+      { id: 'side', kind: 'variable:get', variable: 'side' },
+      { id: 'parent', kind: 'variable:get', variable: 'parent' },
+    ],
+    links: [
+      { from: 'start.then', to: 'arm.exec' },
+      { from: 'side.value', to: 'arm.side' },
+      { from: 'parent.value', to: 'arm.parent' },
+    ],
+  },
+};
+
+test('build graph: a graph file under the root is a sub-graph node; used per side, it builds both arms, and the CLI the same', async ({ app: page, server }) => {
+  mkdirSync(join(server.root, 'lib'), { recursive: true });
+  writeFileSync(join(server.root, 'lib', 'arm.build.json'), JSON.stringify(kArmGraph, null, 2));
+  await page.getByTestId('tab-build').click();
+  await panel(page).getByTestId('bg-rig-name').fill('subrig');
+  await panel(page).getByTestId('bg-rig-name').press('Enter');
+  const global = await addNode(page, 'glob', 'component:global');
+  const sides = await addNode(page, 'list:string', 'constant:list:string');
+  const each = await addNode(page, 'for each', 'forEach:string');
+  const arm = await addNode(page, 'arm.build', 'graph:lib/arm.build.json');
+  await page.getByTestId('bg-search').fill('');
+  // The sub-graph's variables are the node's sockets.
+  await expect(page.getByTestId(`bg-in-${arm}.side`)).toBeVisible();
+  await expect(page.getByTestId(`bg-in-${arm}.parent`)).toBeVisible();
+  await expect(page.getByTestId(`bg-out-${arm}.parent`)).toBeVisible();
+
+  await page.getByTestId(`bg-title-${sides}`).click();
+  await panel(page).getByTestId('bg-value-add').click();
+  await panel(page).getByTestId('bg-value-add').click();
+  await setItem(page, 'bg-value', 0, 'L');
+  await setItem(page, 'bg-value', 1, 'R');
+  await link(page, 'start.then', `${global}.exec`);
+  await link(page, `${global}.then`, `${each}.exec`);
+  await link(page, `${sides}.value`, `${each}.list`);
+  await link(page, `${each}.body`, `${arm}.exec`);
+  await link(page, `${each}.element`, `${arm}.side`);
+  await link(page, `${global}.component`, `${arm}.parent`);
+  await expect.poll(() => drawnLinks(page)).toHaveLength(6);
+
+  await page.getByTestId('bg-live').check();
+  await expect.poll(() => componentsOf(server, 'subrig')).toEqual(['fkChain:arm_L', 'fkChain:arm_R', 'global:global']);
+  await expect(page.getByTestId('bg-problems')).toContainText('✔ valid and built');
+  await settle(page, server);
+
+  // Saved beside lib/, the file builds the same rig from the command line.
+  await page.getByTestId('bg-save-path').fill('hero.build.json');
+  await page.getByTestId('bg-save').click();
+  await expect(page.getByTestId('status-text')).toContainText('Saved');
+  const r = spawnSync(rigelBin, ['graph', 'run', join(server.root, 'hero.build.json'), '--character', character, '-o', join(server.root, 'hero.rigel'), '--json'], {
+    encoding: 'utf8',
+  });
+  expect(r.status, `rigel graph run: ${r.stdout}${r.stderr}`).toBe(0);
+  const report = JSON.parse(r.stdout) as { components: { name: string; side: string; type: string }[] };
+  expect(report.components.map((c) => `${c.type}:${c.name}${c.side === 'C' ? '' : `_${c.side}`}`).sort()).toEqual(['fkChain:arm_L', 'fkChain:arm_R', 'global:global']);
   expect(((await page.evaluate(() => (window as any).rigel.errors)) as string[]).filter((x) => /^(GET|POST) /.test(x))).toEqual([]);
 });

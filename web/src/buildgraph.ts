@@ -172,11 +172,11 @@ export class BuildGraphEditor {
     ];
   }
 
-  /** Shown (its tab): the palette read once, the files every time. */
+  /** Shown (its tab): the palette and the files read again (a graph file saved is a sub-graph kind). */
   set visible(on: boolean) {
     this.shown = on;
     if (!on) return;
-    run(this.loadPalette());
+    run(this.reloadPalette());
     run(this.refreshFiles());
   }
 
@@ -213,6 +213,22 @@ export class BuildGraphEditor {
       throw e;
     });
     return this.palette;
+  }
+
+  /** Reads the palette again: the root's graph files are its Graphs. */
+  reloadPalette(): Promise<void> {
+    if (this.palette)
+      this.palette = this.palette.then(() => this.readPalette()).catch((e: unknown) => {
+        this.palette = null;
+        throw e;
+      });
+    return this.loadPalette();
+  }
+
+  private async readPalette(): Promise<void> {
+    this.model.setPalette(await this.app.api.graphPalette());
+    this.renderPalette();
+    this.renderAll();
   }
 
   private renderPalette(): void {
@@ -549,7 +565,7 @@ export class BuildGraphEditor {
       },
       message: (a) => `Saved ${a.path || path} (version ${a.version || rig.version})${a.problems?.length ? `; ${a.problems.length} problem(s)` : ''}`,
     });
-    await this.refreshFiles();
+    await Promise.all([this.refreshFiles(), this.reloadPalette()]);
   }
 
   // -------------------------------------------------------------- rendering
