@@ -118,7 +118,7 @@ def test_workspace_graph_calls_save_list_and_report_problems_on_nodes(root, meta
         ws.rig_graph("villain")
 
 
-def test_python_m_rigel_names_its_one_command():
+def test_python_m_rigel_names_its_commands():
     env = dict(os.environ)
     res = subprocess.run([sys.executable, "-m", "rigel"], capture_output=True, text=True, env=env, timeout=60)
-    assert res.returncode == 2 and "serve" in res.stderr
+    assert res.returncode == 2 and "serve" in res.stderr and "graph run" in res.stderr

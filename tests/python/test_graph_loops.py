@@ -229,3 +229,34 @@ def test_a_plugins_data_type_carries_any_value_between_its_functions(tmp_path):
     finally:
         rigel.unregister_functions(str(path))
     assert "studio.weights" not in {t["name"] for t in rigel.data_types()}
+
+
+def test_python_m_rigel_graph_runs_a_graph_with_its_folders_plugins(tmp_path):
+    """The rigel binary runs the shipped functions only; python3 -m rigel graph
+    loads the graph's folder's plugins/ and builds it headless."""
+    import subprocess
+    import sys
+    (tmp_path / "plugins").mkdir()
+    write(tmp_path / "plugins" / "shapes.py", PLUGIN)
+    graph = write(tmp_path / "sides.build.json", json.dumps(sides_graph()))
+    out = tmp_path / "sides.rigel"
+    cmd = [sys.executable, "-m", "rigel", "graph"]
+    try:
+        res = subprocess.run(cmd + ["run", str(graph), "--character", str(METARIG), "-o", str(out), "--json"],
+                             capture_output=True, text=True, timeout=120)
+        assert res.returncode == 0, res.stderr
+        report = json.loads(res.stdout)
+        assert report["rig"] == "sides" and sorted(set(report["rigIds"].values())) == ["arm", "global", "scale"]
+        scene = rigel.open(str(out))
+        assert len([n for n in scene.nodes() if n.type == "control" and "_arm_R_" in n.name]) == 3
+        valid = subprocess.run(cmd + ["validate", str(graph), "--json"], capture_output=True, text=True, timeout=120)
+        assert valid.returncode == 0 and json.loads(valid.stdout)["valid"], valid.stderr
+        # Without the plugin the graph names the function it lacks.
+        (tmp_path / "plugins" / "shapes.py").unlink()
+        missing = subprocess.run(cmd + ["validate", str(graph)], capture_output=True, text=True, timeout=120)
+        assert missing.returncode == 1 and "studio.scaleShapes" in missing.stderr
+        usage = subprocess.run(cmd + ["run", str(tmp_path / "x.json"), "--character", str(METARIG), "-o", str(out)],
+                               capture_output=True, text=True, timeout=120)
+        assert usage.returncode == 2
+    finally:
+        rigel.unregister_functions(str(tmp_path / "plugins" / "shapes.py"))
