@@ -24,6 +24,13 @@ struct CallRef {
     if (!call) raise(ErrorCode::kFailedPrecondition, "this FunctionCall has ended: use it only while the function runs");
     return *call;
   }
+  // The call of a function that runs in a build (not a pure one).
+  rig::FunctionCall& built() const {
+    rig::FunctionCall& c = get();
+    if (!c.has_scene())
+      raise(ErrorCode::kFailedPrecondition, "a pure function's call has no scene: it runs while the graph compiles");
+    return c;
+  }
 };
 
 // A Python value as a value of data type `type`.
@@ -75,7 +82,8 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
     const std::string who = "python function " + id + (origin.empty() ? "" : " (" + origin + ")");
     auto ref = std::make_shared<CallRef>();
     ref->call = &call;
-    ref->scene = SceneRef(&call.scene(), [](scene::Scene*) {});
+    // A pure function's call has no scene (it runs while the graph compiles).
+    if (call.has_scene()) ref->scene = SceneRef(&call.scene(), [](scene::Scene*) {});
     try {
       py::dict kwargs;
       for (const auto& [name, value] : call.values()) {
@@ -167,20 +175,20 @@ void wrap_build_graph(py::module_& m) {
                                                 "What a build function written in Python sees while it runs: the "
                                                 "scene being built, the rig, its inputs. Valid during the call only.")
       .def_property_readonly("scene", [](const CallRef& c) { (void)c.get(); return c.scene; })
-      .def_property_readonly("rig", [](const CallRef& c) { return node_ref(c.scene, c.get().rig()); },
+      .def_property_readonly("rig", [](const CallRef& c) { return node_ref(c.scene, c.built().rig()); },
                              "The rig's metaRoot node.")
-      .def_property_readonly("node", [](const CallRef& c) { return node_ref(c.scene, c.get().call()); },
+      .def_property_readonly("node", [](const CallRef& c) { return node_ref(c.scene, c.built().call()); },
                              "The call's own metaComponent node.")
       .def("controls",
            [](const CallRef& c, const std::string& input) {
-             const NodeId meta = c.get().component(input);
+             const NodeId meta = c.built().component(input);
              if (!meta.is_valid()) raise(ErrorCode::kInvalidArgument, "'" + input + "' is not a component input");
              return node_list(c.scene, rig::meta_controls(c.scene->graph(), meta));
            },
            py::arg("input"), "The controls of a component input's component, in build order.")
       .def("members",
            [](const CallRef& c, const std::string& input) {
-             const NodeId meta = c.get().component(input);
+             const NodeId meta = c.built().component(input);
              if (!meta.is_valid()) raise(ErrorCode::kInvalidArgument, "'" + input + "' is not a component input");
              return node_list(c.scene, rig::meta_members(c.scene->graph(), meta));
            },
@@ -189,9 +197,11 @@ void wrap_build_graph(py::module_& m) {
   m.def(
       "register_function",
       [](py::function fn, const std::string& id, py::object inputs, py::object outputs, const std::string& nice_name,
-         const std::string& category, const std::string& help, py::object defaults, const std::string& origin) {
+         const std::string& category, const std::string& help, py::object defaults, const std::string& origin,
+         bool pure) {
         rig::BuildFunction f;
         f.id = id;
+        f.pure = pure;
         f.nice_name = nice_name;
         f.category = category;
         f.help = help;
@@ -213,11 +223,13 @@ void wrap_build_graph(py::module_& m) {
       },
       py::arg("fn"), py::arg("id"), py::arg("inputs") = py::none(), py::arg("outputs") = py::none(),
       py::arg("nice_name") = "", py::arg("category") = "", py::arg("help") = "", py::arg("defaults") = py::none(),
-      py::arg("origin") = "",
+      py::arg("origin") = "", py::arg("pure") = false,
       "Registers a build function written in Python: fn(call, **inputs) returns None, the value of its one "
       "output or {output: value}. inputs and outputs are [(name, type)] or {name: type} (bool, int, number, "
       "string, vector; inputs also component, which arrives as the component's meta node, and list:control, "
-      "list:joint or list:node, which arrive as the linked component's controls, joints or hooks). "
+      "list:joint or list:node, which arrive as the linked component's controls, joints or hooks). pure: it "
+      "maps values to values and runs while the graph compiles (a value node without exec sockets; its call "
+      "has no scene). "
       "AlreadyExistsError "
       "when the id is taken (naming who has it).");
   m.def(

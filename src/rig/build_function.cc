@@ -200,8 +200,8 @@ const ParamValue* FunctionCall::value(std::string_view input) const {
 
 const Component* FunctionCall::component_definition(std::string_view input) const {
   const graph::NodeId meta = component(input);
-  if (!meta.is_valid()) return nullptr;
-  return definition_.find_by_rig_id(meta_string(scene_.graph(), meta, "rigId"));
+  if (!meta.is_valid() || !scene_) return nullptr;
+  return definition_->find_by_rig_id(meta_string(scene_->graph(), meta, "rigId"));
 }
 
 const std::vector<graph::NodeId>* FunctionCall::nodes(std::string_view input) const {
@@ -226,8 +226,8 @@ Status FunctionRegistry::add(BuildFunction f) {
     for (const SocketSpec& s : *list) {
       if (s.name.empty() || !names.insert(s.name).second)
         return error(ErrorCode::kInvalidArgument, who + ": an empty or repeated socket name '" + s.name + "'");
-      const bool ok = is_value_type(s.type) || is_plugin_type(s.type) ||
-                      (list == &f.inputs && (s.type == "component" || is_node_list_type(s.type)));
+      const bool ok = is_value_type(s.type) || (!f.pure && is_plugin_type(s.type)) ||
+                      (!f.pure && list == &f.inputs && (s.type == "component" || is_node_list_type(s.type)));
       if (!ok)
         return error(ErrorCode::kInvalidArgument,
                      who + ": socket '" + s.name + "' has type '" + s.type +
@@ -279,15 +279,35 @@ FunctionRegistry& build_functions() {
   return registry;
 }
 
+Result<std::map<std::string, ParamValue>> run_pure(const BuildFunction& f, std::map<std::string, ParamValue> values) {
+  for (const SocketSpec& in : f.inputs) {
+    if (values.count(in.name)) continue;
+    const auto d = std::find_if(f.defaults.begin(), f.defaults.end(), [&](const Param& p) { return p.name == in.name; });
+    values[in.name] = d != f.defaults.end() ? d->value : zero(in.type);
+  }
+  if (!f.run) return error(ErrorCode::kInvalidArgument, "the function has no body");
+  FunctionCall call(std::move(values));
+  if (Status s = f.run(call); !s) return s;
+  std::map<std::string, ParamValue> out;
+  for (const auto& [name, value] : call.outputs()) {
+    const SocketSpec* o = f.output(name);
+    if (!o) return error(ErrorCode::kInvalidArgument, "it set '" + name + "', which is not one of its outputs");
+    if (!fits_type(value, o->type)) return error(ErrorCode::kInvalidArgument, "output '" + name + "' is not a " + o->type);
+    out[name] = value;
+  }
+  for (const SocketSpec& o : f.outputs) out.try_emplace(o.name, zero(o.type));
+  return out;
+}
+
 NodeKind function_node_kind(const BuildFunction& f) {
   NodeKind k;
   k.id = "function:" + f.id;
   k.nice_name = f.nice_name.empty() ? f.id : f.nice_name;
-  k.category = f.category.empty() ? "Functions" : f.category;
+  k.category = f.category.empty() ? (f.pure ? "Values" : "Functions") : f.category;
   k.help = f.help;
-  k.inputs.push_back({"exec", "exec", "runs the function"});
+  if (!f.pure) k.inputs.push_back({"exec", "exec", "runs the function"});
   for (const SocketSpec& s : f.inputs) k.inputs.push_back(s);
-  k.outputs.push_back({"then", "exec", "the next node"});
+  if (!f.pure) k.outputs.push_back({"then", "exec", "the next node"});
   for (const SocketSpec& s : f.outputs) k.outputs.push_back(s);
   return k;
 }

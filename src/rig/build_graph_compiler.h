@@ -111,6 +111,7 @@ class Compiler {
   std::optional<Flow> known_input(std::size_t n, const std::string& socket);
   std::optional<ParamValue> value_input(std::size_t n, const std::string& socket);
   std::optional<ValueList> list_input(std::size_t n, const std::string& socket);
+  std::optional<Flow> pure_output(std::size_t n, const std::string& output, const std::string& type);
   bool walk(std::size_t n, std::string next);
   bool run_node(std::size_t n, std::string& next);
   bool run_loop(std::size_t n);

@@ -45,6 +45,7 @@ std::optional<Flow> Compiler::input(std::size_t n, const std::string& socket) {
     if (f.value) f.value = as_type(*f.value, type);
     return f;
   }
+  if (src.kind.rfind("function:", 0) == 0) return pure_output(s, l.from.socket, type);
   // A constant.
   const std::string& own = kind_of_[s]->outputs.front().type;
   if (!list_element(own).empty()) {
@@ -54,6 +55,32 @@ std::optional<Flow> Compiler::input(std::size_t n, const std::string& socket) {
   const Param* v = src.value("value");
   const DataType* t = builtin_data_types().find(own);
   return value_flow(as_type(v ? v->value : zero_value(*t->value_type), type));
+}
+
+// Output `output` of pure function node `n`, run now on its inputs (read
+// as any node's, so in a for-each body once per item); nullopt with the
+// problem reported.
+std::optional<Flow> Compiler::pure_output(std::size_t n, const std::string& output, const std::string& type) {
+  const GraphNode& node = g_.nodes[n];
+  const std::string id = node.kind.substr(std::string_view("function:").size());
+  const std::optional<BuildFunction> fn = build_functions().find(id);
+  if (!fn || !fn->pure) {
+    fail(n, "build function '" + id + "' is not registered as a pure function");
+    return std::nullopt;
+  }
+  std::map<std::string, ParamValue> values;
+  for (const SocketSpec& in : fn->inputs) {
+    std::optional<Flow> f = known_input(n, in.name);
+    if (failed()) return std::nullopt;
+    if (f && f->value) values[in.name] = as_type(*f->value, in.type);
+    else if (const Param* p = node.value(in.name)) values[in.name] = as_type(p->value, in.type);
+  }
+  auto out = run_pure(*fn, std::move(values));
+  if (!out) {
+    fail(n, "function " + id + (fn->origin.empty() ? "" : " (" + fn->origin + ")") + ": " + out.status().message());
+    return std::nullopt;
+  }
+  return value_flow(as_type(out->at(output), type));
 }
 
 // An input the node needs before the build: nullopt (with the error)

@@ -78,6 +78,26 @@ Status add_space_to(rig::FunctionCall& call) {
   return Status::ok();
 }
 
+// Pure: a + separator + b.
+Status join_text(rig::FunctionCall& call) {
+  const auto text = [&](const char* input) { return std::get<std::string>(*call.value(input)); };
+  call.set_output("text", text("a") + text("separator") + text("b"));
+  return Status::ok();
+}
+
+// Pure: an int as text, zero-padded to `digits`.
+Status int_text(rig::FunctionCall& call) {
+  const auto value = std::get<std::int64_t>(*call.value("value"));
+  const auto digits = std::get<std::int64_t>(*call.value("digits"));
+  if (digits < 0 || digits > 32) return error(ErrorCode::kInvalidArgument, "digits: " + std::to_string(digits) + " is not 0 to 32");
+  // The magnitude in unsigned arithmetic: -INT64_MIN does not fit an int64.
+  const std::uint64_t magnitude = value < 0 ? 0 - static_cast<std::uint64_t>(value) : static_cast<std::uint64_t>(value);
+  std::string text = std::to_string(magnitude);
+  if (text.size() < static_cast<std::size_t>(digits)) text.insert(0, static_cast<std::size_t>(digits) - text.size(), '0');
+  call.set_output("text", (value < 0 ? "-" : "") + text);
+  return Status::ok();
+}
+
 }  // namespace
 
 Status add_build_functions(rig::FunctionRegistry& registry) {
@@ -119,6 +139,31 @@ Status add_build_functions(rig::FunctionRegistry& registry) {
              {rig::Param{"control", std::string("ik"), {}}, rig::Param{"hook", std::string("0"), {}}},
              add_space_to,
              {}});
+  // Pure functions: values made while the graph compiles (names in loops).
+  const auto pure = [&](rig::BuildFunction f) {
+    f.pure = true;
+    return add(std::move(f));
+  };
+  if (s)
+    s = pure({"rigel.joinText",
+              "Join text",
+              "Values",
+              "Two texts joined, with a separator between them: a name from a loop's element.",
+              {{"a", "string", "the first text"}, {"b", "string", "the second text"}, {"separator", "string", "between them"}},
+              {{"text", "string", "a, separator, b"}},
+              {},
+              join_text,
+              {}});
+  if (s)
+    s = pure({"rigel.intText",
+              "Number as text",
+              "Values",
+              "An int as text, zero-padded: a loop's index in a name (finger_01).",
+              {{"value", "int", "the number"}, {"digits", "int", "pad with zeros to this many digits (0: none)"}},
+              {{"text", "string", "the number's digits"}},
+              {},
+              int_text,
+              {}});
   return s;
 }
 

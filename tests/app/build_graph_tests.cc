@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -144,6 +145,39 @@ TEST(AppBuildGraph, the_shipped_functions_run_as_build_steps_on_the_biped) {
   ASSERT_TRUE((*b)->remove().is_ok());
   const std::string after = io::write_scene(*scene);
   EXPECT_TRUE(after == before) << rig::testing::first_difference(after, before);
+}
+
+}  // namespace
+}  // namespace rigel
+
+namespace rigel {
+namespace {
+
+TEST(AppBuildGraph, the_shipped_pure_functions_make_text_and_refuse_what_they_cannot) {
+  tools::register_build_functions();
+  const auto run = [](const char* id, std::map<std::string, rig::ParamValue> values) {
+    const std::optional<rig::BuildFunction> f = rig::build_functions().find(id);
+    EXPECT_TRUE(f && f->pure) << id;
+    return rig::run_pure(*f, std::move(values));
+  };
+  auto joined = run("rigel.joinText", {{"a", std::string("arm")}, {"b", std::string("01")}, {"separator", std::string("_")}});
+  ASSERT_TRUE(joined.is_ok());
+  EXPECT_EQ(std::get<std::string>(joined->at("text")), "arm_01");
+  auto padded = run("rigel.intText", {{"value", std::int64_t{7}}, {"digits", std::int64_t{3}}});
+  ASSERT_TRUE(padded.is_ok());
+  EXPECT_EQ(std::get<std::string>(padded->at("text")), "007");
+  auto negative = run("rigel.intText", {{"value", std::int64_t{-12}}, {"digits", std::int64_t{3}}});
+  ASSERT_TRUE(negative.is_ok());
+  EXPECT_EQ(std::get<std::string>(negative->at("text")), "-012");
+  auto lowest = run("rigel.intText", {{"value", std::numeric_limits<std::int64_t>::min()}});
+  ASSERT_TRUE(lowest.is_ok());
+  EXPECT_EQ(std::get<std::string>(lowest->at("text")), "-9223372036854775808");
+  auto plain = run("rigel.intText", {{"value", std::int64_t{42}}});
+  ASSERT_TRUE(plain.is_ok()) << "digits defaults to its zero";
+  EXPECT_EQ(std::get<std::string>(plain->at("text")), "42");
+  const auto refused = run("rigel.intText", {{"value", std::int64_t{1}}, {"digits", std::int64_t{99}}});
+  EXPECT_EQ(refused.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(refused.status().message().find("digits"), std::string::npos);
 }
 
 }  // namespace

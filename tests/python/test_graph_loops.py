@@ -260,3 +260,35 @@ def test_python_m_rigel_graph_runs_a_graph_with_its_folders_plugins(tmp_path):
         assert usage.returncode == 2
     finally:
         rigel.unregister_functions(str(tmp_path / "plugins" / "shapes.py"))
+
+
+def test_pure_functions_name_each_items_component_while_the_graph_compiles(tmp_path):
+    def shout(call, text):
+        assert call.scene is None  # a pure function runs while the graph compiles
+        return text.upper()
+
+    rigel.register_function(shout, "test.shout", inputs=[("text", "string")], outputs=[("text", "string")],
+                            origin=str(tmp_path / "shout.py"), pure=True)
+    try:
+        doc = sides_graph(scale=False)
+        g = doc["buildGraph"]
+        # name = shout(joinText("arm", intText(index, digits=2), separator="_"))
+        g["nodes"] += [
+            {"id": "index", "kind": "function:rigel.intText", "values": {"digits": 2}},
+            {"id": "join", "kind": "function:rigel.joinText", "values": {"a": "arm", "separator": "_"}},
+            {"id": "loud", "kind": "function:test.shout"},
+        ]
+        g["links"] += [
+            {"from": "each.index", "to": "index.value"}, {"from": "index.text", "to": "join.b"},
+            {"from": "join.text", "to": "loud.text"}, {"from": "loud.text", "to": "arm.name"},
+        ]
+        ws = rigel.Workspace(str(METARIG))
+        report = ws.check_graph(json.dumps(doc))
+        assert report.ok, [p.message for p in report.problems]
+        assert report.order == ["global", "each", "arm", "arm"]
+        ws.build_graph(json.dumps(doc))
+        # Each item's controls carry its name (RIG_NAME_SIDE_fkN).
+        names = sorted({n.name.split("_fk")[0] for n in ws.scene.nodes() if n.type == "control" and "_ARM_" in n.name})
+        assert names == ["sides_ARM_00_L", "sides_ARM_01_R"]
+    finally:
+        rigel.unregister_functions(str(tmp_path / "shout.py"))

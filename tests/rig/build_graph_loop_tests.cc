@@ -11,12 +11,21 @@
 #include "build_graph_test_util.h"
 #include "rig_test_util.h"
 #include "rigel/io/scene_file.h"
+#include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
 
 namespace rigel::rig {
 namespace {
 
 using namespace testing;
+
+// A list of texts (built item by item: GCC 12 warns of a variant in an
+// initializer list it cannot see initialised).
+ValueList texts(std::initializer_list<const char*> items) {
+  ValueList out;
+  for (const char* item : items) out.emplace_back(std::string(item));
+  return out;
+}
 
 // start -> global -> for each side in ["L", "R"]: an arm (fkChain) drawn
 // on the left joints, given the item's side (the right one is built
@@ -27,7 +36,7 @@ BuildGraph sides() {
   Component arm = fk_chain("arm", Side::kLeft, {"upper_arm.L", "forearm.L", "hand.L"});
   arm.rig_id.clear();  // made per item from the node's id
   GraphNode list = node("sides", "constant:list:string");
-  list.lists["value"] = {std::string("L"), std::string("R")};
+  list.lists["value"] = texts({"L", "R"});
   g.nodes = {node("start", "start"), component_node("global", global_component()), list, node("each", "forEach:string"),
              component_node("arm", arm)};
   g.links = {link("start", "then", "global", "exec"),    link("global", "then", "each", "exec"),
@@ -55,7 +64,7 @@ TEST(BuildGraphLoops, a_for_each_body_builds_one_component_per_item_each_with_it
 TEST(BuildGraphLoops, a_graph_with_a_loop_steps_rebuilds_one_item_and_is_removed_exactly) {
   // One item first; the second, added, is built and the first kept.
   BuildGraph g = sides();
-  g.nodes[2].lists["value"] = {std::string("L")};
+  g.nodes[2].lists["value"] = texts({"L"});
   BuiltRig r = built_rig(compiled(g));
   ASSERT_TRUE(r.build);
   std::set<std::string> before;
@@ -96,7 +105,7 @@ TEST(BuildGraphLoops, nested_loops_and_variables_carry_lists_and_indices) {
   g.nodes[4].kind = "component:ikChain";
   g.nodes[4].component.type = "ikChain";
   GraphNode names = node("names", "constant:list:string");
-  names.lists["value"] = {std::string("a"), std::string("b")};
+  names.lists["value"] = texts({"a", "b"});
   g.nodes.push_back(names);
   g.nodes.push_back(node("inner", "forEach:string"));
   g.links[3] = link("each", "body", "inner", "exec");
@@ -128,7 +137,8 @@ TEST(BuildGraphLoops, wrong_lists_and_loops_are_refused_naming_the_node) {
     EXPECT_NE(p.find(part), std::string::npos) << "expected '" << part << "' in:\n" << p;
   };
   BuildGraph g = sides();
-  g.nodes[2].lists["value"] = {std::string("L"), 2.0};
+  g.nodes[2].lists["value"] = texts({"L"});
+  g.nodes[2].lists["value"].emplace_back(2.0);
   expect_problem(g, "node 'sides': the value of 'value' is not a list:string");
   g = sides();
   g.nodes[2].kind = "constant:string";
@@ -142,7 +152,7 @@ TEST(BuildGraphLoops, wrong_lists_and_loops_are_refused_naming_the_node) {
   expect_problem(g, "link 'each.index' -> 'arm.name': a int output cannot feed a string input");
   // Two items of one side: the two arms are one name twice.
   g = sides();
-  g.nodes[2].lists["value"] = {std::string("L"), std::string("L")};
+  g.nodes[2].lists["value"] = texts({"L", "L"});
   expect_problem(g, "duplicate component name 'arm' on side L");
   // Loops in loops past the limit are refused, not run for minutes.
   g = sides();
@@ -174,6 +184,51 @@ TEST(BuildGraphLoops, wrong_lists_and_loops_are_refused_naming_the_node) {
   EXPECT_NE(p.find("'v' is a list:int: an array of int values"), std::string::npos) << p;
   EXPECT_NE(p.find("g.build.json:4:"), std::string::npos) << p;
   EXPECT_NE(p.find("'value': item 1 is not a number"), std::string::npos) << p;
+}
+
+TEST(BuildGraphLoops, pure_functions_make_values_per_item_while_the_graph_compiles) {
+  static const bool registered = [] {
+    BuildFunction named{"test.named", "Name", "", "", {{"prefix", "string", ""}, {"n", "int", ""}},
+                        {{"text", "string", ""}}, {Param{"prefix", std::string("x"), {}}},
+                        [](FunctionCall& call) -> Status {
+                          if (call.has_scene()) return error(ErrorCode::kFailedPrecondition, "a pure call has no scene");
+                          call.set_output("text", std::get<std::string>(*call.value("prefix")) +
+                                                      std::to_string(std::get<std::int64_t>(*call.value("n"))));
+                          return Status::ok();
+                        },
+                        "test"};
+    named.pure = true;
+    BuildFunction refuses = named;
+    refuses.id = "test.refuses";
+    refuses.run = [](FunctionCall&) { return error(ErrorCode::kInvalidArgument, "no name for you"); };
+    BuildFunction impure = named;
+    impure.id = "test.pureComponent";
+    impure.inputs = {{"component", "component", ""}};
+    impure.defaults.clear();
+    return build_functions().add(named).is_ok() && build_functions().add(refuses).is_ok() &&
+           build_functions().add(impure).code() == ErrorCode::kInvalidArgument;
+  }();
+  ASSERT_TRUE(registered) << "a pure function takes values only";
+  const NodeKind* kind = builtin_node_kinds().find("function:test.named");
+  ASSERT_TRUE(kind);
+  EXPECT_FALSE(kind->has_exec()) << "a value node";
+  // For each index: a chain named f0, f1 (the name made per item).
+  BuildGraph g = sides();
+  g.nodes.push_back(node("name", "function:test.named"));
+  g.nodes.back().values.push_back(Param{"prefix", std::string("f"), {}});
+  g.links.push_back(link("each", "index", "name", "n"));
+  g.links.push_back(link("name", "text", "arm", "name"));
+  const BuildGraphCompile c = compile_build_graph(reread(g));
+  ASSERT_TRUE(c.ok()) << c.errors[0].str();
+  const auto& arms = c.definition.components[0].children;
+  ASSERT_EQ(arms.size(), 2u);
+  EXPECT_EQ(arms[0].full_name(), "f0_L");
+  EXPECT_EQ(arms[1].full_name(), "f1_R");
+  EXPECT_EQ(c.order, (std::vector<std::string>{"global", "each", "arm", "arm"})) << "a value node is no step";
+  // Its failure is the compile's, at the node.
+  g.nodes.back().kind = "function:test.refuses";
+  EXPECT_NE(problems(g).find("node 'name': function test.refuses (test): no name for you"), std::string::npos)
+      << problems(g);
 }
 
 TEST(BuildGraphLoops, list_types_and_for_each_kinds_are_in_the_palette) {

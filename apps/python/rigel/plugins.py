@@ -29,12 +29,13 @@ class PluginError(_rigel.Error):
 
 
 def register_function(fn, id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None,
-                      origin=None):
+                      origin=None, pure=False):
     """Registers a build function written in Python (see _rigel.register_function);
-    inside a plugin its origin is the plugin's file."""
+    inside a plugin its origin is the plugin's file. ``pure``: values to
+    values, run while the graph compiles (a value node)."""
     if origin is None:
         origin = _loading[-1] if _loading else ""
-    _rigel.register_function(fn, id, inputs, outputs, nice_name, category, help, defaults, origin)
+    _rigel.register_function(fn, id, inputs, outputs, nice_name, category, help, defaults, origin, pure)
 
 
 def register_data_type(name, color, help="", origin=None):
@@ -47,12 +48,12 @@ def register_data_type(name, color, help="", origin=None):
     _rigel.register_data_type(name, color, help, origin)
 
 
-def function(id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None):
+def function(id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None, pure=False):
     """Decorator form of register_function."""
 
     def wrap(fn):
         register_function(fn, id, inputs, outputs, nice_name or fn.__name__, category, help or (fn.__doc__ or ""),
-                          defaults)
+                          defaults, pure=pure)
         return fn
 
     return wrap

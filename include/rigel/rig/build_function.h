@@ -43,16 +43,22 @@ class FunctionCall {
   FunctionCall(scene::Scene& scene, const Definition& definition, graph::NodeId rig, graph::NodeId call,
                std::map<std::string, ParamValue> values, std::map<std::string, graph::NodeId> components,
                std::map<std::string, std::vector<graph::NodeId>> nodes = {})
-      : scene_(scene),
-        definition_(definition),
+      : scene_(&scene),
+        definition_(&definition),
         rig_(rig),
         call_(call),
         values_(std::move(values)),
         components_(std::move(components)),
         nodes_(std::move(nodes)) {}
-  scene::Scene& scene() { return scene_; }
+  // A pure function's call (BuildFunction::pure), while the graph
+  // compiles: its values only, no scene.
+  explicit FunctionCall(std::map<std::string, ParamValue> values) : values_(std::move(values)) {}
+  // False for a pure function's call: scene(), definition(), rig() and
+  // call() are not there.
+  bool has_scene() const { return scene_ != nullptr; }
+  scene::Scene& scene() { return *scene_; }
   // The definition being built (the graph compiled).
-  const Definition& definition() const { return definition_; }
+  const Definition& definition() const { return *definition_; }
   // A component input's component as the definition says (nullptr otherwise).
   const Component* component_definition(std::string_view input) const;
   graph::NodeId rig() const { return rig_; }    // the metaRoot
@@ -71,8 +77,8 @@ class FunctionCall {
   const std::map<std::string, ParamValue>& outputs() const { return outputs_; }
 
  private:
-  scene::Scene& scene_;
-  const Definition& definition_;
+  scene::Scene* scene_ = nullptr;
+  const Definition* definition_ = nullptr;
   graph::NodeId rig_, call_;
   std::map<std::string, ParamValue> values_;
   std::map<std::string, graph::NodeId> components_;
@@ -94,6 +100,11 @@ struct BuildFunction {
   // Where it was registered from: "rigel" for the built-in ones, a
   // plugin's file for a plugin's (messages name it).
   std::string origin;
+  // A pure function: from values to values, run when the graph compiles
+  // (a value node: no exec sockets, evaluated where an input reads it, so
+  // in a for-each body once per item), never a build step. Its inputs and
+  // outputs are value types.
+  bool pure = false;
   const SocketSpec* input(std::string_view name) const;
   const SocketSpec* output(std::string_view name) const;
 };
@@ -122,8 +133,15 @@ class FunctionRegistry {
 
 FunctionRegistry& build_functions();
 
+// Runs a pure function on its inputs' values (each given, else its
+// default, else its type's zero): its outputs, each as set or its type's
+// zero; the function's failure, or kInvalidArgument for an output that is
+// not one of its own or not of its type.
+Result<std::map<std::string, ParamValue>> run_pure(const BuildFunction& function,
+                                                   std::map<std::string, ParamValue> values);
+
 // The node kind of a function ("function:ID"): exec in, its inputs, then,
-// its outputs.
+// its outputs (a pure function's: its inputs and outputs only).
 NodeKind function_node_kind(const BuildFunction& function);
 
 class ComponentFactory;

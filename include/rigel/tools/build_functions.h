@@ -6,6 +6,8 @@
 //   rigel.mirrorControlShapes  each control's shape onto its opposite control, mirrored in the world
 //   rigel.setControlColor      every control of a component takes a colour
 //   rigel.addSpace             a control of a component gets a space that follows another component's hook
+//   rigel.joinText             (pure) two texts joined with a separator
+//   rigel.intText              (pure) an int as text, zero-padded
 //
 // Registered once per process into rig::build_functions(); the drivers
 // (CLI, server, Python) register them at start, before reading any graph.
