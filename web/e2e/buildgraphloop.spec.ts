@@ -28,25 +28,32 @@ async function setItem(page: Page, testid: string, i: number, value: string): Pr
   await field.press('Enter');
 }
 
-test('build graph: a for-each over a list builds one arm per item live; removing an item removes its arm', async ({ app: page, server, shots }) => {
+/**
+ * Opens the Build Graph tab on a new rig `rig` and adds a global, a list:string constant of `items` (edited in the
+ * details panel) and a for-each over strings; returns their ids.
+ */
+async function loopOverItems(page: Page, rig: string, items: string[]): Promise<{ global: string; sides: string; each: string }> {
   await page.getByTestId('tab-build').click();
-  await panel(page).getByTestId('bg-rig-name').fill('looprig');
+  await panel(page).getByTestId('bg-rig-name').fill(rig);
   await panel(page).getByTestId('bg-rig-name').press('Enter');
-
   const global = await addNode(page, 'glob', 'component:global');
   const sides = await addNode(page, 'list:string', 'constant:list:string');
   const each = await addNode(page, 'for each', 'forEach:string');
+  await page.getByTestId(`bg-title-${sides}`).click();
+  for (const [i, item] of items.entries()) {
+    await panel(page).getByTestId('bg-value-add').click();
+    await setItem(page, 'bg-value', i, item);
+  }
+  await expect.poll(() => page.evaluate((id) => (window as any).rigel.buildGraph.model.nodes.get(id).value, sides)).toEqual(items);
+  return { global, sides, each };
+}
+
+test('build graph: a for-each over a list builds one arm per item live; removing an item removes its arm', async ({ app: page, server, shots }) => {
+  // The list constant's items, edited in the details panel.
+  const { global, sides, each } = await loopOverItems(page, 'looprig', ['L', 'R']);
+  await expect(page.getByTestId(`bg-node-${sides}`)).toContainText('("L", "R")');
   const limb = await addNode(page, 'limb', 'component:limb');
   await page.getByTestId('bg-search').fill('');
-
-  // The list constant's items, edited in the details panel.
-  await page.getByTestId(`bg-title-${sides}`).click();
-  await panel(page).getByTestId('bg-value-add').click();
-  await panel(page).getByTestId('bg-value-add').click();
-  await setItem(page, 'bg-value', 0, 'L');
-  await setItem(page, 'bg-value', 1, 'R');
-  await expect.poll(() => page.evaluate((id) => (window as any).rigel.buildGraph.model.nodes.get(id).value, sides)).toEqual(['L', 'R']);
-  await expect(page.getByTestId(`bg-node-${sides}`)).toContainText('("L", "R")');
 
   // The arm, drawn on the left joints.
   await drawLeftArm(page, limb);
@@ -120,12 +127,7 @@ const kArmGraph = {
 test('build graph: a graph file under the root is a sub-graph node; used per side, it builds both arms, and the CLI the same', async ({ app: page, server }) => {
   mkdirSync(join(server.root, 'lib'), { recursive: true });
   writeFileSync(join(server.root, 'lib', 'arm.build.json'), JSON.stringify(kArmGraph, null, 2));
-  await page.getByTestId('tab-build').click();
-  await panel(page).getByTestId('bg-rig-name').fill('subrig');
-  await panel(page).getByTestId('bg-rig-name').press('Enter');
-  const global = await addNode(page, 'glob', 'component:global');
-  const sides = await addNode(page, 'list:string', 'constant:list:string');
-  const each = await addNode(page, 'for each', 'forEach:string');
+  const { global, sides, each } = await loopOverItems(page, 'subrig', ['L', 'R']);
   const arm = await addNode(page, 'arm.build', 'graph:lib/arm.build.json');
   await page.getByTestId('bg-search').fill('');
   // The sub-graph's variables are the node's sockets.
@@ -133,11 +135,6 @@ test('build graph: a graph file under the root is a sub-graph node; used per sid
   await expect(page.getByTestId(`bg-in-${arm}.parent`)).toBeVisible();
   await expect(page.getByTestId(`bg-out-${arm}.parent`)).toBeVisible();
 
-  await page.getByTestId(`bg-title-${sides}`).click();
-  await panel(page).getByTestId('bg-value-add').click();
-  await panel(page).getByTestId('bg-value-add').click();
-  await setItem(page, 'bg-value', 0, 'L');
-  await setItem(page, 'bg-value', 1, 'R');
   await link(page, 'start.then', `${global}.exec`);
   await link(page, `${global}.then`, `${each}.exec`);
   await link(page, `${sides}.value`, `${each}.list`);
