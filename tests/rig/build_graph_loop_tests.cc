@@ -209,7 +209,8 @@ TEST(BuildGraphLoops, pure_functions_make_values_per_item_while_the_graph_compil
            build_functions().add(impure).code() == ErrorCode::kInvalidArgument;
   }();
   ASSERT_TRUE(registered) << "a pure function takes values only";
-  const NodeKind* kind = builtin_node_kinds().find("function:test.named");
+  const NodeKindRegistry kinds = builtin_node_kinds();
+  const NodeKind* kind = kinds.find("function:test.named");
   ASSERT_TRUE(kind);
   EXPECT_FALSE(kind->has_exec()) << "a value node";
   // For each index: a chain named f0, f1 (the name made per item).
