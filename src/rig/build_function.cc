@@ -62,18 +62,6 @@ bool is_value_type(const std::string& type) {
   return t && t->value_type;
 }
 
-// A JSON value as a value of data type `type`; nullopt when it is not one.
-// A plugin's type holds any JSON, kept as its text.
-std::optional<ParamValue> from_json(const Json& j, const std::string& type) {
-  if (is_plugin_type(type)) return j.dump();
-  if (type == "bool" && j.is_boolean()) return j.get<bool>();
-  if (type == "int" && j.is_number_integer()) return j.get<std::int64_t>();
-  if (type == "number" && j.is_number()) return j.get<double>();
-  if (type == "string" && j.is_string()) return j.get<std::string>();
-  if (type == "vector" && j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number())
-    return math::Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
-  return std::nullopt;
-}
 
 // Whether `v` is a value of data type `type` (a value type: the sockets
 // of a registered function are checked to be).
@@ -151,13 +139,13 @@ Status run_call(BuildContext& ctx) {
       const Json outputs = from.is_valid() ? Json::parse(meta_string(g, from, kOutputsAttr), nullptr, false) : Json();
       const std::string name = a["$output"][1].get<std::string>();
       std::optional<ParamValue> v;
-      if (outputs.is_object() && outputs.contains(name)) v = from_json(outputs[name], in.type);
+      if (outputs.is_object() && outputs.contains(name)) v = value_from_json(outputs[name], in.type);
       if (!v)
         return error(ErrorCode::kNotFound,
                      where + ": the output " + a["$output"].dump() + " is not there (did its call run?)");
       values[in.name] = std::move(*v);
     } else {
-      std::optional<ParamValue> v = from_json(a, in.type);
+      std::optional<ParamValue> v = value_from_json(a, in.type);
       if (!v) return error(ErrorCode::kInvalidArgument, where + ": " + a.dump() + " is not a " + in.type);
       values[in.name] = std::move(*v);
     }
@@ -297,6 +285,24 @@ Result<std::map<std::string, ParamValue>> run_pure(const BuildFunction& f, std::
   }
   for (const SocketSpec& o : f.outputs) out.try_emplace(o.name, zero(o.type));
   return out;
+}
+
+std::optional<ParamValue> value_from_json(const nlohmann::ordered_json& j, std::string_view type) {
+  if (type.empty()) {  // by the JSON's kind
+    if (j.is_boolean()) type = "bool";
+    else if (j.is_number_integer()) type = "int";
+    else if (j.is_number()) type = "number";
+    else if (j.is_string()) type = "string";
+    else type = "vector";
+  }
+  if (is_plugin_type(type)) return j.dump();
+  if (type == "bool" && j.is_boolean()) return j.get<bool>();
+  if (type == "int" && j.is_number_integer()) return j.get<std::int64_t>();
+  if (type == "number" && j.is_number()) return j.get<double>();
+  if (type == "string" && j.is_string()) return j.get<std::string>();
+  if (type == "vector" && j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number())
+    return math::Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  return std::nullopt;
 }
 
 NodeKind function_node_kind(const BuildFunction& f) {

@@ -71,28 +71,6 @@ bool DataTypeRegistry::can_link(std::string_view from, std::string_view to) {
 }
 
 namespace {
-DataTypeRegistry& process_data_types();
-}  // namespace
-
-const DataTypeRegistry& builtin_data_types() { return process_data_types(); }
-
-Status register_data_type(DataType type) {
-  if (type.origin.empty())
-    return error(ErrorCode::kInvalidArgument, "data type '" + type.name + "': a plugin's type names its origin");
-  if (type.name.find_first_of(":$") != std::string::npos)
-    return error(ErrorCode::kInvalidArgument, "data type '" + type.name + "' (" + type.origin +
-                                                  "): a name with ':' or '$' is the built-in families' (list:TYPE)");
-  return process_data_types().add(std::move(type));
-}
-
-std::size_t unregister_data_types(std::string_view origin) { return process_data_types().remove_origin(origin); }
-
-bool is_plugin_type(std::string_view type) {
-  const DataType* t = builtin_data_types().find(type);
-  return t && !t->origin.empty();
-}
-
-namespace {
 DataTypeRegistry& process_data_types() {
   static DataTypeRegistry registry;
   static const bool filled = [] {
@@ -134,6 +112,25 @@ DataTypeRegistry& process_data_types() {
   return registry;
 }
 }  // namespace
+
+const DataTypeRegistry& builtin_data_types() { return process_data_types(); }
+
+Status register_data_type(DataType type) {
+  if (type.origin.empty())
+    return error(ErrorCode::kInvalidArgument, "data type '" + type.name + "': a plugin's type names its origin");
+  if (type.name.find_first_of(":$") != std::string::npos)
+    return error(ErrorCode::kInvalidArgument, "data type '" + type.name + "' (" + type.origin +
+                                                  "): a name with ':' or '$' is the built-in families' (list:TYPE)");
+  return process_data_types().add(std::move(type));
+}
+
+std::size_t unregister_data_types(std::string_view origin) { return process_data_types().remove_origin(origin); }
+
+bool is_plugin_type(std::string_view type) {
+  const DataType* t = builtin_data_types().find(type);
+  return t && !t->origin.empty();
+}
+
 
 std::string list_element(std::string_view type) {
   constexpr std::string_view kList = "list:";
@@ -385,16 +382,10 @@ BuildGraph convert_definition(const Definition& definition) {
         from(a.begin().value().get<std::string>(), what);
       } else if (a.is_object() && a.contains("$output") && a["$output"].is_array() && a["$output"].size() == 2) {
         from(a["$output"][0].get<std::string>(), a["$output"][1].get<std::string>());
-      } else if (a.is_boolean()) {
-        n.values.push_back(Param{it.key(), a.get<bool>(), {}});
-      } else if (a.is_number_integer() && !(fn && fn->input(it.key()) && fn->input(it.key())->type == "number")) {
-        n.values.push_back(Param{it.key(), a.get<std::int64_t>(), {}});
-      } else if (a.is_number()) {
-        n.values.push_back(Param{it.key(), a.get<double>(), {}});
-      } else if (a.is_string()) {
-        n.values.push_back(Param{it.key(), a.get<std::string>(), {}});
-      } else if (a.is_array() && a.size() == 3 && a[0].is_number() && a[1].is_number() && a[2].is_number()) {
-        n.values.push_back(Param{it.key(), math::Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()), {}});
+      } else {
+        const SocketSpec* in = fn ? fn->input(it.key()) : nullptr;
+        if (auto v = value_from_json(a, in ? std::string_view(in->type) : std::string_view()))
+          n.values.push_back(Param{it.key(), std::move(*v), {}});
       }
     }
     g.nodes.push_back(std::move(n));

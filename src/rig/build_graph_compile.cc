@@ -72,7 +72,7 @@ std::string subgraph_path_problem(const std::string& path) {
 }  // namespace
 
 Compiler::Compiler(const BuildGraph& graph, CompileRun& run, std::string prefix)
-    : g_(graph), run_(run), prefix_(std::move(prefix)), kinds_(builtin_node_kinds(run.schemas)) {}
+    : g_(graph), run_(run), prefix_(std::move(prefix)) {}
 
 bool Compiler::check() {
   check_variables();
@@ -120,7 +120,7 @@ void Compiler::check_nodes() {
       continue;
     }
     if (!index_.emplace(n.id, i).second) fail(i, "a second node has this id");
-    const NodeKind* kind = n.kind.rfind("graph:", 0) == 0 ? subgraph_kind(i) : kinds_.find(n.kind);
+    const NodeKind* kind = n.kind.rfind("graph:", 0) == 0 ? subgraph_kind(i) : run_.kinds.find(n.kind);
     if (!kind && n.kind.rfind("graph:", 0) == 0) continue;  // reported
     if (!kind) {
       fail(i, "unknown node kind '" + n.kind + "'");
@@ -210,8 +210,7 @@ const NodeKind* Compiler::subgraph_kind(std::size_t i) {
     if (!ok) return nullptr;
   }
   subgraph_of_[i] = loaded;
-  if (!kinds_.find(n.kind)) (void)kinds_.add(subgraph_node_kind(path, *loaded));
-  return kinds_.find(n.kind);
+  return &subgraph_kinds_.try_emplace(n.kind, subgraph_node_kind(path, *loaded)).first->second;
 }
 
 void Compiler::check_links() {

@@ -51,8 +51,11 @@ inline constexpr std::size_t kMaxSubgraphDepth = 16;
 
 // What the compilers of a graph and of its sub-graphs make together.
 struct CompileRun {
-  CompileRun(const SchemaRegistry& s, BuildGraphCompile& o) : schemas(s), out(o) {}
+  CompileRun(const SchemaRegistry& s, BuildGraphCompile& o) : schemas(s), kinds(builtin_node_kinds(s)), out(o) {}
   const SchemaRegistry& schemas;
+  // The kinds every graph has, made once per compile (a sub-graph's
+  // compiler, one per use, adds only its graph:PATH kinds).
+  const NodeKindRegistry kinds;
   BuildGraphCompile& out;
   std::string rig;  // the top graph's rig name (rigIds are made from it)
   std::vector<Component> made, calls;
@@ -127,7 +130,7 @@ class Compiler {
   const BuildGraph& g_;
   CompileRun& run_;
   std::string prefix_;
-  NodeKindRegistry kinds_;
+  std::map<std::string, NodeKind> subgraph_kinds_;  // this graph's graph:PATH kinds
   std::vector<const NodeKind*> kind_of_;
   std::map<std::size_t, std::shared_ptr<const BuildGraph>> subgraph_of_;  // graph:PATH nodes' graphs
   std::map<std::string, std::size_t> index_;

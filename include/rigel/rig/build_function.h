@@ -140,6 +140,11 @@ FunctionRegistry& build_functions();
 Result<std::map<std::string, ParamValue>> run_pure(const BuildFunction& function,
                                                    std::map<std::string, ParamValue> values);
 
+// A JSON value (a call's argument or output) as a value of data type
+// `type` ("": by the JSON's kind); nullopt when it is not one. A plugin's
+// type holds any JSON, kept as its text.
+std::optional<ParamValue> value_from_json(const nlohmann::ordered_json& json, std::string_view type);
+
 // The node kind of a function ("function:ID"): exec in, its inputs, then,
 // its outputs (a pure function's: its inputs and outputs only).
 NodeKind function_node_kind(const BuildFunction& function);
