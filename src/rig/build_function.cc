@@ -62,6 +62,31 @@ bool is_value_type(const std::string& type) {
   return t && t->value_type;
 }
 
+// list:bool, list:int, list:number, list:string, list:vector.
+bool is_value_list(const std::string& type) { return !list_element(type).empty(); }
+
+Json list_json(const ValueList& items) {
+  Json out = Json::array();
+  for (const ParamValue& v : items) out.push_back(detail::param_value_json(v));
+  return out;
+}
+
+// The items of an output a function set, as its list type's items (an int
+// into a list:number becomes a double); nullopt when one does not fit.
+std::optional<ValueList> typed_items(const ValueList& items, const std::string& type) {
+  const DataType* element = builtin_data_types().find(list_element(type));
+  ValueList out;
+  out.reserve(items.size());
+  for (const ParamValue& v : items) {
+    if (!element || !value_fits(v, *element->value_type)) return std::nullopt;
+    if (*element->value_type == ParamType::kDouble && std::holds_alternative<std::int64_t>(v))
+      out.push_back(static_cast<double>(std::get<std::int64_t>(v)));
+    else
+      out.push_back(v);
+  }
+  return out;
+}
+
 
 // Whether `v` is a value of data type `type` (a value type: the sockets
 // of a registered function are checked to be).
@@ -87,6 +112,74 @@ Json output_json(const ParamValue& v, const std::string& type) {
   return detail::param_value_json(v);
 }
 
+// The outputs a body set, checked against `sockets`, with those it did
+// not set as their type's zero (a list: empty).
+Result<FunctionValues> checked_outputs(const std::vector<SocketSpec>& sockets,
+                                       const std::map<std::string, ParamValue>& values,
+                                       const std::map<std::string, ValueList>& lists) {
+  FunctionValues out;
+  for (const auto& [name, value] : values) {
+    const SocketSpec* o = find_socket(sockets, name);
+    if (!o) return error(ErrorCode::kInvalidArgument, "it set '" + name + "', which is not one of its outputs");
+    if (is_value_list(o->type) || !fits_type(value, o->type))
+      return error(ErrorCode::kInvalidArgument, "output '" + name + "' is not a " + o->type);
+    out.values[name] = value;
+  }
+  for (const auto& [name, items] : lists) {
+    const SocketSpec* o = find_socket(sockets, name);
+    if (!o) return error(ErrorCode::kInvalidArgument, "it set '" + name + "', which is not one of its outputs");
+    std::optional<ValueList> typed = is_value_list(o->type) ? typed_items(items, o->type) : std::nullopt;
+    if (!typed) return error(ErrorCode::kInvalidArgument, "output '" + name + "' is not a " + o->type);
+    out.lists[name] = std::move(*typed);
+  }
+  for (const SocketSpec& o : sockets) {
+    if (is_value_list(o.type)) out.lists.try_emplace(o.name);
+    else out.values.try_emplace(o.name, zero(o.type));
+  }
+  return out;
+}
+Result<FunctionValues> checked_outputs(const BuildFunction& f, const FunctionCall& call) {
+  return checked_outputs(f.outputs, call.outputs(), call.list_outputs());
+}
+
+// The inputs no one gave: each value input its default, else its type's
+// zero; each list input none.
+void fill_inputs(const std::vector<SocketSpec>& sockets, const std::vector<Param>& defaults, FunctionValues& in) {
+  for (const SocketSpec& s : sockets) {
+    if (is_value_list(s.type)) {
+      in.lists.try_emplace(s.name);
+      continue;
+    }
+    if (in.values.count(s.name)) continue;
+    const auto d = std::find_if(defaults.begin(), defaults.end(), [&](const Param& p) { return p.name == s.name; });
+    in.values[s.name] = d != defaults.end() ? d->value : zero(s.type);
+  }
+}
+
+// Sockets named once each, of types `fits` takes (`kinds` says which, for
+// the message); defaults each of a value input's type.
+Status check_sockets(const std::string& who, const std::vector<SocketSpec>& inputs,
+                     const std::vector<SocketSpec>& outputs, const std::vector<Param>& defaults,
+                     const std::function<bool(const SocketSpec&, bool input)>& fits, const char* kinds) {
+  for (const auto* list : {&inputs, &outputs}) {
+    std::set<std::string> names;
+    for (const SocketSpec& s : *list) {
+      if (s.name.empty() || !names.insert(s.name).second)
+        return error(ErrorCode::kInvalidArgument, who + ": an empty or repeated socket name '" + s.name + "'");
+      if (!fits(s, list == &inputs))
+        return error(ErrorCode::kInvalidArgument,
+                     who + ": socket '" + s.name + "' has type '" + s.type + "' (" + kinds + ")");
+    }
+  }
+  for (const Param& d : defaults) {
+    const SocketSpec* in = find_socket(inputs, d.name);
+    if (!in || !is_value_type(in->type) || !fits_type(d.value, in->type))
+      return error(ErrorCode::kInvalidArgument,
+                   who + ": the default of '" + d.name + "' is not one of its value inputs' type");
+  }
+  return Status::ok();
+}
+
 // The `call` component: one step that runs its function.
 Status run_call(BuildContext& ctx) {
   const std::string id = ctx.param_string("function");
@@ -106,6 +199,7 @@ Status run_call(BuildContext& ctx) {
   std::map<std::string, ParamValue> values;
   std::map<std::string, graph::NodeId> components;
   std::map<std::string, std::vector<graph::NodeId>> nodes;
+  std::map<std::string, ValueList> lists;
   for (auto it = args.begin(); it != args.end(); ++it)
     if (!fn->input(it.key()))
       return error(ErrorCode::kInvalidArgument, who + ": args: '" + it.key() + "' is not an input of the function");
@@ -116,7 +210,8 @@ Status run_call(BuildContext& ctx) {
         return error(ErrorCode::kInvalidArgument, where + ": no component given");
       const auto d =
           std::find_if(fn->defaults.begin(), fn->defaults.end(), [&](const Param& p) { return p.name == in.name; });
-      values[in.name] = d != fn->defaults.end() ? d->value : zero(in.type);
+      if (is_value_list(in.type)) lists[in.name] = {};
+      else values[in.name] = d != fn->defaults.end() ? d->value : zero(in.type);
       continue;
     }
     const Json& a = args[in.name];
@@ -138,12 +233,20 @@ Status run_call(BuildContext& ctx) {
       const graph::NodeId from = find_component(g, ctx.root(), a["$output"][0].get<std::string>());
       const Json outputs = from.is_valid() ? Json::parse(meta_string(g, from, kOutputsAttr), nullptr, false) : Json();
       const std::string name = a["$output"][1].get<std::string>();
+      const bool there = outputs.is_object() && outputs.contains(name);
       std::optional<ParamValue> v;
-      if (outputs.is_object() && outputs.contains(name)) v = value_from_json(outputs[name], in.type);
-      if (!v)
+      std::optional<ValueList> items;
+      if (there && is_value_list(in.type)) items = list_from_json(outputs[name], in.type);
+      else if (there) v = value_from_json(outputs[name], in.type);
+      if (!v && !items)
         return error(ErrorCode::kNotFound,
                      where + ": the output " + a["$output"].dump() + " is not there (did its call run?)");
-      values[in.name] = std::move(*v);
+      if (items) lists[in.name] = std::move(*items);
+      else values[in.name] = std::move(*v);
+    } else if (is_value_list(in.type)) {
+      std::optional<ValueList> items = list_from_json(a, in.type);
+      if (!items) return error(ErrorCode::kInvalidArgument, where + ": " + a.dump() + " is not a " + in.type);
+      lists[in.name] = std::move(*items);
     } else {
       std::optional<ParamValue> v = value_from_json(a, in.type);
       if (!v) return error(ErrorCode::kInvalidArgument, where + ": " + a.dump() + " is not a " + in.type);
@@ -151,22 +254,14 @@ Status run_call(BuildContext& ctx) {
     }
   }
   FunctionCall call(ctx.scene(), ctx.definition(), ctx.root(), ctx.meta(), std::move(values), std::move(components),
-                    std::move(nodes));
+                    std::move(nodes), std::move(lists));
   if (!fn->run) return error(ErrorCode::kInvalidArgument, who + ": the function has no body");
   if (Status s = fn->run(call); !s) return s.with_context(who);
+  auto set = checked_outputs(*fn, call);
+  if (!set) return set.status().with_context(who);
   Json out = Json::object();
-  for (const auto& [name, value] : call.outputs()) {
-    const SocketSpec* o = fn->output(name);
-    if (!o)
-      return error(ErrorCode::kInvalidArgument,
-                   who + ": the function set '" + name + "', which is not one of its outputs");
-    if (!fits_type(value, o->type))
-      return error(ErrorCode::kInvalidArgument, who + ": output '" + name + "' is not a " + o->type);
-  }
-  for (const SocketSpec& o : fn->outputs) {
-    const auto it = call.outputs().find(o.name);
-    out[o.name] = output_json(it != call.outputs().end() ? it->second : zero(o.type), o.type);
-  }
+  for (const SocketSpec& o : fn->outputs)
+    out[o.name] = is_value_list(o.type) ? list_json(set->lists.at(o.name)) : output_json(set->values.at(o.name), o.type);
   if (fn->outputs.empty()) return Status::ok();
   return g.set_value(graph::Plug{ctx.meta(), g.node(ctx.meta())->type().attr_find(kOutputsAttr), -1},
                      graph::Value(out.dump()));
@@ -192,6 +287,11 @@ const Component* FunctionCall::component_definition(std::string_view input) cons
   return definition_->find_by_rig_id(meta_string(scene_->graph(), meta, "rigId"));
 }
 
+const ValueList* FunctionCall::list(std::string_view input) const {
+  const auto it = lists_.find(std::string(input));
+  return it == lists_.end() ? nullptr : &it->second;
+}
+
 const std::vector<graph::NodeId>* FunctionCall::nodes(std::string_view input) const {
   const auto it = nodes_.find(std::string(input));
   return it == nodes_.end() ? nullptr : &it->second;
@@ -209,57 +309,18 @@ Status FunctionRegistry::add(BuildFunction f) {
   const std::string who = "build function '" + f.id + "'" + (f.origin.empty() ? "" : " (" + f.origin + ")");
   if (f.id.empty()) return error(ErrorCode::kInvalidArgument, "a build function needs an id");
   if (!f.run) return error(ErrorCode::kInvalidArgument, who + ": no body to run");
-  for (const auto* list : {&f.inputs, &f.outputs}) {
-    std::set<std::string> names;
-    for (const SocketSpec& s : *list) {
-      if (s.name.empty() || !names.insert(s.name).second)
-        return error(ErrorCode::kInvalidArgument, who + ": an empty or repeated socket name '" + s.name + "'");
-      const bool ok = is_value_type(s.type) || (!f.pure && is_plugin_type(s.type)) ||
-                      (!f.pure && list == &f.inputs && (s.type == "component" || is_node_list_type(s.type)));
-      if (!ok)
-        return error(ErrorCode::kInvalidArgument,
-                     who + ": socket '" + s.name + "' has type '" + s.type +
-                         "' (inputs: bool, int, number, string, vector, a plugin's data type, component, "
-                         "list:control, list:joint or list:node; outputs: the values and plugins' types)");
-    }
-  }
-  for (const Param& d : f.defaults) {
-    const SocketSpec* in = f.input(d.name);
-    if (!in || !is_value_type(in->type) || !fits_type(d.value, in->type))
-      return error(ErrorCode::kInvalidArgument,
-                   who + ": the default of '" + d.name + "' is not one of its value inputs' type");
-  }
-  std::lock_guard lock(mutex_);
-  for (const BuildFunction& other : functions_)
-    if (other.id == f.id)
-      return error(ErrorCode::kAlreadyExists, who + ": the id is taken by " +
-                                                  (other.origin.empty() ? std::string("another function") : other.origin));
-  functions_.push_back(std::move(f));
-  return Status::ok();
-}
-
-std::size_t FunctionRegistry::remove_origin(std::string_view origin) {
-  std::lock_guard lock(mutex_);
-  const std::size_t before = functions_.size();
-  std::erase_if(functions_, [&](const BuildFunction& f) { return f.origin == origin; });
-  return before - functions_.size();
-}
-
-bool FunctionRegistry::remove(std::string_view id) {
-  std::lock_guard lock(mutex_);
-  return std::erase_if(functions_, [&](const BuildFunction& f) { return f.id == id; }) > 0;
-}
-
-std::optional<BuildFunction> FunctionRegistry::find(std::string_view id) const {
-  std::lock_guard lock(mutex_);
-  for (const BuildFunction& f : functions_)
-    if (f.id == id) return f;
-  return std::nullopt;
-}
-
-std::vector<BuildFunction> FunctionRegistry::functions() const {
-  std::lock_guard lock(mutex_);
-  return functions_;
+  const bool pure = f.pure;
+  const auto fits = [pure](const SocketSpec& s, bool input) {
+    return is_value_type(s.type) || is_value_list(s.type) || (!pure && is_plugin_type(s.type)) ||
+           (!pure && input && (s.type == "component" || is_node_list_type(s.type)));
+  };
+  if (Status s = check_sockets(who, f.inputs, f.outputs, f.defaults, fits,
+                               "inputs: bool, int, number, string, vector, a list of one (list:number, ...), a "
+                               "plugin's data type, component, list:control, list:joint or list:node; outputs: the "
+                               "values, their lists and plugins' types");
+      !s)
+    return s;
+  return insert(std::move(f), who);
 }
 
 FunctionRegistry& build_functions() {
@@ -267,24 +328,12 @@ FunctionRegistry& build_functions() {
   return registry;
 }
 
-Result<std::map<std::string, ParamValue>> run_pure(const BuildFunction& f, std::map<std::string, ParamValue> values) {
-  for (const SocketSpec& in : f.inputs) {
-    if (values.count(in.name)) continue;
-    const auto d = std::find_if(f.defaults.begin(), f.defaults.end(), [&](const Param& p) { return p.name == in.name; });
-    values[in.name] = d != f.defaults.end() ? d->value : zero(in.type);
-  }
+Result<FunctionValues> run_pure(const BuildFunction& f, FunctionValues in) {
+  fill_inputs(f.inputs, f.defaults, in);
   if (!f.run) return error(ErrorCode::kInvalidArgument, "the function has no body");
-  FunctionCall call(std::move(values));
+  FunctionCall call(std::move(in.values), std::move(in.lists));
   if (Status s = f.run(call); !s) return s;
-  std::map<std::string, ParamValue> out;
-  for (const auto& [name, value] : call.outputs()) {
-    const SocketSpec* o = f.output(name);
-    if (!o) return error(ErrorCode::kInvalidArgument, "it set '" + name + "', which is not one of its outputs");
-    if (!fits_type(value, o->type)) return error(ErrorCode::kInvalidArgument, "output '" + name + "' is not a " + o->type);
-    out[name] = value;
-  }
-  for (const SocketSpec& o : f.outputs) out.try_emplace(o.name, zero(o.type));
-  return out;
+  return checked_outputs(f, call);
 }
 
 std::optional<ParamValue> value_from_json(const nlohmann::ordered_json& j, std::string_view type) {
@@ -305,6 +354,19 @@ std::optional<ParamValue> value_from_json(const nlohmann::ordered_json& j, std::
   return std::nullopt;
 }
 
+std::optional<ValueList> list_from_json(const nlohmann::ordered_json& j, std::string_view list_type) {
+  const std::string element = list_element(list_type);
+  if (element.empty() || !j.is_array()) return std::nullopt;
+  ValueList out;
+  out.reserve(j.size());
+  for (const Json& item : j) {
+    std::optional<ParamValue> v = value_from_json(item, element);
+    if (!v) return std::nullopt;
+    out.push_back(std::move(*v));
+  }
+  return out;
+}
+
 NodeKind function_node_kind(const BuildFunction& f) {
   NodeKind k;
   k.id = "function:" + f.id;
@@ -316,6 +378,83 @@ NodeKind function_node_kind(const BuildFunction& f) {
   if (!f.pure) k.outputs.push_back({"then", "exec", "the next node"});
   for (const SocketSpec& s : f.outputs) k.outputs.push_back(s);
   return k;
+}
+
+// ---- flow kinds
+
+const ParamValue* FlowCall::value(std::string_view input) const {
+  const auto it = in_.values.find(std::string(input));
+  return it == in_.values.end() ? nullptr : &it->second;
+}
+
+const ValueList* FlowCall::list(std::string_view input) const {
+  const auto it = in_.lists.find(std::string(input));
+  return it == in_.lists.end() ? nullptr : &it->second;
+}
+
+const SocketSpec* FlowKind::input(std::string_view name) const { return find_socket(inputs, name); }
+const SocketSpec* FlowKind::output(std::string_view name) const { return find_socket(outputs, name); }
+
+Status FlowKindRegistry::add(FlowKind k) {
+  const std::string who = "node kind '" + k.id + "'" + (k.origin.empty() ? "" : " (" + k.origin + ")");
+  if (k.id.empty()) return error(ErrorCode::kInvalidArgument, "a node kind needs an id");
+  if (!k.run) return error(ErrorCode::kInvalidArgument, who + ": no body to run");
+  if (k.exits.empty()) return error(ErrorCode::kInvalidArgument, who + ": no exits (exec outputs) to go on through");
+  std::set<std::string> names;
+  for (const SocketSpec& s : k.outputs) names.insert(s.name);
+  for (const std::string& e : k.exits)
+    if (e.empty() || e == "exec" || !names.insert(e).second)
+      return error(ErrorCode::kInvalidArgument, who + ": exit '" + e + "' is empty, 'exec', or a second socket of its name");
+  for (const std::string& r : k.repeats)
+    if (std::find(k.exits.begin(), k.exits.end(), r) == k.exits.end())
+      return error(ErrorCode::kInvalidArgument, who + ": repeat '" + r + "' is not one of its exits");
+  const auto fits = [](const SocketSpec& s, bool) { return is_value_type(s.type) || is_value_list(s.type); };
+  if (Status s = check_sockets(who, k.inputs, k.outputs, k.defaults, fits,
+                               "bool, int, number, string, vector or a list of one (list:number, ...)");
+      !s)
+    return s;
+  return insert(std::move(k), who);
+}
+
+FlowKindRegistry& flow_kinds() {
+  static FlowKindRegistry registry;
+  return registry;
+}
+
+Result<std::vector<FlowCall::Step>> run_flow(const FlowKind& k, FunctionValues in) {
+  fill_inputs(k.inputs, k.defaults, in);
+  if (!k.run) return error(ErrorCode::kInvalidArgument, "the node kind has no body");
+  FlowCall call(std::move(in));
+  if (Status s = k.run(call); !s) return s;
+  std::vector<FlowCall::Step> steps;
+  std::set<std::string> taken;
+  for (const FlowCall::Step& step : call.steps()) {
+    if (std::find(k.exits.begin(), k.exits.end(), step.exit) == k.exits.end())
+      return error(ErrorCode::kInvalidArgument, "it went on through '" + step.exit + "', which is not one of its exits");
+    const bool repeats = std::find(k.repeats.begin(), k.repeats.end(), step.exit) != k.repeats.end();
+    if (!repeats && !taken.insert(step.exit).second)
+      return error(ErrorCode::kInvalidArgument, "it went on through '" + step.exit + "' twice (it is not a repeat)");
+    auto outputs = checked_outputs(k.outputs, step.outputs.values, step.outputs.lists);
+    if (!outputs) return outputs.status();
+    steps.push_back({step.exit, std::move(*outputs)});
+  }
+  return steps;
+}
+
+NodeKind flow_node_kind(const FlowKind& k) {
+  NodeKind n;
+  n.id = "flow:" + k.id;
+  n.nice_name = k.nice_name.empty() ? k.id : k.nice_name;
+  n.category = k.category.empty() ? "Flow" : k.category;
+  n.help = k.help;
+  n.inputs.push_back({"exec", "exec", "runs the node"});
+  for (const SocketSpec& s : k.inputs) n.inputs.push_back(s);
+  for (const std::string& e : k.exits) {
+    const bool repeats = std::find(k.repeats.begin(), k.repeats.end(), e) != k.repeats.end();
+    n.outputs.push_back({e, "exec", repeats ? "runs once per pass" : "runs at most once"});
+  }
+  for (const SocketSpec& s : k.outputs) n.outputs.push_back(s);
+  return n;
 }
 
 Status add_call_component(ComponentFactory& factory) { return factory.add(std::make_shared<CallClass>()); }

@@ -265,6 +265,7 @@ NodeKindRegistry builtin_node_kinds(const SchemaRegistry& schemas) {
          "(give each its own name or side, from the element)"});
   }
   for (const BuildFunction& f : build_functions().functions()) add(function_node_kind(f));
+  for (const FlowKind& f : flow_kinds().kinds()) add(flow_node_kind(f));
   return r;
 }
 
@@ -384,8 +385,11 @@ BuildGraph convert_definition(const Definition& definition) {
         from(a["$output"][0].get<std::string>(), a["$output"][1].get<std::string>());
       } else {
         const SocketSpec* in = fn ? fn->input(it.key()) : nullptr;
-        if (auto v = value_from_json(a, in ? std::string_view(in->type) : std::string_view()))
+        if (in && !list_element(in->type).empty()) {
+          if (auto items = list_from_json(a, in->type)) n.lists[it.key()] = std::move(*items);
+        } else if (auto v = value_from_json(a, in ? std::string_view(in->type) : std::string_view())) {
           n.values.push_back(Param{it.key(), std::move(*v), {}});
+        }
       }
     }
     g.nodes.push_back(std::move(n));

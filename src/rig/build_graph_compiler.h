@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "rigel/rig/build_function.h"
 #include "rigel/rig/build_graph.h"
 
 namespace rigel::rig::detail {
@@ -115,6 +116,8 @@ class Compiler {
   std::optional<ParamValue> value_input(std::size_t n, const std::string& socket);
   std::optional<ValueList> list_input(std::size_t n, const std::string& socket);
   std::optional<Flow> pure_output(std::size_t n, const std::string& output, const std::string& type);
+  bool known_values(std::size_t n, const std::vector<SocketSpec>& sockets, FunctionValues& into);
+  bool run_flow_node(std::size_t n, std::string& next);
   bool walk(std::size_t n, std::string next);
   bool run_node(std::size_t n, std::string& next);
   bool run_loop(std::size_t n);
@@ -140,6 +143,7 @@ class Compiler {
   std::map<std::string, Flow> variables_;
   std::map<std::size_t, std::pair<Flow, Flow>> loop_;                // a for-each's element and index now
   std::map<std::size_t, std::map<std::string, Flow>> outputs_of_;    // a sub-graph node's outputs
+  std::map<std::size_t, FunctionValues> flow_out_;                   // a flow node's outputs now
   std::vector<std::size_t> path_;                                    // the exec chain walked to here
   std::vector<std::size_t> run_log_;                                 // this graph's nodes run, in order
 };

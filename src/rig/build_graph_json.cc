@@ -207,11 +207,13 @@ class Reader {
         for (auto it = values.begin(); it != values.end(); ++it) {
           const std::string p = child(child(path, "values"), it.key());
           const std::string type = input_type(node, it.key());
-          const bool untyped_list = node.kind.rfind("graph:", 0) == 0 && it.value().is_array() &&
+          // A sub-graph's input, or one of a kind no one registered (the
+          // compile names it): the file does not say the type.
+          const bool untyped_list = (node.kind.rfind("graph:", 0) == 0 || type.empty()) && it.value().is_array() &&
                                     !(it.value().size() == 3 && std::all_of(it.value().begin(), it.value().end(),
                                                                             [](const Json& x) { return x.is_number(); }));
           if (untyped_list) {
-            // A sub-graph's input: the file does not say its type; typed when it runs.
+            // Typed when it runs, or refused with its node's kind.
             ValueList items;
             for (std::size_t k = 0; k < it.value().size(); ++k)
               if (auto item = typed_value(it.key(), it.value()[k], child(p, k), "")) items.push_back(std::move(*item));
@@ -237,6 +239,9 @@ class Reader {
     if (node.kind.rfind("forEach:", 0) == 0 && input == "list") return "list:" + node.kind.substr(8);
     if (node.kind.rfind("function:", 0) == 0)
       if (const auto f = build_functions().find(node.kind.substr(9)))
+        if (const SocketSpec* in = f->input(input)) return in->type;
+    if (node.kind.rfind("flow:", 0) == 0)
+      if (const auto f = flow_kinds().find(node.kind.substr(5)))
         if (const SocketSpec* in = f->input(input)) return in->type;
     return "";
   }
@@ -366,15 +371,17 @@ nlohmann::ordered_json graph_palette_json(const NodeKindRegistry& kinds, const S
     if (k.id == std::string("component:") + kCallType) continue;
     const ComponentSchema* schema =
         k.id.rfind("component:", 0) == 0 ? schemas.find(std::string_view(k.id).substr(std::string_view("component:").size())) : nullptr;
-    std::optional<BuildFunction> function;
-    if (k.id.rfind("function:", 0) == 0) function = build_functions().find(k.id.substr(std::string_view("function:").size()));
+    std::vector<Param> defaults;
+    if (k.id.rfind("function:", 0) == 0)
+      if (auto f = build_functions().find(k.id.substr(std::string_view("function:").size()))) defaults = f->defaults;
+    if (k.id.rfind("flow:", 0) == 0)
+      if (auto f = flow_kinds().find(k.id.substr(std::string_view("flow:").size()))) defaults = f->defaults;
     const auto default_of = [&](const SocketSpec& s) -> std::optional<ParamValue> {
       if (schema)
         for (const ParamSpec& p : schema->params)
           if (p.name == s.name) return p.default_value;
-      if (function)
-        for (const Param& p : function->defaults)
-          if (p.name == s.name) return p.value;
+      for (const Param& p : defaults)
+        if (p.name == s.name) return p.value;
       const DataType* t = builtin_data_types().find(s.type);
       if (!t || !t->value_type) return std::nullopt;
       return zero_value(*t->value_type);

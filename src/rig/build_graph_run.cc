@@ -36,6 +36,11 @@ std::optional<Flow> Compiler::input(std::size_t n, const std::string& socket) {
       return f;
     }
     if (src.kind.rfind("function:", 0) == 0) return runtime_flow(ran_.at(s).call, l.from.socket);
+    if (src.kind.rfind("flow:", 0) == 0) {
+      const FunctionValues& out = flow_out_.at(s);
+      if (const auto items = out.lists.find(l.from.socket); items != out.lists.end()) return list_flow(items->second);
+      return value_flow(as_type(out.values.at(l.from.socket), type));
+    }
     Flow f = ran_.at(s);
     if (l.from.socket != "component") f.output = l.from.socket;  // a component's controls, joints or hooks
     return f;
@@ -68,19 +73,35 @@ std::optional<Flow> Compiler::pure_output(std::size_t n, const std::string& outp
     fail(n, "build function '" + id + "' is not registered as a pure function");
     return std::nullopt;
   }
-  std::map<std::string, ParamValue> values;
-  for (const SocketSpec& in : fn->inputs) {
-    std::optional<Flow> f = known_input(n, in.name);
-    if (failed()) return std::nullopt;
-    if (f && f->value) values[in.name] = as_type(*f->value, in.type);
-    else if (const Param* p = node.value(in.name)) values[in.name] = as_type(p->value, in.type);
-  }
-  auto out = run_pure(*fn, std::move(values));
+  FunctionValues in;
+  if (!known_values(n, fn->inputs, in)) return std::nullopt;
+  auto out = run_pure(*fn, std::move(in));
   if (!out) {
     fail(n, "function " + id + (fn->origin.empty() ? "" : " (" + fn->origin + ")") + ": " + out.status().message());
     return std::nullopt;
   }
-  return value_flow(as_type(out->at(output), type));
+  if (const auto items = out->lists.find(output); items != out->lists.end()) return list_flow(items->second);
+  return value_flow(as_type(out->values.at(output), type));
+}
+
+// The values of inputs `sockets` of node `n` (linked, else its own; the
+// rest are the function's or flow kind's defaults); false with the
+// problem reported.
+bool Compiler::known_values(std::size_t n, const std::vector<SocketSpec>& sockets, FunctionValues& in) {
+  const GraphNode& node = g_.nodes[n];
+  for (const SocketSpec& s : sockets) {
+    if (!list_element(s.type).empty()) {
+      std::optional<ValueList> items = list_input(n, s.name);
+      if (!items) return false;
+      in.lists[s.name] = std::move(*items);
+      continue;
+    }
+    std::optional<Flow> f = known_input(n, s.name);
+    if (failed()) return false;
+    if (f && f->value) in.values[s.name] = as_type(*f->value, s.type);
+    else if (const Param* p = node.value(s.name)) in.values[s.name] = as_type(p->value, s.type);
+  }
+  return true;
 }
 
 // An input the node needs before the build: nullopt (with the error)
@@ -89,7 +110,8 @@ std::optional<Flow> Compiler::known_input(std::size_t n, const std::string& sock
   std::optional<Flow> f = input(n, socket);
   if (f && f->runtime()) {
     fail(n, "input '" + socket + "' reads a value the build makes (output '" + f->output +
-                "' of a function node): only function nodes take those");
+                "' of a function node): only function nodes take those (a value known before the build is a "
+                "constant's, a variable's or a pure function's)");
     return std::nullopt;
   }
   return f;
@@ -202,6 +224,8 @@ bool Compiler::run_node(std::size_t n, std::string& next) {
     return make_component(n);
   } else if (node.kind.rfind("function:", 0) == 0) {
     return make_call(n);
+  } else if (node.kind.rfind("flow:", 0) == 0) {
+    return run_flow_node(n, next);
   } else if (subgraph_of_.count(n)) {
     return run_subgraph(n);
   }
@@ -233,6 +257,54 @@ bool Compiler::run_loop(std::size_t n) {
     // after the last, nodes after the loop read the last item's.
     if (i + 1 < items->size())
       for (std::size_t k = mark; k < run_log_.size(); ++k) ran_.erase(run_log_[k]);
+  }
+  return true;
+}
+
+// A plugin's flow node: its body says which exits to go on through, in
+// order; each pass but the last (or a repeat) runs as a body does, a
+// repeat's passes keyed as a for-each's items; the last, if it does not
+// repeat, goes on in place (`next`).
+bool Compiler::run_flow_node(std::size_t n, std::string& next) {
+  const std::string id = g_.nodes[n].kind.substr(std::string_view("flow:").size());
+  const std::optional<FlowKind> kind = flow_kinds().find(id);
+  if (!kind) {
+    fail(n, "node kind 'flow:" + id + "' is not registered (is the plugin that registers it loaded?)");
+    return false;
+  }
+  FunctionValues in;
+  if (!known_values(n, kind->inputs, in)) return false;
+  auto steps = run_flow(*kind, std::move(in));
+  if (!steps) {
+    fail(n, "node kind " + id + (kind->origin.empty() ? "" : " (" + kind->origin + ")") + ": " + steps.status().message());
+    return false;
+  }
+  ran_[n] = Flow{};
+  next.clear();  // no exit taken: the chain ends here
+  std::map<std::string, std::size_t> passes;
+  for (std::size_t k = 0; k < steps->size(); ++k) {
+    const FlowCall::Step& step = (*steps)[k];
+    flow_out_[n] = step.outputs;
+    const bool repeats = std::find(kind->repeats.begin(), kind->repeats.end(), step.exit) != kind->repeats.end();
+    if (!repeats && k + 1 == steps->size()) {
+      next = step.exit;
+      return true;
+    }
+    if (++run_.runs > kMaxRuns) {
+      fail(n, "the exec chain runs more than " + std::to_string(kMaxRuns) +
+                  " nodes and items (for-each bodies multiply them): the limit");
+      return false;
+    }
+    if (repeats) run_.keys.push_back(passes[step.exit]++);
+    const std::size_t mark = run_log_.size();
+    const bool ok = walk(n, step.exit);
+    if (repeats) run_.keys.pop_back();
+    if (!ok) return false;
+    // A later pass through the same exit reads its own nodes' outputs.
+    const bool again = std::any_of(steps->begin() + static_cast<std::ptrdiff_t>(k) + 1, steps->end(),
+                                   [&](const FlowCall::Step& s) { return s.exit == step.exit; });
+    if (again)
+      for (std::size_t r = mark; r < run_log_.size(); ++r) ran_.erase(run_log_[r]);
   }
   return true;
 }
@@ -328,6 +400,19 @@ bool Compiler::make_component(std::size_t n) {
   return true;
 }
 
+namespace {
+
+// A list's items as a call's argument: a JSON array of values of the
+// list type's element type.
+nlohmann::ordered_json items_json(const ValueList& items, const std::string& list_type) {
+  const std::string element = list_element(list_type);
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const ParamValue& v : items) out.push_back(param_value_json(element.empty() ? v : as_type(v, element)));
+  return out;
+}
+
+}  // namespace
+
 // A function node: a `call` component, a root built after the
 // components, that builds after every component or call it reads.
 bool Compiler::make_call(std::size_t n) {
@@ -362,6 +447,7 @@ bool Compiler::make_call(std::size_t n) {
         return false;
       }
       if (const Param* p = node.value(in.name)) args[in.name] = param_value_json(as_type(p->value, in.type));
+      if (const auto own = node.lists.find(in.name); own != node.lists.end()) args[in.name] = items_json(own->second, in.type);
       continue;
     }
     std::string from;
@@ -372,6 +458,8 @@ bool Compiler::make_call(std::size_t n) {
       // {"$component": rigId}, or its {"$controls" | "$joints" | "$hooks": rigId}.
       from = run_.made[static_cast<std::size_t>(f->component)].rig_id;
       args[in.name] = {{"$" + (f->output.empty() ? std::string("component") : f->output), from}};
+    } else if (f->items) {
+      args[in.name] = items_json(*f->items, in.type);
     } else if (!f->value) {
       fail(n, "input '" + in.name + "' reads no component (a component variable no node has set)");
       return false;

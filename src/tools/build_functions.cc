@@ -98,6 +98,43 @@ Status int_text(rig::FunctionCall& call) {
   return Status::ok();
 }
 
+// Pure: the ints start, start + step, ... , count of them (a for-each's
+// list: one finger per index).
+Status int_range(rig::FunctionCall& call) {
+  const auto count = std::get<std::int64_t>(*call.value("count"));
+  const auto start = std::get<std::int64_t>(*call.value("start"));
+  const auto step = std::get<std::int64_t>(*call.value("step"));
+  // A loop's items: more than a graph may make is refused here, not built.
+  constexpr std::int64_t kMost = 10000;
+  if (count < 0 || count > kMost)
+    return error(ErrorCode::kInvalidArgument, "count: " + std::to_string(count) + " is not 0 to " + std::to_string(kMost));
+  const auto fits = [](std::int64_t v) { return v > -(std::int64_t{1} << 52) && v < (std::int64_t{1} << 52); };
+  if (!fits(start) || !fits(step)) return error(ErrorCode::kInvalidArgument, "start and step must lie within +-2^52");
+  rig::ValueList items;
+  items.reserve(static_cast<std::size_t>(count));
+  for (std::int64_t i = 0; i < count; ++i) items.push_back(start + i * step);
+  call.set_list_output("items", std::move(items));
+  return Status::ok();
+}
+
+// Pure: a text split at each separator ("thumb,index,middle" -> three).
+Status split_text(rig::FunctionCall& call) {
+  const auto text = std::get<std::string>(*call.value("text"));
+  const auto separator = std::get<std::string>(*call.value("separator"));
+  if (separator.empty()) return error(ErrorCode::kInvalidArgument, "separator: empty (it splits at each one)");
+  rig::ValueList items;
+  std::size_t from = 0;
+  if (!text.empty())
+    for (;;) {
+      const std::size_t at = text.find(separator, from);
+      items.push_back(text.substr(from, at == std::string::npos ? std::string::npos : at - from));
+      if (at == std::string::npos) break;
+      from = at + separator.size();
+    }
+  call.set_list_output("items", std::move(items));
+  return Status::ok();
+}
+
 }  // namespace
 
 Status add_build_functions(rig::FunctionRegistry& registry) {
@@ -164,13 +201,71 @@ Status add_build_functions(rig::FunctionRegistry& registry) {
               {},
               int_text,
               {}});
+  if (s)
+    s = pure({"rigel.range",
+              "Range",
+              "Values",
+              "count ints from start by step: the list a for-each runs over to make N of something.",
+              {{"count", "int", "how many (0 to 10,000)"}, {"start", "int", "the first"}, {"step", "int", "between two"}},
+              {{"items", "list:int", "start, start + step, ..."}},
+              {rig::Param{"count", std::int64_t{3}, {}}, rig::Param{"step", std::int64_t{1}, {}}},
+              int_range,
+              {}});
+  if (s)
+    s = pure({"rigel.splitText",
+              "Split text",
+              "Values",
+              "A text split at each separator: \"thumb,index,middle\" gives three names to loop over.",
+              {{"text", "string", "the text"}, {"separator", "string", "where it is cut"}},
+              {{"items", "list:string", "the parts, in order (none for an empty text)"}},
+              {rig::Param{"separator", std::string(","), {}}},
+              split_text,
+              {}});
   return s;
+}
+
+Status add_flow_kinds(rig::FlowKindRegistry& registry) {
+  rig::FlowKind sequence;
+  sequence.id = "rigel.sequence";
+  sequence.nice_name = "Sequence";
+  sequence.help = "Runs what follows first, then second, then third (each to its chain's end): one build in "
+                  "parts, each part reading what the earlier ones made.";
+  sequence.exits = {"first", "second", "third"};
+  sequence.run = [](rig::FlowCall& call) {
+    for (const char* exit : {"first", "second", "third"}) call.go(exit);
+    return Status::ok();
+  };
+  sequence.origin = "rigel";
+  Status s = registry.add(std::move(sequence));
+  if (!s) return s;
+  rig::FlowKind repeat;
+  repeat.id = "rigel.repeat";
+  repeat.nice_name = "Repeat";
+  repeat.help = "Runs its body count times, index 0 to count - 1 (a component node in it builds one component per "
+                "pass: give each its own name from the index), then goes on through completed.";
+  repeat.inputs = {{"count", "int", "how many passes (0 to 10,000)"}};
+  repeat.outputs = {{"index", "int", "the pass, from 0"}};
+  repeat.exits = {"body", "completed"};
+  repeat.repeats = {"body"};
+  repeat.defaults = {rig::Param{"count", std::int64_t{2}, {}}};
+  repeat.run = [](rig::FlowCall& call) {
+    const auto count = std::get<std::int64_t>(*call.value("count"));
+    if (count < 0 || count > 10000)
+      return error(ErrorCode::kInvalidArgument, "count: " + std::to_string(count) + " is not 0 to 10,000");
+    for (std::int64_t i = 0; i < count; ++i) call.go("body", {{{"index", i}}, {}});
+    call.go("completed");
+    return Status::ok();
+  };
+  repeat.origin = "rigel";
+  return registry.add(std::move(repeat));
 }
 
 void register_build_functions() {
   static std::once_flag once;
   std::call_once(once, [] {
-    if (Status s = add_build_functions(rig::build_functions()); !s) {
+    Status s = add_build_functions(rig::build_functions());
+    if (s) s = add_flow_kinds(rig::flow_kinds());
+    if (!s) {
       std::fprintf(stderr, "rigel: built-in build functions: %s\n", s.message().c_str());
       std::abort();
     }

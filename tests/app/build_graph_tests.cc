@@ -158,26 +158,73 @@ TEST(AppBuildGraph, the_shipped_pure_functions_make_text_and_refuse_what_they_ca
   const auto run = [](const char* id, std::map<std::string, rig::ParamValue> values) {
     const std::optional<rig::BuildFunction> f = rig::build_functions().find(id);
     EXPECT_TRUE(f && f->pure) << id;
-    return rig::run_pure(*f, std::move(values));
+    return rig::run_pure(*f, {std::move(values), {}});
   };
   auto joined = run("rigel.joinText", {{"a", std::string("arm")}, {"b", std::string("01")}, {"separator", std::string("_")}});
   ASSERT_TRUE(joined.is_ok());
-  EXPECT_EQ(std::get<std::string>(joined->at("text")), "arm_01");
+  EXPECT_EQ(std::get<std::string>(joined->values.at("text")), "arm_01");
   auto padded = run("rigel.intText", {{"value", std::int64_t{7}}, {"digits", std::int64_t{3}}});
   ASSERT_TRUE(padded.is_ok());
-  EXPECT_EQ(std::get<std::string>(padded->at("text")), "007");
+  EXPECT_EQ(std::get<std::string>(padded->values.at("text")), "007");
   auto negative = run("rigel.intText", {{"value", std::int64_t{-12}}, {"digits", std::int64_t{3}}});
   ASSERT_TRUE(negative.is_ok());
-  EXPECT_EQ(std::get<std::string>(negative->at("text")), "-012");
+  EXPECT_EQ(std::get<std::string>(negative->values.at("text")), "-012");
   auto lowest = run("rigel.intText", {{"value", std::numeric_limits<std::int64_t>::min()}});
   ASSERT_TRUE(lowest.is_ok());
-  EXPECT_EQ(std::get<std::string>(lowest->at("text")), "-9223372036854775808");
+  EXPECT_EQ(std::get<std::string>(lowest->values.at("text")), "-9223372036854775808");
   auto plain = run("rigel.intText", {{"value", std::int64_t{42}}});
   ASSERT_TRUE(plain.is_ok()) << "digits defaults to its zero";
-  EXPECT_EQ(std::get<std::string>(plain->at("text")), "42");
+  EXPECT_EQ(std::get<std::string>(plain->values.at("text")), "42");
   const auto refused = run("rigel.intText", {{"value", std::int64_t{1}}, {"digits", std::int64_t{99}}});
   EXPECT_EQ(refused.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(refused.status().message().find("digits"), std::string::npos);
+  // Lists: a range, a text split.
+  const auto ints = [](const rig::ValueList& items) {
+    std::vector<std::int64_t> out;
+    for (const rig::ParamValue& v : items) out.push_back(std::get<std::int64_t>(v));
+    return out;
+  };
+  auto range = run("rigel.range", {{"count", std::int64_t{4}}, {"start", std::int64_t{1}}, {"step", std::int64_t{-2}}});
+  ASSERT_TRUE(range.is_ok());
+  EXPECT_EQ(ints(range->lists.at("items")), (std::vector<std::int64_t>{1, -1, -3, -5}));
+  EXPECT_EQ(run("rigel.range", {{"count", std::int64_t{0}}})->lists.at("items").size(), 0u);
+  EXPECT_EQ(run("rigel.range", {{"count", std::int64_t{-1}}}).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(run("rigel.range", {{"count", std::int64_t{10001}}}).status().code(), ErrorCode::kInvalidArgument);
+  const auto split = [&](const char* text, const char* separator) {
+    std::vector<std::string> out;
+    auto r = run("rigel.splitText", {{"text", std::string(text)}, {"separator", std::string(separator)}});
+    EXPECT_TRUE(r.is_ok()) << text;
+    if (r)
+      for (const rig::ParamValue& v : r->lists.at("items")) out.push_back(std::get<std::string>(v));
+    return out;
+  };
+  EXPECT_EQ(split("thumb,index,,ring", ","), (std::vector<std::string>{"thumb", "index", "", "ring"}));
+  EXPECT_EQ(split("a--b--", "--"), (std::vector<std::string>{"a", "b", ""}));
+  EXPECT_EQ(split("", ","), std::vector<std::string>{});
+  EXPECT_EQ(run("rigel.splitText", {{"text", std::string("a")}, {"separator", std::string()}}).status().code(),
+            ErrorCode::kInvalidArgument);
+}
+
+TEST(AppBuildGraph, the_shipped_flow_kinds_run_parts_in_turn_and_repeat_a_body) {
+  tools::register_build_functions();
+  const std::optional<rig::FlowKind> sequence = rig::flow_kinds().find("rigel.sequence");
+  const std::optional<rig::FlowKind> repeat = rig::flow_kinds().find("rigel.repeat");
+  ASSERT_TRUE(sequence && repeat);
+  auto parts = rig::run_flow(*sequence, {});
+  ASSERT_TRUE(parts.is_ok());
+  std::vector<std::string> exits;
+  for (const auto& step : *parts) exits.push_back(step.exit);
+  EXPECT_EQ(exits, (std::vector<std::string>{"first", "second", "third"}));
+  auto passes = rig::run_flow(*repeat, {{{"count", std::int64_t{3}}}, {}});
+  ASSERT_TRUE(passes.is_ok());
+  ASSERT_EQ(passes->size(), 4u);
+  for (std::int64_t i = 0; i < 3; ++i) {
+    EXPECT_EQ((*passes)[static_cast<std::size_t>(i)].exit, "body");
+    EXPECT_EQ(std::get<std::int64_t>((*passes)[static_cast<std::size_t>(i)].outputs.values.at("index")), i);
+  }
+  EXPECT_EQ(passes->back().exit, "completed");
+  EXPECT_EQ(rig::run_flow(*repeat, {{{"count", std::int64_t{-1}}}, {}}).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(rig::run_flow(*repeat, {})->size(), 3u) << "count defaults to 2";
 }
 
 }  // namespace

@@ -155,5 +155,51 @@ TEST(CliGraph, a_graph_with_a_for_each_over_a_sub_graph_builds_one_arm_per_side)
   EXPECT_FALSE(fs::exists(dir.path() / "x.rigel"));
 }
 
+// The shipped node kinds from the binary: a repeat (count from the length
+// of a split text) builds one chain per pass, each named from the
+// pass's index; a sequence runs the global first, then the repeat.
+constexpr const char* kRepeatGraph = R"({"buildGraph": {"format": 1, "rig": {"name": "chains", "version": "1.0"},
+  "nodes": [{"id": "start", "kind": "start"},
+    {"id": "parts", "kind": "flow:rigel.sequence"},
+    {"id": "global", "kind": "component:global", "component": {"type": "global", "name": "global", "side": "C",
+      "version": "1.0", "guides": [{"name": "main"}]}},
+    {"id": "names", "kind": "function:rigel.splitText", "values": {"text": "a;b;c", "separator": ";"}},
+    {"id": "each", "kind": "forEach:string"},
+    {"id": "again", "kind": "flow:rigel.repeat", "values": {"count": 2}},
+    {"id": "number", "kind": "function:rigel.intText", "values": {"digits": 2}},
+    {"id": "name", "kind": "function:rigel.joinText", "values": {"separator": "_"}},
+    {"id": "chain", "kind": "component:fkChain", "component": {"type": "fkChain", "name": "chain", "side": "L",
+      "version": "1.0", "guides": [{"joint": "upper_arm.L"}, {"joint": "forearm.L"}]}}],
+  "links": [{"from": "start.then", "to": "parts.exec"}, {"from": "parts.first", "to": "global.exec"},
+    {"from": "parts.second", "to": "each.exec"}, {"from": "names.items", "to": "each.list"},
+    {"from": "each.body", "to": "again.exec"}, {"from": "again.body", "to": "chain.exec"},
+    {"from": "again.index", "to": "number.value"}, {"from": "each.element", "to": "name.a"},
+    {"from": "number.text", "to": "name.b"}, {"from": "name.text", "to": "chain.name"},
+    {"from": "global.component", "to": "chain.parent"}]}})";
+
+TEST(CliGraph, the_shipped_node_kinds_and_list_functions_run_from_the_binary) {
+  TempDir dir;
+  const fs::path graph = dir.path() / "chains.build.json";
+  write(graph, kRepeatGraph);
+  const CliRun validate = rigel({"graph", "validate", graph.string(), "--json"});
+  ASSERT_TRUE(exited_with(validate, 0)) << validate;
+  const fs::path out = dir.path() / "chains.rigel";
+  const std::string character = (fs::path(RIGEL_SOURCE_DIR) / "tests/data/gltf/rigify_human_metarig.glb").string();
+  const CliRun run = rigel({"graph", "run", graph.string(), "--character", character, "-o", out.string(), "--json"});
+  ASSERT_TRUE(exited_with(run, 0)) << run;
+  std::vector<std::string> made;
+  const Json report = Json::parse(run.out);
+  for (const Json& c : report["components"]) made.push_back(c["name"].get<std::string>());
+  std::sort(made.begin(), made.end());
+  EXPECT_EQ(made, (std::vector<std::string>{"a_00", "a_01", "b_00", "b_01", "c_00", "c_01", "global"})) << run;
+  // A count the repeat refuses is reported at its node; nothing is written.
+  write(graph, replaced(kRepeatGraph, R"("count": 2)", R"("count": -3)"));
+  const CliRun refused =
+      rigel({"graph", "run", graph.string(), "--character", character, "-o", (dir.path() / "x.rigel").string()});
+  EXPECT_TRUE(exited_with(refused, 1)) << refused;
+  EXPECT_TRUE(contains(refused.err, "node 'again'") && contains(refused.err, "count: -3")) << refused;
+  EXPECT_FALSE(fs::exists(dir.path() / "x.rigel"));
+}
+
 }  // namespace
 }  // namespace rigel::cli

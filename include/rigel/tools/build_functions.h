@@ -8,8 +8,16 @@
 //   rigel.addSpace             a control of a component gets a space that follows another component's hook
 //   rigel.joinText             (pure) two texts joined with a separator
 //   rigel.intText              (pure) an int as text, zero-padded
+//   rigel.range                (pure) count ints from start by step
+//   rigel.splitText            (pure) a text split at a separator
 //
-// Registered once per process into rig::build_functions(); the drivers
+// and the flow kinds (node kinds that steer the exec chain):
+//
+//   rigel.sequence             runs first, second and third in turn
+//   rigel.repeat               runs its body count times (index 0..count-1), then completed
+//
+// Registered once per process into rig::build_functions() and
+// rig::flow_kinds(); the drivers
 // (CLI, server, Python) register them at start, before reading any graph.
 
 #include "rigel/base/status.h"
@@ -19,7 +27,10 @@ namespace rigel::tools {
 
 // Adds the functions to `registry` (kAlreadyExists when one is there).
 Status add_build_functions(rig::FunctionRegistry& registry);
-// add_build_functions(rig::build_functions()), once per process.
+// Adds the flow kinds to `registry` (kAlreadyExists when one is there).
+Status add_flow_kinds(rig::FlowKindRegistry& registry);
+// add_build_functions(rig::build_functions()) and
+// add_flow_kinds(rig::flow_kinds()), once per process.
 void register_build_functions();
 
 }  // namespace rigel::tools
