@@ -53,6 +53,24 @@ rig::ParamValue value_from_python(py::handle v, const std::string& type, const s
   raise(ErrorCode::kInvalidArgument, where + ": " + std::string(py::str(py::repr(v))) + " is not a " + type);
 }
 
+// A Python list (or tuple) as the items of list type `type`.
+rig::ValueList list_from_python(py::handle v, const std::string& type, const std::string& where) {
+  if (!py::isinstance<py::list>(v) && !py::isinstance<py::tuple>(v))
+    raise(ErrorCode::kInvalidArgument, where + ": " + std::string(py::str(py::repr(v))) + " is not a " + type + " (a list)");
+  const std::string element = rig::list_element(type);
+  rig::ValueList items;
+  std::size_t i = 0;
+  for (py::handle item : py::reinterpret_borrow<py::sequence>(v))
+    items.push_back(value_from_python(item, element, where + "[" + std::to_string(i++) + "]"));
+  return items;
+}
+
+// Sets output `o` of `call` from a Python value.
+void set_output_from_python(rig::FunctionCall& call, const rig::SocketSpec& o, py::handle v, const std::string& where) {
+  if (!rig::list_element(o.type).empty()) call.set_list_output(o.name, list_from_python(v, o.type, where));
+  else call.set_output(o.name, value_from_python(v, o.type, where));
+}
+
 // [(name, type), ...] or {name: type} as sockets.
 std::vector<rig::SocketSpec> sockets_from_python(py::handle h, const std::string& where) {
   std::vector<rig::SocketSpec> out;
@@ -94,6 +112,11 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
         else
           kwargs[py::str(name)] = param_to_python(value);
       }
+      for (const auto& [name, items] : call.lists()) {
+        py::list list;
+        for (const rig::ParamValue& v : items) list.append(param_to_python(v));
+        kwargs[py::str(name)] = list;
+      }
       for (const auto& [name, meta] : call.components()) kwargs[py::str(name)] = node_ref(ref->scene, meta);
       // A component's controls, joints or hooks: a list of nodes.
       for (const auto& [name, ids] : call.node_lists()) {
@@ -117,14 +140,14 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
           for (const rig::SocketSpec& s : outputs)
             if (s.name == name) o = &s;
           if (!o) return error(ErrorCode::kInvalidArgument, who + ": returned '" + name + "', which is not one of its outputs");
-          call.set_output(name, value_from_python(value, o->type, who + ": output '" + name + "'"));
+          set_output_from_python(call, *o, value, who + ": output '" + name + "'");
         }
         return Status::ok();
       }
       if (outputs.size() != 1)
         return error(ErrorCode::kInvalidArgument, who + ": return a dict {output: value} (it has " +
                                                       std::to_string(outputs.size()) + " outputs)");
-      call.set_output(outputs[0].name, value_from_python(result, outputs[0].type, who + ": its return value"));
+      set_output_from_python(call, outputs[0], result, who + ": its return value");
       return Status::ok();
     } catch (py::error_already_set& e) {
       ref->call = nullptr;
@@ -141,6 +164,88 @@ std::function<Status(rig::FunctionCall&)> python_body(py::function fn, std::stri
 std::vector<std::string>& python_ids() {
   static std::vector<std::string> ids;
   return ids;
+}
+// The same for flow kinds.
+std::vector<std::string>& python_flow_ids() {
+  static std::vector<std::string> ids;
+  return ids;
+}
+
+// What a Python flow kind's body sees: go(exit, **outputs). Valid while it runs.
+struct FlowCallRef {
+  rig::FlowCall* call = nullptr;
+  std::vector<rig::SocketSpec> outputs;
+  std::string who;
+  rig::FlowCall& get() const {
+    if (!call) raise(ErrorCode::kFailedPrecondition, "this FlowCall has ended: use it only while the node kind runs");
+    return *call;
+  }
+  void go(const std::string& exit, const py::kwargs& values) const {
+    rig::FunctionValues out;
+    for (auto [key, value] : values) {
+      const std::string name = py::str(key);
+      const auto o = std::find_if(outputs.begin(), outputs.end(), [&](const rig::SocketSpec& s) { return s.name == name; });
+      if (o == outputs.end()) raise(ErrorCode::kInvalidArgument, who + ": go() got '" + name + "', which is not one of its outputs");
+      const std::string where = who + ": output '" + name + "'";
+      if (!rig::list_element(o->type).empty()) out.lists[name] = list_from_python(value, o->type, where);
+      else out.values[name] = value_from_python(value, o->type, where);
+    }
+    get().go(exit, std::move(out));
+  }
+};
+
+// The body of a Python flow kind: fn(call, **inputs) calls call.go(exit,
+// **outputs) per pass (or returns an exit's name: go through it).
+std::function<Status(rig::FlowCall&)> python_flow_body(py::function fn, const rig::FlowKind& kind) {
+  auto held = std::shared_ptr<py::function>(new py::function(std::move(fn)), [](py::function* f) {
+    py::gil_scoped_acquire gil;
+    delete f;
+  });
+  const std::string who = "python node kind " + kind.id + (kind.origin.empty() ? "" : " (" + kind.origin + ")");
+  return [held, who, outputs = kind.outputs](rig::FlowCall& call) -> Status {
+    py::gil_scoped_acquire gil;
+    auto ref = std::make_shared<FlowCallRef>();
+    ref->call = &call;
+    ref->outputs = outputs;
+    ref->who = who;
+    try {
+      py::dict kwargs;
+      for (const auto& [name, value] : call.inputs().values) kwargs[py::str(name)] = param_to_python(value);
+      for (const auto& [name, items] : call.inputs().lists) {
+        py::list list;
+        for (const rig::ParamValue& v : items) list.append(param_to_python(v));
+        kwargs[py::str(name)] = list;
+      }
+      py::object result = (*held)(py::cast(ref), **kwargs);
+      if (py::isinstance<py::str>(result)) ref->go(result.cast<std::string>(), py::kwargs());
+      else if (!result.is_none())
+        raise(ErrorCode::kInvalidArgument, who + ": return None (after call.go(...)) or an exit's name");
+      ref->call = nullptr;
+      return Status::ok();
+    } catch (py::error_already_set& e) {
+      ref->call = nullptr;
+      return error(ErrorCode::kFailedPrecondition, who + " raised " + e.what());
+    } catch (const StatusError& e) {
+      ref->call = nullptr;
+      return e.status().with_context(who);
+    }
+  };
+}
+
+// A plugin's defaults {name: value} as Params of its value inputs.
+std::vector<rig::Param> defaults_from_python(py::object defaults, const std::vector<rig::SocketSpec>& inputs,
+                                             const std::string& who) {
+  std::vector<rig::Param> out;
+  if (defaults.is_none()) return out;
+  for (auto [key, value] : defaults.cast<py::dict>()) {
+    const std::string name = py::str(key);
+    const rig::SocketSpec* in = nullptr;
+    for (const rig::SocketSpec& s : inputs)
+      if (s.name == name) in = &s;
+    if (!in) raise(ErrorCode::kInvalidArgument, who + ": default for '" + name + "', which is not an input");
+    out.push_back(rig::Param{name, value_from_python(value, in->type, "default '" + name + "'"), {}});
+  }
+  return out;
 }
 
 py::dict function_record(const rig::BuildFunction& f) {
@@ -164,12 +269,68 @@ py::list diagnostics(const std::vector<rig::Diagnostic>& list) {
   return out;
 }
 
+// Node kinds written in Python (flow kinds).
+void wrap_node_kinds(py::module_& m) {
+  py::class_<FlowCallRef, std::shared_ptr<FlowCallRef>>(
+      m, "FlowCall", "What a node kind written in Python sees while it runs: go(exit, **outputs) per pass.")
+      .def("go", &FlowCallRef::go, py::arg("exit"),
+           "Goes on through exit `exit` (an exec output), its data outputs given as keywords (unset: the type's zero).");
+  m.def(
+      "register_node_kind",
+      [](py::function fn, const std::string& id, py::object inputs, py::object outputs, std::vector<std::string> exits,
+         std::vector<std::string> repeats, const std::string& nice_name, const std::string& category,
+         const std::string& help, py::object defaults, const std::string& origin) {
+        rig::FlowKind k;
+        k.id = id;
+        k.nice_name = nice_name;
+        k.category = category;
+        k.help = help;
+        k.origin = origin;
+        k.inputs = sockets_from_python(inputs, "register_node_kind '" + id + "': inputs");
+        k.outputs = sockets_from_python(outputs, "register_node_kind '" + id + "': outputs");
+        k.exits = std::move(exits);
+        k.repeats = std::move(repeats);
+        k.defaults = defaults_from_python(defaults, k.inputs, "register_node_kind '" + id + "'");
+        k.run = python_flow_body(std::move(fn), k);
+        if (Status s = rig::flow_kinds().add(std::move(k)); !s) raise(s);
+        python_flow_ids().push_back(id);
+      },
+      py::arg("fn"), py::arg("id"), py::arg("inputs") = py::none(), py::arg("outputs") = py::none(),
+      py::arg("exits") = std::vector<std::string>{"then"}, py::arg("repeats") = std::vector<std::string>{},
+      py::arg("nice_name") = "", py::arg("category") = "", py::arg("help") = "", py::arg("defaults") = py::none(),
+      py::arg("origin") = "",
+      "Registers a node kind written in Python (a flow node, kind flow:ID): while the graph compiles, "
+      "fn(call, **inputs) calls call.go(exit, **outputs) for each pass through its exits (exec outputs), in "
+      "order, or returns one exit's name. repeats: the exits it may take many times (each pass keyed as a "
+      "for-each item). Inputs and outputs are values and lists of them. AlreadyExistsError when the id is taken.");
+  m.def(
+      "node_kinds",
+      []() {
+        py::list out;
+        for (const rig::FlowKind& k : rig::flow_kinds().kinds()) {
+          py::dict d;
+          d["id"] = k.id;
+          d["nice_name"] = k.nice_name;
+          d["category"] = k.category;
+          d["origin"] = k.origin;
+          d["exits"] = k.exits;
+          d["repeats"] = k.repeats;
+          out.append(d);
+        }
+        return out;
+      },
+      "Every registered node kind (flow kind): id, nice_name, category, origin, exits, repeats.");
+}
+
 }  // namespace
 
 void wrap_build_graph(py::module_& m) {
+  wrap_node_kinds(m);
   py::module_::import("atexit").attr("register")(py::cpp_function([] {
     for (const std::string& id : python_ids()) rig::build_functions().remove(id);
     python_ids().clear();
+    for (const std::string& id : python_flow_ids()) rig::flow_kinds().remove(id);
+    python_flow_ids().clear();
   }));
   py::class_<CallRef, std::shared_ptr<CallRef>>(m, "FunctionCall",
                                                 "What a build function written in Python sees while it runs: the "
@@ -208,15 +369,7 @@ void wrap_build_graph(py::module_& m) {
         f.origin = origin;
         f.inputs = sockets_from_python(inputs, "register_function '" + id + "': inputs");
         f.outputs = sockets_from_python(outputs, "register_function '" + id + "': outputs");
-        if (!defaults.is_none())
-          for (auto [key, value] : defaults.cast<py::dict>()) {
-            const std::string name = py::str(key);
-            const rig::SocketSpec* in = nullptr;
-            for (const rig::SocketSpec& s : f.inputs)
-              if (s.name == name) in = &s;
-            if (!in) raise(ErrorCode::kInvalidArgument, "register_function '" + id + "': default for '" + name + "', which is not an input");
-            f.defaults.push_back(rig::Param{name, value_from_python(value, in->type, "default '" + name + "'"), {}});
-          }
+        f.defaults = defaults_from_python(defaults, f.inputs, "register_function '" + id + "'");
         f.run = python_body(std::move(fn), id, origin, f.inputs, f.outputs);
         if (Status s = rig::build_functions().add(std::move(f)); !s) raise(s);
         python_ids().push_back(id);
@@ -226,7 +379,8 @@ void wrap_build_graph(py::module_& m) {
       py::arg("origin") = "", py::arg("pure") = false,
       "Registers a build function written in Python: fn(call, **inputs) returns None, the value of its one "
       "output or {output: value}. inputs and outputs are [(name, type)] or {name: type} (bool, int, number, "
-      "string, vector; inputs also component, which arrives as the component's meta node, and list:control, "
+      "string, vector, a list of one: list:int, ... as a Python list; inputs also component, which arrives as the "
+      "component's meta node, and list:control, "
       "list:joint or list:node, which arrive as the linked component's controls, joints or hooks). pure: it "
       "maps values to values and runs while the graph compiles (a value node without exec sockets; its call "
       "has no scene). "
@@ -236,10 +390,12 @@ void wrap_build_graph(py::module_& m) {
       "unregister_functions",
       [](const std::string& origin) {
         rig::unregister_data_types(origin);
+        rig::flow_kinds().remove_origin(origin);
         return rig::build_functions().remove_origin(origin);
       },
       py::arg("origin"),
-      "Removes every build function and data type registered from `origin` (a plugin's file); how many functions.");
+      "Removes every build function, node kind and data type registered from `origin` (a plugin's file); how "
+      "many functions.");
   m.def(
       "register_data_type",
       [](const std::string& name, const std::string& color, const std::string& help, const std::string& origin) {

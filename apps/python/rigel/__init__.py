@@ -22,8 +22,10 @@ from .plugins import (  # noqa: F401
     load_plugin,
     load_plugins,
     load_root_plugins,
+    node_kind,
     register_data_type,
     register_function,
+    register_node_kind,
 )
 from .serving import serve  # noqa: F401
 

@@ -1,10 +1,11 @@
 """Build-graph plugins (docs/BUILD_GRAPH.md): Python files that register
-build functions, loaded from a folder (a project's or an asset's
+build functions, node kinds and data types, loaded from a folder (a project's or an asset's
 ``plugins/``), as Luna loads its rig-node plugins (seed 004 §4.11.2).
 
 A plugin is a ``.py`` file whose ``register_plugin()`` registers
-functions with ``rigel.register_function`` (and data types with
-``rigel.register_data_type``); while it runs, what it registers is marked
+functions with ``rigel.register_function``, node kinds with
+``rigel.register_node_kind`` and data types with
+``rigel.register_data_type``; while it runs, what it registers is marked
 with the file as its origin (so a second
 registration of an id names both files). A plugin that raises, or whose
 id is taken, is refused with its file named: ``PluginError``, and nothing
@@ -48,6 +49,35 @@ def register_data_type(name, color, help="", origin=None):
     _rigel.register_data_type(name, color, help, origin)
 
 
+def register_node_kind(fn, id, inputs=None, outputs=None, exits=("then",), repeats=(), nice_name="", category="",
+                       help="", defaults=None, origin=None):
+    """Registers a node kind written in Python (see _rigel.register_node_kind):
+    a flow node that, while the graph compiles, goes on through its exits
+    (``call.go(exit, **outputs)`` per pass, in order); inside a plugin its
+    origin is the plugin's file."""
+    if origin is None:
+        origin = _loading[-1] if _loading else ""
+    _rigel.register_node_kind(fn, id, inputs, outputs, list(exits), list(repeats), nice_name, category, help, defaults,
+                              origin)
+
+
+def node_kind(id, inputs=None, outputs=None, exits=("then",), repeats=(), nice_name="", category="", help="",
+              defaults=None):
+    """Decorator form of register_node_kind."""
+
+    def wrap(fn):
+        register_node_kind(fn, id, inputs, outputs, exits, repeats, nice_name or fn.__name__, category,
+                           help or (fn.__doc__ or ""), defaults)
+        return fn
+
+    return wrap
+
+
+def _ids_of(origin):
+    return {f["id"] for f in _rigel.build_functions() if f["origin"] == origin} | {
+        k["id"] for k in _rigel.node_kinds() if k["origin"] == origin}
+
+
 def function(id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None, pure=False):
     """Decorator form of register_function."""
 
@@ -60,9 +90,8 @@ def function(id, inputs=None, outputs=None, nice_name="", category="", help="", 
 
 
 def load_plugin(path):
-    """Loads one plugin file; returns the ids it registered."""
+    """Loads one plugin file; returns the ids of the functions and node kinds it registered."""
     path = os.path.abspath(path)
-    before = {f["id"] for f in _rigel.build_functions()}
     # A plugin loaded again replaces what it registered before.
     _rigel.unregister_functions(path)
     name = "rigel_plugin_" + os.path.splitext(os.path.basename(path))[0]
@@ -85,7 +114,7 @@ def load_plugin(path):
         raise PluginError(path, f"{type(e).__name__}: {e}") from e
     finally:
         _loading.pop()
-    return sorted({f["id"] for f in _rigel.build_functions() if f["origin"] == path} - (before - set()))
+    return sorted(_ids_of(path))
 
 
 def load_plugins(folder):
