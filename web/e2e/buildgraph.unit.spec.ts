@@ -46,6 +46,16 @@ const kPalette: GraphPaletteAnswer = {
       inputs: [exec, sock('component', 'component'), sock('color', 'vector', { default: [1, 1, 0] })],
       outputs: [then, sock('count', 'int')],
     },
+    {
+      id: 'function:rigel.joinText', niceName: 'Join text', category: 'Values', help: '',
+      inputs: [sock('a', 'string'), sock('b', 'string'), sock('separator', 'string')],
+      outputs: [sock('text', 'string')],
+    },
+    {
+      id: 'flow:rigel.repeat', niceName: 'Repeat', category: 'Flow', help: '',
+      inputs: [exec, sock('count', 'int', { default: 2 })],
+      outputs: [sock('body', 'exec'), sock('completed', 'exec'), sock('index', 'int')],
+    },
   ],
 };
 
@@ -147,9 +157,18 @@ test('links: exec to exec, values of one type (an int into a number), $variable 
   link(m, `${get.id}.value`, 'limb.side');
   expect(refused(`${get.id}.value`, 'limb.stretch')).toContain('a string output cannot feed a bool input');
 
-  // A function's output is made while building: no component input reads it.
+  // A build function's output is made while building: no component or flow input reads it; a pure function's is
+  // made while compiling, so a component's name may read it.
   const f = m.addNode('function:rigel.setControlColor')!;
-  expect(refused(`${f.id}.count`, 'limb.maxStretch')).toContain("cannot feed a component's input");
+  expect(refused(`${f.id}.count`, 'limb.maxStretch')).toContain('only a function node that runs in the build');
+  const repeat = m.addNode('flow:rigel.repeat')!;
+  expect(refused(`${f.id}.count`, `${repeat.id}.count`)).toContain('not flow:rigel.repeat');
+  const join = m.addNode('function:rigel.joinText')!;
+  expect(refused(`${f.id}.count`, `${join.id}.a`)).toContain('a int output cannot feed a string input');
+  link(m, `${join.id}.text`, 'limb.name');
+  // A flow node's exits are exec outputs: each runs one node.
+  link(m, `${repeat.id}.body`, 'limb.exec');
+  expect(refused(`${repeat.id}.index`, 'limb.name')).toContain('a int output cannot feed a string input');
 });
 
 test('an input takes one link, an exec output one; removing a node or a link', () => {

@@ -365,11 +365,16 @@ export class BuildGraphModel {
       return ft === 'exec' ? `an exec output runs a node: it cannot feed a ${tt} input` : `a ${ft} output cannot feed an exec input`;
     }
     if (!canLink(ft, tt)) return `a ${ft} output cannot feed a ${tt} input`;
-    if (ft !== 'exec' && a.kind.startsWith('function:') && (b.kind.startsWith('component:') || b.kind === 'branch')) {
-      return `a function's output is made while building: it cannot feed ${b.kind === 'branch' ? "a branch's condition" : "a component's input"}`;
+    if (ft !== 'exec' && this.runsInBuild(a) && !this.runsInBuild(b) && b.kind !== 'variable:set') {
+      return `a function's output is made while building: only a function node that runs in the build (or a Set) takes it, not ${b.kind}`;
     }
     const cycle = this.cycle(from, to, ft === 'exec');
     return cycle ? `cycle: ${cycle.join(' → ')}` : null;
+  }
+
+  /** Whether `n` is a function node that runs as a build step (not a pure one, which runs while compiling). */
+  private runsInBuild(n: GraphNode): boolean {
+    return n.kind.startsWith('function:') && (this.kindOf(n)?.inputs.some((s) => s.type === 'exec') ?? true);
   }
 
   /**
