@@ -123,7 +123,11 @@ void Compiler::check_nodes() {
     const NodeKind* kind = n.kind.rfind("graph:", 0) == 0 ? subgraph_kind(i) : run_.kinds.find(n.kind);
     if (!kind && n.kind.rfind("graph:", 0) == 0) continue;  // reported
     if (!kind) {
-      fail(i, "unknown node kind '" + n.kind + "'");
+      const bool plugin = n.kind.rfind("function:", 0) == 0 || n.kind.rfind("flow:", 0) == 0;
+      fail(i, "unknown node kind '" + n.kind + "'" +
+                  (plugin ? " (is the plugin that registers it loaded? Python plugins load in `python3 -m rigel graph` "
+                            "and rigel.serve, not in the rigel binary)"
+                          : ""));
       continue;
     }
     kind_of_[i] = kind;
