@@ -147,3 +147,26 @@ def test_python_functions_take_and_give_lists(tmp_path):
         assert len([n for n in fk_controls(ws.scene) if "_arm_R_" in n]) == 3
     finally:
         rigel.unregister_functions(origin)
+
+
+def test_rigel_buildgraph_is_the_plugin_api_in_one_place(tmp_path):
+    from rigel import buildgraph
+
+    @buildgraph.node_kind("test.twice", outputs=[("index", "int")], exits=["body"], repeats=["body"])
+    def twice(call):
+        call.go("body", index=0)
+        call.go("body", index=1)
+
+    @buildgraph.function("test.half", inputs=[("x", "number")], outputs=[("y", "number")], pure=True)
+    def half(call, x):
+        return x / 2
+
+    try:
+        assert {"test.twice"} <= {k["id"] for k in buildgraph.node_kinds()}
+        assert {"test.half"} <= {f["id"] for f in buildgraph.build_functions()}
+        kinds = {k["id"] for k in buildgraph.palette()["kinds"]}
+        assert {"flow:test.twice", "function:test.half", "flow:rigel.repeat", "function:rigel.range"} <= kinds
+    finally:
+        buildgraph.unregister("")
+    assert "test.twice" not in {k["id"] for k in buildgraph.node_kinds()}
+    assert "test.half" not in {f["id"] for f in buildgraph.build_functions()}
