@@ -17,6 +17,7 @@
 #include "settings_command.h"
 #include "space_command.h"
 #include "cli_util.h"
+#include "check_command.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
 #include "key_commands.h"
@@ -63,6 +64,9 @@ int main(int argc, char** argv) {
   // `poses save|apply|list|remove`: the pose library.
   rigel::cli::PosesCommand poses;
   rigel::cli::add_poses_command(app, poses);
+  // `check [record]`: rig regression tests.
+  rigel::cli::CheckCommand check;
+  rigel::cli::add_check_command(app, check);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -124,6 +128,7 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = rigel::cli::run_settings_commands(settings)) return *code;
     if (const std::optional<int> code = rigel::cli::run_rigging_commands(rigging)) return *code;
     if (const std::optional<int> code = rigel::cli::run_poses_command(poses)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_check_command(check)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;
