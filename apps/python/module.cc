@@ -133,4 +133,5 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_session(m);
   wrap_workspace(m);
   wrap_pipeline(m);
+  wrap_rig_tests(m);
 }
