@@ -215,18 +215,9 @@ std::string rig_tests_to_json(const RigTests& t) {
 }
 
 Result<RigTests> rig_tests_from_json(std::string_view text, const std::string& source) {
-  if (const std::size_t deep = io::json_too_deep(text, kMaxDepth); deep != std::string_view::npos)
-    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, deep) + ": nested too deeply for rig tests")
-        .with_field("tests");
-  Json doc;
-  try {
-    doc = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    std::string what = e.what();
-    if (const std::size_t colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
-    return Status(ErrorCode::kParseError, source + ":" + io::line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + what)
-        .with_field("tests");
-  }
+  auto parsed = io::parse_json(text, source, kMaxDepth);
+  if (!parsed) return Status(parsed.status()).with_field("tests");
+  const Json& doc = *parsed;
   const Reader r{source};
   if (!doc.is_object()) return r.bad("the document", "expected an object");
   if (doc.value("format", std::string()) != kFormat) return r.bad("format", std::string("expected \"") + kFormat + "\"");

@@ -22,12 +22,6 @@ namespace {
 
 using namespace testing;
 
-ValueList texts(std::initializer_list<const char*> items) {
-  ValueList out;
-  for (const char* item : items) out.emplace_back(std::string(item));
-  return out;
-}
-
 // Test kinds and functions, registered once per process (origin "flow tests").
 void register_flow_tests() {
   static const bool registered = [] {

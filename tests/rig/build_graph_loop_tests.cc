@@ -19,14 +19,6 @@ namespace {
 
 using namespace testing;
 
-// A list of texts (built item by item: GCC 12 warns of a variant in an
-// initializer list it cannot see initialised).
-ValueList texts(std::initializer_list<const char*> items) {
-  ValueList out;
-  for (const char* item : items) out.emplace_back(std::string(item));
-  return out;
-}
-
 // start -> global -> for each side in ["L", "R"]: an arm (fkChain) drawn
 // on the left joints, given the item's side (the right one is built
 // mirrored, on the right joints).

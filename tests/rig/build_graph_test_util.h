@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -83,6 +84,14 @@ inline std::vector<Component> two_arms(const BuildGraphCompile& c) {
                    arms[0].rig_id != arms[1].rig_id;
   EXPECT_TRUE(two) << write_definition(c.definition, Syntax::kJson);
   return two ? arms : std::vector<Component>{};
+}
+
+// A list of texts (built item by item: GCC 12 warns of a variant in an
+// initializer list it cannot see initialised).
+inline ValueList texts(std::initializer_list<const char*> items) {
+  ValueList out;
+  for (const char* item : items) out.emplace_back(std::string(item));
+  return out;
 }
 
 // The global component, with a fixed rigId.
