@@ -51,6 +51,15 @@ TEST(CliCheck, every_example_rig_holds_its_recorded_poses) {
   EXPECT_GE(checked, 2);
 }
 
+TEST(CliCheck, the_biped_converted_to_a_build_graph_holds_the_definitions_poses) {
+  TempDir dir;
+  const fs::path graph = dir.path() / "biped.build.json";
+  ASSERT_TRUE(exited_with(rigel({"graph", "convert", (kExamples / "biped.rig.xml").string(), "-o", graph.string()}), 0));
+  const CliRun run = rigel({"check", graph.string(), "--tests", (kExamples / "biped.rigtest.json").string(), "--json"});
+  ASSERT_TRUE(exited_with(run, 0)) << run;
+  EXPECT_LT(Json::parse(run.out)["maxError"].get<double>(), 1e-9) << run;
+}
+
 TEST(CliCheck, a_changed_parameter_fails_naming_the_poses_and_joints) {
   TempDir dir;
   // The biped with its eyes' aim distance changed, checked against the
