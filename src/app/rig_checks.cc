@@ -24,9 +24,7 @@ Result<graph::NodeId> rig_in(const scene::Scene& scene, const std::string& name,
     if (!r.is_valid()) return Status(ErrorCode::kInvalidArgument, file.string() + ": no rig named '" + name + "'").with_field("rig");
     return r;
   }
-  std::vector<graph::NodeId> roots;
-  for (graph::NodeId id : g.nodes())
-    if (g.node(id)->type().name() == rig::kMetaRootType) roots.push_back(id);
+  const std::vector<graph::NodeId> roots = rig::list_rigs(g);
   if (roots.size() == 1) return roots.front();
   return Status(ErrorCode::kInvalidArgument,
                 file.string() + (roots.empty() ? ": the scene has no rig" : ": the scene has several rigs: name one"))
