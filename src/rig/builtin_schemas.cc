@@ -212,6 +212,69 @@ std::vector<ComponentSchema> make_schemas() {
   }
   {
     ComponentSchema c;
+    c.type = "control";
+    c.help = "A plain control (mGear's control_01): one control at its guide, driving the guide's joint when it names "
+             "one; children hang from it.";
+    c.guides = {1, 1, {"main"}, "Where the control sits: a joint it drives, or values."};
+    c.controls = {{"main", "circle", "yellow", 0.3, "The control."}};
+    c.hooks = {"main"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "meta";
+    c.help = "A grouping component with no controls: a group at each guide, following the attach point, published "
+             "as the hooks children hang from (mGear's meta_01 locators).";
+    c.guides = {1, -1, {}, "Where the groups sit: joints (their places only; nothing is driven) or values."};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "mouth";
+    c.help = "Jaw and lips: a jaw control turning the jaw joint; upper and lower lip controls that follow the jaw by "
+             "fractions, and lip corners halfway between.";
+    c.params = {p_double("upperLipFollow", 0.1, 0.0, 1.0, "How much of the jaw's motion the upper lip takes."),
+                p_double("lowerLipFollow", 1.0, 0.0, 1.0, "How much of the jaw's motion the lower lip takes."),
+                p_double("cornerFollow", 0.5, 0.0, 1.0, "How much of the jaw's motion the lip corners take.")};
+    c.guides = {3, 5, {},
+                "The jaw joint (its pivot), the upper and lower lip joints, and optionally the two lip corners: "
+                "joints, in that order."};
+    c.controls = {{"jaw", "square", "yellow", 0.1, "Turns the jaw joint about its pivot."},
+                  {"lip", "circle", "lightBlue", 0.02,
+                   "One per lip joint (upper, lower, corners), each under a group following the jaw by its "
+                   "fraction."}};
+    c.hooks = {"jaw", "upperLip", "lowerLip"};
+    c.fixed_guides = 1;  // the jaw control turns the jaw joint about its own pivot
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "piston";
+    c.help = "A piston: two joints that keep pointing at each other, each following a control.";
+    c.guides = {2, 2, {"start", "end"}, "The two joints (the cylinder's and the rod's)."};
+    c.controls = {{"start", "cube", "yellow", 0.08, "Moves the start joint; the start aims at the end control."},
+                  {"end", "cube", "yellow", 0.08, "Moves the end joint; the end aims at the start control."}};
+    c.hooks = {"start", "end"};
+    c.fixed_guides = -1;  // the controls stand at the joints
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "squash";
+    c.help = "Squash and stretch: a joint that aims at an end control and stretches to reach it, keeping its volume.";
+    c.params = {p_enum("axis", "y", {"x", "y", "z"}, "The joint's axis it stretches along (glTF from Blender: y)."),
+                p_double("volume", 1.0, 0.0, 1.0,
+                         "How much the other two axes shrink as it stretches: 1 keeps the volume, 0 only stretches.")};
+    c.guides = {2, 2, {"start", "end"}, "The joint that squashes, and its end (a joint or values)."};
+    c.controls = {{"start", "circle", "yellow", 0.1, "Moves and turns the whole squash."},
+                  {"end", "cube", "yellow", 0.06, "The end: the joint aims at it and stretches to reach it."}};
+    c.hooks = {"start", "end"};
+    c.fixed_guides = 1;  // the start control stands at the joint
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
     c.type = "ephemeral";
     c.help = "Ephemeral rigging (seeds 000, 001): one control per joint below the guide joint, with relations.";
     c.params = {p_enum("keyScope", "character", {"character", "controls"},

@@ -42,6 +42,25 @@ inline Guide at_joint(std::string joint) {
   return g;
 }
 
+// A component of `type` with a fresh rigId, on the centre side.
+inline Component make_component(std::string type, std::string name, std::vector<Guide> guides,
+                                std::vector<Param> params = {}) {
+  Component c;
+  c.type = std::move(type);
+  c.name = std::move(name);
+  c.rig_id = new_rig_id();
+  c.guides = std::move(guides);
+  c.params = std::move(params);
+  return c;
+}
+
+inline Param make_param(std::string name, ParamValue value) {
+  Param p;
+  p.name = std::move(name);
+  p.value = std::move(value);
+  return p;
+}
+
 // Every joint's world matrix, by name.
 inline std::map<std::string, math::Mat4> joint_worlds(scene::Scene& s) {
   std::map<std::string, math::Mat4> out;

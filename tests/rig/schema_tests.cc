@@ -7,8 +7,9 @@ namespace rigel::rig {
 namespace {
 
 TEST(RigSchema, every_shipped_component_type_is_registered) {
-  const std::vector<std::string> expected = {"call",    "ephemeral", "eye",  "fkChain", "foot",  "global", "hand", "hip",
-                                             "ikChain", "limb",      "neck", "simple",  "spine", "tail",   "twist"};
+  const std::vector<std::string> expected = {"call", "control", "ephemeral", "eye",    "fkChain", "foot",   "global",
+                                             "hand", "hip",     "ikChain",   "limb",   "meta",    "mouth",  "neck",
+                                             "piston", "simple", "spine",    "squash", "tail",    "twist"};
   EXPECT_EQ(builtin_schemas().types(), expected);
 }
 

@@ -1,5 +1,6 @@
 #include "rigel/ops/util/nodes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -56,6 +57,22 @@ void compute_pose_reader(graph::ComputeContext& c) {
   c.set(pr::kRotate, math::Vec3(math::quat_to_euler(delta, math::RotateOrder::kXYZ) * (180.0 / std::numbers::pi)));
 }
 
+void compute_squash_stretch(graph::ComputeContext& c) {
+  namespace sq = squash_attr;
+  const math::Vec3 a = c.get<Mat4>(sq::kStartMatrix).topRightCorner<3, 1>();
+  const math::Vec3 b = c.get<Mat4>(sq::kEndMatrix).topRightCorner<3, 1>();
+  const double rest = c.get<double>(sq::kRestLength);
+  double stretch = rest > 0 && std::isfinite(rest) ? (b - a).norm() / rest : 1.0;
+  if (!std::isfinite(stretch) || stretch <= 0) stretch = 1.0;
+  const double volume = std::clamp(c.get<double>(sq::kVolume), 0.0, 1.0);
+  const double other = std::pow(stretch, -0.5 * volume);
+  const auto axis = std::clamp<std::int64_t>(c.get<std::int64_t>(sq::kAxis), 0, 2);
+  math::Vec3 scale = c.get<math::Vec3>(sq::kRestScale);
+  for (int k = 0; k < 3; ++k) scale[k] *= k == axis ? stretch : other;
+  c.set(sq::kStretch, stretch);
+  c.set(sq::kScale, scale);
+}
+
 }  // namespace
 
 Status register_util_types(graph::Registry& registry) {
@@ -78,6 +95,22 @@ Status register_util_types(graph::Registry& registry) {
                   graph::output_attr("rotate", {ValueType::kDouble3, false}, graph::kAngle)};
   reader.compute = compute_pose_reader;
   if (Status s = registry.add(std::move(reader)); !s) return s;
+  graph::NodeTypeSpec squash;
+  squash.name = kSquashStretchType;
+  squash.description = "Squash and stretch: a scale from the distance between two matrices over a rest length";
+  const std::vector<std::string> outs = {"stretch", "scale"};
+  graph::AttrSpec axis = graph::input_attr("axis", {ValueType::kEnum, false}, std::int64_t{1}, outs);
+  axis.enum_names = {"x", "y", "z"};
+  squash.attrs = {graph::input_attr("startMatrix", kMatrix, Mat4(Mat4::Identity()), outs),
+                  graph::input_attr("endMatrix", kMatrix, Mat4(Mat4::Identity()), outs),
+                  graph::input_attr("restLength", {ValueType::kDouble, false}, 1.0, outs),
+                  axis,
+                  graph::input_attr("volume", {ValueType::kDouble, false}, 1.0, outs),
+                  graph::input_attr("restScale", {ValueType::kDouble3, false}, math::Vec3(1, 1, 1), outs),
+                  graph::output_attr("stretch", {ValueType::kDouble, false}),
+                  graph::output_attr("scale", {ValueType::kDouble3, false})};
+  squash.compute = compute_squash_stretch;
+  if (Status s = registry.add(std::move(squash)); !s) return s;
   if (Status s = register_blend_types(registry); !s) return s;
   if (Status s = register_finger_types(registry); !s) return s;
   if (Status s = register_foot_types(registry); !s) return s;

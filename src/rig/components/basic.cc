@@ -1,5 +1,6 @@
 // The simplest component classes: global (the rig's root control), hip
-// (centre of gravity) and fkChain (one FK control per joint).
+// (centre of gravity), control (a plain control), meta (groups, no
+// controls) and fkChain (one FK control per joint).
 #include "rigel/rig/components/basic.h"
 
 #include "rigel/rig/component.h"
@@ -71,11 +72,34 @@ class FkChain : public ComponentClass {
   }
 };
 
+// A group at each guide, hanging from the attach point, each published as
+// the hook of its guide: places for children, no controls, nothing driven.
+class Meta : public ComponentClass {
+ public:
+  std::string_view type() const override { return "meta"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {Step{"groups", "", "", [](BuildContext& ctx) -> Status {
+                   if (ctx.guide_count() < 1)
+                     return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": a meta needs 1 or more guides");
+                   for (int i = 0; i < ctx.guide_count(); ++i) {
+                     Result<math::Mat4> world = ctx.guide_world(i);
+                     if (!world) return world.status();
+                     Result<NodeId> g = ctx.create_group("group", i, *world, ctx.attach_node());
+                     if (!g) return g.status();
+                     if (Status s = ctx.publish_hook(i, *g); !s) return s;
+                   }
+                   return Status::ok();
+                 }}};
+  }
+};
+
 }  // namespace
 
 Status add_basic_components(ComponentFactory& factory) {
   if (Status s = factory.add(std::make_shared<SingleControl>("global", false)); !s) return s;
   if (Status s = factory.add(std::make_shared<SingleControl>("hip", true)); !s) return s;
+  if (Status s = factory.add(std::make_shared<SingleControl>("control", true)); !s) return s;
+  if (Status s = factory.add(std::make_shared<Meta>()); !s) return s;
   return factory.add(std::make_shared<FkChain>());
 }
 

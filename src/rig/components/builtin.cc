@@ -7,7 +7,9 @@
 #include "rigel/rig/components/limbs.h"
 #include "rigel/rig/components/body.h"
 #include "rigel/rig/components/foot.h"
+#include "rigel/rig/components/face.h"
 #include "rigel/rig/components/hand.h"
+#include "rigel/rig/components/mechanical.h"
 
 namespace rigel::rig {
 
@@ -19,6 +21,8 @@ const ComponentFactory& builtin_components() {
     if (s) s = components::add_body_components(f);
     if (s) s = components::add_foot_component(f);
     if (s) s = components::add_hand_component(f);
+    if (s) s = components::add_face_components(f);
+    if (s) s = components::add_mechanical_components(f);
     if (s) s = add_call_component(f);
     if (!s) {
       std::fprintf(stderr, "rigel: built-in component classes: %s\n", s.message().c_str());

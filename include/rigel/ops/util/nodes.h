@@ -25,6 +25,15 @@
 //                  the rotation from rest as Euler XYZ). Connect a joint's
 //                  local matrix and set restMatrix to its rest: the driver
 //                  of corrective shapes and joints (tools/driven_poses.h).
+//
+//   squashStretch  startMatrix, endMatrix (matrix inputs: two world
+//                  matrices), restLength (double), axis (enum x y z),
+//                  volume (double 0..1), restScale (double3) -> stretch
+//                  (d / restLength, d the distance between the matrices'
+//                  positions; 1 when restLength is not positive) and scale
+//                  (double3): restScale with `axis` times stretch and the
+//                  other two times stretch^(-volume / 2), so at volume 1 the
+//                  volume is kept (squash and stretch, the squash component).
 
 #include "rigel/base/status.h"
 #include "rigel/graph/node_type.h"
@@ -33,6 +42,10 @@ namespace rigel::ops::util {
 
 inline constexpr const char* kInverseMatrixType = "inverseMatrix";
 inline constexpr const char* kPoseReaderType = "poseReader";
+inline constexpr const char* kSquashStretchType = "squashStretch";
+namespace squash_attr {
+enum : graph::AttrIndex { kStartMatrix = 0, kEndMatrix, kRestLength, kAxis, kVolume, kRestScale, kStretch, kScale, kCount };
+}
 namespace pose_reader_attr {
 enum : graph::AttrIndex { kMatrix = 0, kRestMatrix, kAxis, kAngle, kRotate, kCount };
 }

@@ -9,7 +9,7 @@ class ComponentFactory;
 
 namespace rigel::rig::components {
 
-// global, hip, fkChain.
+// global, hip, control, meta, fkChain.
 Status add_basic_components(ComponentFactory& factory);
 
 }  // namespace rigel::rig::components

@@ -1,0 +1,30 @@
+#pragma once
+// Component classes of the face (src/rig/components/face.cc).
+//
+// mouth   guides: jaw, upperLip, lowerLip (joints), then optionally the two
+//         lip corners (cornerL, cornerR).
+//         jaw      control at the jaw joint (its pivot), hanging from the
+//                  attach point; drives the jaw joint; hook "jaw".
+//         lipFollow[i]  one group per lip joint (i = its guide index - 1)
+//                  at the joint, hanging from the attach point, held by a
+//                  parentConstraint (role "lipFollowConstraint", offsets kept)
+//                  between the attach point (weight 1 - f) and the jaw
+//                  control (weight f), f = upperLipFollow, lowerLipFollow
+//                  or cornerFollow: the lip takes that share of the jaw's
+//                  motion (positions blend linearly, rotations by the
+//                  normalised quaternion sum).
+//         lip[i]   control at the lip joint under lipFollow[i]; drives it.
+//                  Hooks "upperLip", "lowerLip": the lip controls.
+// The build fails, naming the component, when a guide names no joint.
+#include "rigel/base/status.h"
+
+namespace rigel::rig {
+class ComponentFactory;
+}
+
+namespace rigel::rig::components {
+
+// mouth.
+Status add_face_components(ComponentFactory& factory);
+
+}  // namespace rigel::rig::components
