@@ -18,6 +18,7 @@
 #include "space_command.h"
 #include "cli_util.h"
 #include "check_command.h"
+#include "import_guides_command.h"
 #include "definition_commands.h"
 #include "ephemeral_commands.h"
 #include "key_commands.h"
@@ -67,6 +68,9 @@ int main(int argc, char** argv) {
   // `check [record]`: rig regression tests.
   rigel::cli::CheckCommand check;
   rigel::cli::add_check_command(app, check);
+  // `import-guides`: mGear guide templates as definitions.
+  rigel::cli::ImportGuidesArgs import_guides;
+  rigel::cli::add_import_guides_command(app, import_guides);
   // `ephemeral setup|relations|key|keys|scope|merge|unmerge`.
   rigel::cli::EphemeralCommands ephemeral;
   rigel::cli::add_ephemeral_commands(app, ephemeral);
@@ -129,6 +133,7 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = rigel::cli::run_rigging_commands(rigging)) return *code;
     if (const std::optional<int> code = rigel::cli::run_poses_command(poses)) return *code;
     if (const std::optional<int> code = rigel::cli::run_check_command(check)) return *code;
+    if (const std::optional<int> code = rigel::cli::run_import_guides_command(import_guides)) return *code;
     if (const std::optional<int> code = rigel::cli::run_ephemeral_commands(ephemeral)) return *code;
     if (*pose.command) return rigel::cli::run_pose(pose);
     if (const std::optional<int> code = rigel::cli::run_definition_commands(definition)) return *code;

@@ -171,6 +171,7 @@ void wrap_keys(py::module_& m);       // keys and keying scopes (module function
 void wrap_session(py::module_& m);
 void wrap_workspace(py::module_& m);
 void wrap_rig_tests(py::module_& m);  // rigel.record_rig_tests, rigel.check_rig (rig regression tests)
+void wrap_guides(py::module_& m);     // rigel.import_guides (mGear guide templates)
 void wrap_pipeline(py::module_& m);  // projects, assets, settings, the log level (module functions)
 
 }  // namespace rigel::python

@@ -134,4 +134,5 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_workspace(m);
   wrap_pipeline(m);
   wrap_rig_tests(m);
+  wrap_guides(m);
 }

@@ -40,6 +40,7 @@ Status Exporter::run(const fs::path& out, bool binary) {
   clips_ = std::move(*clips);
   if (Status s = collect_nodes(); !s) return s;
   if (Status s = collect_meshes(); !s) return s;
+  collect_skeleton_skin();
   merge_mesh_nodes();
   if (Status s = rest_pose(); !s) return s;
   analyse_animation();

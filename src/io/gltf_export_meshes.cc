@@ -8,6 +8,7 @@
 #include <map>
 
 #include "rigel/io/gltf_import.h"
+#include "rigel/math/transform.h"
 #include "rigel/ops/deform/nodes.h"
 #include "rigel/ops/deform/skin.h"
 #include "rigel/scene/transform_types.h"
@@ -85,6 +86,19 @@ void Exporter::merge_mesh_nodes() {
     nodes_[m.node].merged_into = o;
     target.owned_mesh = static_cast<int>(k);
   }
+}
+
+void Exporter::collect_skeleton_skin() {
+  if (!options_.skeleton_skin || !skins_.empty()) return;
+  SkinExport skin;
+  skin.name = "skeleton";
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const NodeId id = nodes_[i].id;
+    if (type_of(g_, id) != scene::kJointType) continue;
+    skin.joints.push_back(static_cast<int>(i));
+    skin.inverse_bind.push_back(math::affine_inverse(scene_.world_matrix(id)));
+  }
+  if (!skin.joints.empty()) skins_.push_back(std::move(skin));
 }
 
 bool Exporter::is_skin_joint(NodeId id) const {
@@ -170,6 +184,7 @@ Status Exporter::collect_skin(MeshExport& m) {
   if (m.skin < 0) {
     SkinExport skin;
     skin.cluster = m.cluster;
+    skin.name = c;
     std::size_t count = joint_matrices.size();
     std::map<std::int32_t, NodeId> sources;
     for (const graph::Connection& conn : g_.node(m.cluster)->inputs()) {

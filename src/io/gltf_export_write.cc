@@ -137,12 +137,12 @@ Status Exporter::write(const fs::path& out, bool binary) {
 void Exporter::write_skins(tinygltf::Model& model, BufferWriter& buffer, std::span<const int> index_out) {
   for (const SkinExport& s : skins_) {
     tinygltf::Skin skin;
-    skin.name = name(s.cluster);
+    skin.name = s.name;
     for (int j : s.joints) skin.joints.push_back(index_out[static_cast<std::size_t>(j)]);
     std::vector<double> matrices;
     for (const Mat4& m : s.inverse_bind) matrices.insert(matrices.end(), m.data(), m.data() + 16);
     skin.inverseBindMatrices =
-        buffer.floats(matrices, TINYGLTF_TYPE_MAT4, 16, 0, false, name(s.cluster) + ".bindPreMatrices");
+        buffer.floats(matrices, TINYGLTF_TYPE_MAT4, 16, 0, false, s.name + ".bindPreMatrices");
     model.skins.push_back(std::move(skin));
   }
 }

@@ -141,9 +141,10 @@ struct MeshExport {
 };
 
 struct SkinExport {
-  NodeId cluster;
+  NodeId cluster;  // invalid for the skeleton skin (GltfExportOptions::skeleton_skin)
   std::vector<int> joints;  // glTF node indices
   std::vector<Mat4> inverse_bind;
+  std::string name;  // the glTF skin's name: the cluster's, or "skeleton"
 };
 
 struct Channel {
@@ -186,6 +187,8 @@ class Exporter {
   Status collect_nodes();
 
   int gltf_index(NodeId id) const;
+  // The "skeleton" skin of GltfExportOptions::skeleton_skin (after collect_meshes).
+  void collect_skeleton_skin();
   const std::string& name(NodeId id) const { return g_.node(id)->name(); }
 
   // Parents and children once skinned meshes are known to be detached, and

@@ -3,7 +3,8 @@
 
 Imports each bundled character (tests/data/gltf), builds the biped from
 examples/biped.rig.xml and imports a BVH, exports each scene direct and with
---bake, as .glb and as .gltf, and validates all of them in one run of
+--bake, as .glb and as .gltf, adds the skeleton `rigel import-guides` writes
+for mGear's biped template, and validates all of them in one run of
 tools/validate-gltf.mjs. Exit 0 when every file passes, 1 when a command
 fails or a file has an error (each named), 77 when node or the validator
 package is missing (ctest reports the test as skipped).
@@ -60,6 +61,10 @@ def main():
                     out = tmp / f"{name}{'_baked' if bake else ''}{ext}"
                     run([args.rigel, "export", scene, "-o", out] + (["--bake"] if bake else []))
                     outputs.append(out)
+        # The skeleton `rigel import-guides` writes (joints in a skin no mesh uses).
+        run([args.rigel, "import-guides", root / "tests/data/mgear/biped.sgt", "-o", tmp / "guides.rig.xml",
+             "--skeleton", tmp / "guides.glb"])
+        outputs.append(tmp / "guides.glb")
         checked = subprocess.run(["node", str(validator)] + [str(o) for o in outputs], capture_output=True, text=True)
         if checked.returncode != 0:
             print(checked.stdout + checked.stderr)

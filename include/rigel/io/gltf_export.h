@@ -133,6 +133,12 @@ struct GltfExportOptions {
   // exported ancestor (or the root), placed by world matrices, so every
   // joint keeps its world matrix (shear aside, as always). Implies baking.
   bool deform_only = false;
+  // A scene without skinClusters: its joints become one glTF skin named
+  // "skeleton" (inverse bind matrices: the joints' world matrices at export,
+  // inverted) that no mesh uses, so a reader (rigel's importer among them)
+  // keeps them as joints rather than plain nodes. What `rigel import-guides`
+  // writes its skeleton with. Ignored when the scene has a skinned mesh.
+  bool skeleton_skin = false;
   // Called while baking with the fraction done, in [0, 1]; may be empty.
   std::function<void(double)> progress;
 };
