@@ -275,6 +275,21 @@ std::vector<ComponentSchema> make_schemas() {
   }
   {
     ComponentSchema c;
+    c.type = "wheel";
+    c.help = "A wheel that rolls as it travels: its turn about the axle follows the distance moved forward.";
+    c.params = {p_double("radius", 0.3, 0.0, {}, "The wheel's radius, m."),
+                p_enum("axle", "x", {"x", "y", "z", "-x", "-y", "-z"}, "The joint's axis the wheel turns about."),
+                p_enum("forward", "z", {"x", "y", "z", "-x", "-y", "-z"},
+                       "The joint's axis the wheel rolls along (axle = up x forward rolls it the right way).")};
+    c.guides = {1, 1, {"wheel"}, "The wheel's joint."};
+    c.controls = {{"main", "circle", "yellow", 0.4, "Moves the wheel; it rolls by the distance moved forward."},
+                  {"spin", "circle", "orange", 0.3, "A manual turn on top of the roll."}};
+    c.hooks = {"hub", "wheel"};
+    c.fixed_guides = -1;  // the controls stand at the joint
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
     c.type = "ephemeral";
     c.help = "Ephemeral rigging (seeds 000, 001): one control per joint below the guide joint, with relations.";
     c.params = {p_enum("keyScope", "character", {"character", "controls"},

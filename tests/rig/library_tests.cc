@@ -7,6 +7,8 @@
 // metarig's float32 quaternions).
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include "rig_test_util.h"
 #include "rigel/io/scene_file.h"
 #include "rigel/math/rotation.h"
@@ -79,7 +81,8 @@ Definition everything() {
   meta.children = {finger};
   Component piston = component("piston", "piston", {at_joint("thigh.L"), at_joint("shin.L")});
   Component squash = component("squash", "squash", {at_joint("upper_arm.R"), at_joint("forearm.R")});
-  return rig_with({arm, floating, meta, mouth(true), piston, squash});
+  Component wheel = component("wheel", "wheel", {at_joint("foot.R")}, {param("radius", 0.25)});
+  return rig_with({arm, floating, meta, mouth(true), piston, squash, wheel});
 }
 
 Vec3 position(scene::Scene& s, NodeId id) { return s.world_matrix(id).topRightCorner<3, 1>(); }
@@ -235,6 +238,43 @@ TEST(RigLibrary, a_squash_stretches_to_its_end_control_keeping_its_volume) {
   const double y_ratio = w3.block<3, 1>(0, 1).norm() / rest.block<3, 1>(0, 1).norm();
   EXPECT_NEAR(x_ratio, 1.0, 1e-6);
   EXPECT_NEAR(y_ratio, 1.5, 1e-6);
+}
+
+TEST(RigLibrary, a_wheel_rolls_by_the_distance_it_travels_forward) {
+  BuiltRig b = built_rig(everything());
+  ASSERT_TRUE(b.build);
+  scene::Scene& s = *b.scene;
+  const Mat4 rest = b.rest.at("foot.R");
+  const NodeId main = at(s, "lib:wheel/main");
+  // The main control stands in the joint's frame: its z is the wheel's forward, x its axle.
+  // foot.R's rest matrix is ~2e-6 off orthonormal (float32 quaternions), so
+  // its turns compare with ideal rotations to 1e-5.
+  constexpr double kTurn = 1e-5;
+  const double d = 0.3;
+  set(s, main, xform::kTranslate, Vec3(0, 0, d));
+  const Mat4 w = s.world_matrix(s.graph().find("foot.R"));
+  const Vec3 forward = rotation(rest) * Vec3::UnitZ(), axle = rotation(rest) * Vec3::UnitX();
+  EXPECT_LT((w.topRightCorner<3, 1>() - (rest.topRightCorner<3, 1>() + d * forward)).norm(), 1e-6);
+  const Mat3 turn = rotation(w) * rotation(rest).transpose();
+  const Mat3 expected = Eigen::AngleAxisd(d / 0.25, axle).toRotationMatrix();
+  EXPECT_LT((turn - expected).cwiseAbs().maxCoeff(), kTurn) << "turned d / r radians about the axle";
+  // Sideways motion does not roll it; the spin control turns it on top.
+  set(s, main, xform::kTranslate, Vec3(0.2, 0, 0));
+  EXPECT_LT((rotation(s.world_matrix(s.graph().find("foot.R"))) - rotation(rest)).cwiseAbs().maxCoeff(), kTurn);
+  set(s, at(s, "lib:wheel/spin"), xform::kRotate, Vec3(30, 0, 0));
+  const Mat3 spun = rotation(s.world_matrix(s.graph().find("foot.R"))) * rotation(rest).transpose();
+  EXPECT_LT((spun - Mat3(Eigen::AngleAxisd(30.0 * std::numbers::pi / 180.0, axle))).cwiseAbs().maxCoeff(), kTurn);
+  // What carries it counts as travel: the hip moves the wheel, which rolls by
+  // the distance it went along its forward axis.
+  set(s, at(s, "lib:wheel/spin"), xform::kRotate, Vec3(0, 0, 0));
+  set(s, main, xform::kTranslate, Vec3(0, 0, 0));
+  const NodeId hip = at(s, "lib:hip/main");
+  const Vec3 before = position(s, main);
+  set(s, hip, xform::kTranslate, Vec3(0.1, 0.2, 0.3));
+  const double travel = (position(s, main) - before).dot(forward);
+  EXPECT_GT(std::abs(travel), 0.01);
+  const Mat3 carried = rotation(s.world_matrix(s.graph().find("foot.R"))) * rotation(rest).transpose();
+  EXPECT_LT((carried - Mat3(Eigen::AngleAxisd(travel / 0.25, axle))).cwiseAbs().maxCoeff(), kTurn);
 }
 
 TEST(RigLibrary, a_mouth_without_joints_fails_naming_the_component) {

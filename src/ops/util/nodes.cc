@@ -73,6 +73,25 @@ void compute_squash_stretch(graph::ComputeContext& c) {
   c.set(sq::kScale, scale);
 }
 
+void compute_wheel_roll(graph::ComputeContext& c) {
+  namespace wh = wheel_attr;
+  const Mat4 now = c.get<Mat4>(wh::kMatrix), rest = c.get<Mat4>(wh::kRestMatrix);
+  math::Vec3 forward = math::decompose(rest).rotation * c.get<math::Vec3>(wh::kForward);
+  const double radius = c.get<double>(wh::kRadius);
+  double travel = 0.0;
+  if (forward.norm() > 0 && forward.allFinite()) {
+    forward.normalize();
+    travel = (now.topRightCorner<3, 1>() - rest.topRightCorner<3, 1>()).dot(forward);
+  }
+  if (!std::isfinite(travel)) travel = 0.0;
+  math::Vec3 axle = c.get<math::Vec3>(wh::kAxle);
+  if (!(axle.norm() > 0) || !axle.allFinite()) axle = math::Vec3::Zero();
+  else axle.normalize();
+  const double angle = radius > 0 && std::isfinite(radius) ? travel / radius * 180.0 / std::numbers::pi : 0.0;
+  c.set(wh::kTravel, travel);
+  c.set(wh::kRotate, math::Vec3(axle * angle));
+}
+
 }  // namespace
 
 Status register_util_types(graph::Registry& registry) {
@@ -111,6 +130,19 @@ Status register_util_types(graph::Registry& registry) {
                   graph::output_attr("scale", {ValueType::kDouble3, false})};
   squash.compute = compute_squash_stretch;
   if (Status s = registry.add(std::move(squash)); !s) return s;
+  graph::NodeTypeSpec wheel;
+  wheel.name = kWheelRollType;
+  wheel.description = "A wheel's roll: the turn about its axle that covers the distance it moved forward";
+  const std::vector<std::string> wheel_outs = {"travel", "rotate"};
+  wheel.attrs = {graph::input_attr("matrix", kMatrix, Mat4(Mat4::Identity()), wheel_outs),
+                 graph::input_attr("restMatrix", kMatrix, Mat4(Mat4::Identity()), wheel_outs),
+                 graph::input_attr("forward", {ValueType::kDouble3, false}, math::Vec3(0, 0, 1), wheel_outs),
+                 graph::input_attr("axle", {ValueType::kDouble3, false}, math::Vec3(1, 0, 0), wheel_outs),
+                 graph::input_attr("radius", {ValueType::kDouble, false}, 0.3, wheel_outs),
+                 graph::output_attr("travel", {ValueType::kDouble, false}),
+                 graph::output_attr("rotate", {ValueType::kDouble3, false}, graph::kAngle)};
+  wheel.compute = compute_wheel_roll;
+  if (Status s = registry.add(std::move(wheel)); !s) return s;
   if (Status s = register_blend_types(registry); !s) return s;
   if (Status s = register_finger_types(registry); !s) return s;
   if (Status s = register_foot_types(registry); !s) return s;

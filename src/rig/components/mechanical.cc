@@ -1,5 +1,6 @@
-// Mechanical component classes: piston (two ends aiming at each other) and
-// squash (a joint that aims at a control and stretches to reach it).
+// Mechanical component classes: piston (two ends aiming at each other),
+// squash (a joint that aims at a control and stretches to reach it) and
+// wheel (a wheel that rolls as it travels).
 #include "rigel/rig/components/mechanical.h"
 
 #include <cmath>
@@ -193,11 +194,66 @@ class Squash : public ComponentClass {
   }
 };
 
+Vec3 axis_of(const std::string& name) {
+  const Vec3 unit = name.back() == 'x' ? Vec3(Vec3::UnitX()) : name.back() == 'y' ? Vec3(Vec3::UnitY()) : Vec3(Vec3::UnitZ());
+  return name.front() == '-' ? Vec3(-unit) : unit;
+}
+
+class Wheel : public ComponentClass {
+ public:
+  std::string_view type() const override { return "wheel"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        Step{"controls", "", "",
+             [](BuildContext& ctx) -> Status {
+               if (ctx.guide_count() != 1 || ctx.component().guides[0].joint.empty())
+                 return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": a wheel needs 1 guide, its joint");
+               if (axis_of(ctx.param_string("axle")).cross(axis_of(ctx.param_string("forward"))).norm() < 0.5)
+                 return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": the wheel's axle and forward axes "
+                                                                             "must differ");
+               Result<Mat4> world = ctx.guide_world(0);
+               if (!world) return world.status();
+               Result<NodeId> main = ctx.create_control("main", -1, 0, *world, ctx.attach_node());
+               if (!main) return main.status();
+               Result<NodeId> roll = ctx.create_group("roll", -1, *world, *main);
+               if (!roll) return roll.status();
+               Result<NodeId> spin = ctx.create_control("spin", -1, 0, *world, *roll);
+               if (!spin) return spin.status();
+               if (Status s = ctx.publish_hook(0, *main); !s) return s;
+               return ctx.publish_hook(1, *spin);
+             }},
+        Step{"roll", "", "",
+             [](BuildContext& ctx) -> Status {
+               namespace wh = ops::util::wheel_attr;
+               graph::Graph& g = ctx.graph();
+               const NodeId main = ctx.node("main");
+               Result<NodeId> node = ctx.create(ops::util::kWheelRollType, "wheelRoll");
+               if (!node) return node.status();
+               Status s = g.connect(Plug{main, xform::kWorldMatrix, -1}, Plug{*node, wh::kMatrix, -1});
+               if (s) s = g.set_value(Plug{*node, wh::kRestMatrix, -1}, Value(ctx.scene().world_matrix(main)));
+               if (s) s = g.set_value(Plug{*node, wh::kForward, -1}, Value(axis_of(ctx.param_string("forward"))));
+               if (s) s = g.set_value(Plug{*node, wh::kAxle, -1}, Value(axis_of(ctx.param_string("axle"))));
+               if (s) s = g.set_value(Plug{*node, wh::kRadius, -1}, Value(ctx.param_double("radius")));
+               if (s) s = g.connect(Plug{*node, wh::kRotate, -1}, Plug{ctx.node("roll"), xform::kRotate, -1});
+               if (!s) return s.with_context(ctx.full_name() + ": wheelRoll");
+               return Status::ok();
+             }},
+        Step{"drive", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<NodeId> joint = ctx.guide_joint(0);
+               if (!joint) return joint.status();
+               return ctx.drive(ctx.node("spin"), *joint);
+             }},
+    };
+  }
+};
+
 }  // namespace
 
 Status add_mechanical_components(ComponentFactory& factory) {
   if (Status s = factory.add(std::make_shared<Piston>()); !s) return s;
-  return factory.add(std::make_shared<Squash>());
+  if (Status s = factory.add(std::make_shared<Squash>()); !s) return s;
+  return factory.add(std::make_shared<Wheel>());
 }
 
 }  // namespace rigel::rig::components

@@ -34,6 +34,16 @@
 //                  (double3): restScale with `axis` times stretch and the
 //                  other two times stretch^(-volume / 2), so at volume 1 the
 //                  volume is kept (squash and stretch, the squash component).
+//
+//   wheelRoll      matrix, restMatrix (matrix inputs: a wheel's world now
+//                  and at rest), forward, axle (double3, in the rest frame),
+//                  radius (double) -> travel (the distance moved along
+//                  the forward direction since rest, in the world) and
+//                  rotate (double3 degrees: axle * travel / radius, the
+//                  turn that rolls the wheel that far without slipping; 0
+//                  when radius is not positive). Displacement, not path
+//                  length: a wheel driven round a loop comes back to its
+//                  rest angle (the wheel component).
 
 #include "rigel/base/status.h"
 #include "rigel/graph/node_type.h"
@@ -43,6 +53,10 @@ namespace rigel::ops::util {
 inline constexpr const char* kInverseMatrixType = "inverseMatrix";
 inline constexpr const char* kPoseReaderType = "poseReader";
 inline constexpr const char* kSquashStretchType = "squashStretch";
+inline constexpr const char* kWheelRollType = "wheelRoll";
+namespace wheel_attr {
+enum : graph::AttrIndex { kMatrix = 0, kRestMatrix, kForward, kAxle, kRadius, kTravel, kRotate, kCount };
+}
 namespace squash_attr {
 enum : graph::AttrIndex { kStartMatrix = 0, kEndMatrix, kRestLength, kAxis, kVolume, kRestScale, kStretch, kScale, kCount };
 }

@@ -25,6 +25,19 @@
 //         distance between the controls, d0 at rest), the other two axes
 //         times (d / d0)^(-volume / 2). Hooks "start" (the hook group) and
 //         "end" (the end control).
+//
+// wheel   guide: the wheel's joint. `main` control at the joint (hanging
+//         from the attach point: it moves the wheel, or the whole vehicle
+//         moves it), a `roll` group under it whose rotate a wheelRoll node
+//         (ops/util/nodes.h) writes from how far `main` has moved along
+//         `forward` since rest (in the world, so the vehicle's own motion
+//         counts) over `radius`, about `axle` (both in the joint's frame;
+//         axle = up x forward rolls it the right way), and a `spin` control
+//         under the roll (a manual turn on top) driving the joint. Hooks
+//         "hub" (main: does not spin) and "wheel" (spin). Displacement, not
+//         path length: a wheel driven round a loop comes back to its rest
+//         angle. Fails, naming the component, without a joint or with the
+//         axle along forward.
 #include "rigel/base/status.h"
 
 namespace rigel::rig {
@@ -33,7 +46,7 @@ class ComponentFactory;
 
 namespace rigel::rig::components {
 
-// piston, squash.
+// piston, squash, wheel.
 Status add_mechanical_components(ComponentFactory& factory);
 
 }  // namespace rigel::rig::components
