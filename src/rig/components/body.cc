@@ -27,6 +27,8 @@
 //     rest nothing moves whatever the solver's orientation conventions.
 #include "rigel/rig/components/body.h"
 
+#include "aim.h"
+
 #include <algorithm>
 #include <cmath>
 #include <span>
@@ -60,10 +62,6 @@ Plug plug(graph::Graph& g, NodeId node, const char* attr, int element = -1) {
 }
 
 Vec3 position_of(const Mat4& m) { return m.topRightCorner<3, 1>(); }
-
-// The rotation of an affine matrix without scale (columns normalised, made
-// orthonormal).
-Mat3 rotation_of(const Mat4& m) { return math::decompose(m).rotation.toRotationMatrix(); }
 
 Mat4 frame(const Mat3& rotation, const Vec3& position) {
   Mat4 m = Mat4::Identity();
@@ -517,7 +515,6 @@ class Eye : public ComponentClass {
                if (!axis) return axis.status();
                // The up: a joint axis across the aim.
                const Vec3 up_local = std::abs(axis->y()) > 0.5 ? Vec3(Vec3::UnitZ()) : Vec3(Vec3::UnitY());
-               graph::Graph& g = ctx.graph();
                const NodeId master = ctx.node("master");
                const Mat3 master_rotation = rotation_of(ctx.scene().world_matrix(master));
                for (int i = 0; i < ctx.guide_count(); ++i) {
@@ -526,22 +523,10 @@ class Eye : public ComponentClass {
                  // The eye's up in the master's space: at rest the world up is the eye's own.
                  const Vec3 world_up = master_rotation.transpose() * (rotation_of(*world) * up_local);
                  const NodeId hook = ctx.node("hook", i);
-                 ConstraintSpec spec;
-                 spec.type = ops::constraints::kAimConstraintType;
-                 spec.role = "aimConstraint";
-                 spec.targets = {ctx.node("aim", i)};
-                 spec.maintain_offset = false;
-                 spec.channels = {"rotate"};
-                 Result<NodeId> c = ctx.constrain(spec, hook, i);
-                 if (!c) return c.status();
-                 Status s = g.set_value(plug(g, *c, "aimVector"), Value(*axis));
-                 if (s) s = g.set_value(plug(g, *c, "upVector"), Value(up_local));
-                 if (s) s = g.set_value(plug(g, *c, "worldUpType"), Value(std::int64_t{2}));  // objectRotation
-                 if (s) s = g.set_value(plug(g, *c, "worldUpVector"), Value(world_up));
-                 if (s) s = g.connect(Plug{master, xform::kWorldMatrix, -1}, plug(g, *c, "worldUpMatrix"));
-                 if (s) s = g.set_value(plug(g, *c, "constraintTranslate"), g.node(hook)->value(xform::kTranslate));
-                 if (s) s = drive_joint(ctx, i, hook);
-                 if (!s) return s.with_context(ctx.full_name() + ": aim " + std::to_string(i));
+                 if (Status s = aim_constraint(ctx, hook, ctx.node("aim", i), *axis, up_local, world_up, master, i); !s)
+                   return s;
+                 if (Status s = drive_joint(ctx, i, hook); !s)
+                   return s.with_context(ctx.full_name() + ": aim " + std::to_string(i));
                }
                return Status::ok();
              }},

@@ -1,6 +1,8 @@
 // The hand component (components/hand.h).
 #include "rigel/rig/components/hand.h"
 
+#include "aim.h"
+
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -29,7 +31,6 @@ namespace fa = ops::util::finger_attr;
 Vec3 position_of(const Mat4& m) { return m.topRightCorner<3, 1>(); }
 
 // The rotation of an affine matrix, scale and shear removed.
-Mat3 rotation_of(const Mat4& m) { return math::decompose(m).rotation.toRotationMatrix(); }
 
 Plug plug(NodeId node, AttrIndex attr, std::int32_t element = -1) { return Plug{node, attr, element}; }
 

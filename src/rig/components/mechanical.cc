@@ -3,11 +3,12 @@
 // wheel (a wheel that rolls as it travels).
 #include "rigel/rig/components/mechanical.h"
 
+#include "aim.h"
+
 #include <cmath>
 #include <string>
 
 #include "rigel/math/transform.h"
-#include "rigel/ops/constraints/nodes.h"
 #include "rigel/ops/util/nodes.h"
 #include "rigel/rig/build_context.h"
 #include "rigel/rig/component.h"
@@ -22,12 +23,6 @@ using math::Mat3;
 using math::Mat4;
 using math::Vec3;
 namespace xform = scene::xform;
-
-Plug attr(graph::Graph& g, NodeId node, const char* name) {
-  return Plug{node, g.node(node)->type().attr_find(name), -1};
-}
-
-Mat3 rotation_of(const Mat4& m) { return math::decompose(m).rotation.toRotationMatrix(); }
 
 Status piston_guides(BuildContext& ctx, Mat4 worlds[2]) {
   if (ctx.guide_count() != 2)
@@ -53,7 +48,6 @@ Status piston_guides(BuildContext& ctx, Mat4 worlds[2]) {
 // constraint gives the joint's own rotation.
 Status aim_at(BuildContext& ctx, NodeId hook, NodeId up_control, NodeId target, const Mat4& rest_world,
               const Vec3& target_rest, int index) {
-  graph::Graph& g = ctx.graph();
   const Mat3 rest = rotation_of(rest_world);
   const Vec3 aim = rest.transpose() * (target_rest - rest_world.topRightCorner<3, 1>()).normalized();
   Vec3 up = Vec3::UnitX();
@@ -61,22 +55,7 @@ Status aim_at(BuildContext& ctx, NodeId hook, NodeId up_control, NodeId target, 
     if (std::abs(a.dot(aim)) < std::abs(up.dot(aim))) up = a;
   up = (up - up.dot(aim) * aim).normalized();
   const Vec3 world_up = rotation_of(ctx.scene().world_matrix(up_control)).transpose() * (rest * up);
-  ConstraintSpec spec;
-  spec.type = ops::constraints::kAimConstraintType;
-  spec.role = "aimConstraint";
-  spec.targets = {target};
-  spec.maintain_offset = false;
-  spec.channels = {"rotate"};
-  Result<NodeId> c = ctx.constrain(spec, hook, index);
-  if (!c) return c.status();
-  Status s = g.set_value(attr(g, *c, "aimVector"), Value(aim));
-  if (s) s = g.set_value(attr(g, *c, "upVector"), Value(up));
-  if (s) s = g.set_value(attr(g, *c, "worldUpType"), Value(std::int64_t{2}));  // objectRotation
-  if (s) s = g.set_value(attr(g, *c, "worldUpVector"), Value(world_up));
-  if (s) s = g.connect(Plug{up_control, xform::kWorldMatrix, -1}, attr(g, *c, "worldUpMatrix"));
-  if (s) s = g.set_value(attr(g, *c, "constraintTranslate"), g.node(hook)->value(xform::kTranslate));
-  if (!s) return s.with_context(ctx.full_name() + ": aim " + std::to_string(index));
-  return Status::ok();
+  return aim_constraint(ctx, hook, target, aim, up, world_up, up_control, index);
 }
 
 Status squash_guides(BuildContext& ctx, Mat4 worlds[2]) {
