@@ -51,7 +51,6 @@ const std::set<std::string>& common_params() {
 
 struct Source {
   std::string key;  // "arm_L0"
-  const Json* entry = nullptr;
   const Json* params = nullptr;
   std::string type, name, side_text;
   rig::Side side = rig::Side::kCenter;
@@ -166,7 +165,6 @@ class Importer {
   Status read_component(const std::string& key, const Json& entry) {
     Source c;
     c.key = key;
-    c.entry = &entry;
     const std::string where = "component '" + key + "'";
     if (!entry.is_object() || !entry.contains("param_values") || !entry["param_values"].is_object())
       return bad(where + ": no param_values");
@@ -699,7 +697,6 @@ class Importer {
       if (!r.guides.count(loc) &&
           std::find(r.unmapped_guides.begin(), r.unmapped_guides.end(), loc) == r.unmapped_guides.end())
         r.unmapped_guides.push_back(loc);
-    hooks_[key] = m.hooks;
     out_.components.push_back(std::move(r));
     for (const std::string& child : c.children) {
       const Source& cs = sources_.at(child);
@@ -718,7 +715,6 @@ class Importer {
   std::map<std::string, Source> sources_;
   std::map<std::string, std::map<std::string, std::string>> joints_;  // component -> locator -> joint
   std::map<std::string, std::string> fallback_;                       // component -> the joint children default to
-  std::map<std::string, std::map<std::string, std::string>> hooks_;
   std::set<std::string> joint_names_;
   double size_factor_ = 1.0;
   MgearImport out_;
