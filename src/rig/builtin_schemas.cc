@@ -128,6 +128,36 @@ std::vector<ComponentSchema> make_schemas() {
   }
   {
     ComponentSchema c;
+    c.type = "quadLeg";
+    c.help = "A quadruped's leg of three segments and the foot (upper, lower, hock, foot): FK, IK with a spring or "
+             "pinned hock angle, a switch matching both ways, pole vector, stretch.";
+    c.params = {p_enum("kind", "hind", {"hind", "front"}, "Hind or front leg: the pole's side for a straight leg."),
+                p_enum("hockMode", "spring", {"spring", "pinned"},
+                       "spring: the hock bone keeps its angle to the upper bone as the leg bends; pinned: a hock "
+                       "control under the IK control sets it."),
+                p_enum("defaultMode", "ik", {"fk", "ik"}, "The mode the switch starts in."),
+                p_bool("stretch", false, "IK stretches past full extension."),
+                p_double("maxStretch", 1.2, 1.0, {}, "Largest stretch factor."),
+                p_double("poleDistance", 0.4, 0.0, {}, "Distance of the pole control from the knee, m."),
+                p_string("ikSpaces", "",
+                         "The IK control's spaces besides its parent (as limb's); empty: "
+                         "world,global=global/main,hip=hip/main."),
+                p_string("ikSpace", "global",
+                         "The space the IK control starts in, so the feet stay planted as the body moves: parent, "
+                         "world or a name of ikSpaces (one the rig lacks: world).")};
+    c.guides = {4, 4, {"upper", "lower", "hock", "foot"},
+                "Hip/shoulder, knee/elbow, hock/knee and fetlock/paw joints, each the child of the one before."};
+    c.controls = {{"fk", "circle", "yellow", 0.2, "FK controls, one per joint."},
+                  {"ik", "cube", "red", 0.15, "IK control at the foot joint."},
+                  {"hock", "circle", "red", 0.12, "Turns the hock bone about the foot (pinned)."},
+                  {"pole", "diamond", "red", 0.08, "Pole vector control."},
+                  {"switch", "cross", "green", 0.1, "Holds fkIk (0 = FK, 1 = IK)."}};
+    c.hooks = {"upper", "lower", "hock", "foot"};
+    c.features = {"ik", "stretch"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
     c.type = "foot";
     c.help = "Reverse foot: heel, ball and toe roll, bank, heel/toe/ball twist and toe tap (a reverseFoot node the "
              "foot control stands for); takes over the IK end of a parent limb.";

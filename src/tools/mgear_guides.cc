@@ -222,8 +222,8 @@ class Importer {
 
   static Vec3 position(const Source& c, const std::string& loc) { return c.tra.at(loc).topRightCorner<3, 1>(); }
 
-  Status need(const Source& c, std::initializer_list<const char*> locs) const {
-    for (const char* l : locs)
+  Status need(const Source& c, const std::vector<std::string>& locs) const {
+    for (const std::string& l : locs)
       if (!c.tra.count(l))
         return bad("component '" + c.key + "' (" + c.type + "): guide locator '" + l + "' is missing from tra");
     return Status::ok();
@@ -438,23 +438,25 @@ class Importer {
     return m;
   }
 
-  Result<Mapped> map_limb(const Source& c, const std::string& parent_joint, MgearComponentReport& r, bool arm) {
-    const char* mid = arm ? "elbow" : "knee";
-    const char* end = arm ? "wrist" : "ankle";
-    if (Status s = need(c, {"root", mid, end}); !s) return s;
+  // arm_2jnt_*, leg_2jnt_* (limb) and leg_3jnt_01 (quadLeg: its ankle is the hock, its foot the fetlock).
+  Result<Mapped> map_limb(const Source& c, const std::string& parent_joint, MgearComponentReport& r, bool arm,
+                          bool three = false) {
+    std::vector<std::string> locs{"root", arm ? "elbow" : "knee", arm ? "wrist" : "ankle"};
+    if (three) locs.push_back("foot");
+    if (Status s = need(c, locs); !s) return s;
     Mapped m;
-    m.component.type = "limb";
-    std::vector<std::string> locs{"root", mid, end};
+    m.component.type = three ? "quadLeg" : "limb";
     if (c.tra.count("eff")) locs.push_back("eff");
     const std::vector<std::string> joints = chain(c, locs, parent_joint, r);
-    const char* names[] = {"upper", "lower", "end"};
-    for (int i = 0; i < 3; ++i) m.component.guides.push_back(joint_guide(names[i], joints[static_cast<std::size_t>(i)]));
-    m.hooks["root"] = "upper";
-    m.hooks[mid] = "lower";
-    m.hooks[end] = "end";
-    m.hooks["eff"] = "end";
-    fallback_[c.key] = joints[2];
-    m.component.params.push_back(param("kind", std::string(arm ? "arm" : "leg")));
+    const char* names[] = {"upper", "lower", three ? "hock" : "end", "foot"};
+    const std::size_t n = three ? 4 : 3;
+    for (std::size_t i = 0; i < n; ++i) {
+      m.component.guides.push_back(joint_guide(names[i], joints[i]));
+      m.hooks[locs[i]] = names[i];
+    }
+    m.hooks["eff"] = names[n - 1];
+    fallback_[c.key] = joints[n - 1];
+    m.component.params.push_back(param("kind", std::string(three ? "hind" : arm ? "arm" : "leg")));
     const Json& p = *c.params;
     if (p.contains("blend") && p["blend"].is_number()) {
       m.component.params.push_back(param("defaultMode", std::string(p["blend"].get<double>() >= 0.5 ? "ik" : "fk")));
@@ -655,6 +657,7 @@ class Importer {
     if (t == "arm_2jnt_01" || t == "arm_2jnt_02" || t == "arm_2jnt_03" || t == "arm_2jnt_04")
       return map_limb(c, parent_joint, r, true);
     if (t == "leg_2jnt_01" || t == "leg_2jnt_02") return map_limb(c, parent_joint, r, false);
+    if (t == "leg_3jnt_01") return map_limb(c, parent_joint, r, false, true);
     if (t == "spine_ik_01" || t == "spine_S_shape_01") return map_spine(c, parent_joint, r);
     if (t == "neck_ik_01") return map_neck(c, parent_joint, r);
     if (t == "foot_bk_01") return map_foot(c, parent_joint, r);

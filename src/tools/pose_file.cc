@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <system_error>
@@ -31,7 +32,11 @@ constexpr std::uintmax_t kMaxBytes = 64u << 20;
 Json value_json(const graph::Value& v) {
   if (const auto* q = std::get_if<Quat>(&v)) return Json::array({q->x(), q->y(), q->z(), q->w()});
   if (const auto* x = std::get_if<Vec3>(&v)) return Json::array({x->x(), x->y(), x->z()});
-  return Json(std::get<double>(v));
+  // A scalar may be infinite (a solver's maxStretch: no limit); JSON has no
+  // infinity, so it is written as a string, as scene files write it.
+  const double d = std::get<double>(v);
+  if (std::isinf(d)) return Json(d > 0 ? "inf" : "-inf");
+  return Json(d);
 }
 
 // Reading: each refusal names the file and the member's path.
@@ -52,6 +57,8 @@ struct Reader {
     return v;
   }
   Result<graph::Value> channel(const std::string& attr, const Json& j, const std::string& where) const {
+    if (j.is_string() && (j == "inf" || j == "-inf"))
+      return graph::Value(j == "inf" ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity());
     if (!j.is_array()) {
       Result<double> v = number(j, where);
       if (!v) return v.status();

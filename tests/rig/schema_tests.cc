@@ -9,7 +9,7 @@ namespace {
 TEST(RigSchema, every_shipped_component_type_is_registered) {
   const std::vector<std::string> expected = {"call", "control", "ephemeral", "eye",    "fkChain", "foot",   "global",
                                              "hand", "hip",     "ikChain",   "limb",   "meta",    "mouth",  "neck",
-                                             "piston", "simple", "spine",    "squash", "tail",    "twist",
+                                             "piston", "quadLeg", "simple", "spine",    "squash", "tail",    "twist",
                                              "wheel"};
   EXPECT_EQ(builtin_schemas().types(), expected);
 }

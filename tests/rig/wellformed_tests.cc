@@ -67,7 +67,8 @@ TEST(WellFormed, xml_that_xml_refuses_is_refused_at_its_place) {
 }
 
 TEST(WellFormed, the_shipped_examples_are_well_formed) {
-  for (const char* name : {"examples/biped.rig.xml", "examples/puppet.rig.xml", "tests/data/rig/all_types.rig.xml"}) {
+  for (const char* name : {"examples/biped.rig.xml", "examples/puppet.rig.xml", "examples/quadruped.rig.xml",
+                           "tests/data/rig/all_types.rig.xml"}) {
     const ParseResult r = load_definition(fs::path(RIGEL_SOURCE_DIR) / name);
     EXPECT_TRUE(r.ok()) << name << ": " << (r.ok() ? "" : r.errors.front().str());
   }

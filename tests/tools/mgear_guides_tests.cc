@@ -188,6 +188,50 @@ TEST(MgearGuides, an_unknown_type_is_reported_and_its_children_hang_from_its_par
   EXPECT_EQ(report["unmapped"], Json::array({"odd_C0"}));
 }
 
+// mGear's leg_3jnt_01 (root, knee, ankle, foot, eff) is a quadLeg: its ankle
+// the hock, its foot the fetlock; it builds on its skeleton keeping the rest.
+TEST(MgearGuides, a_three_joint_leg_is_a_quad_leg_that_builds_on_its_skeleton) {
+  auto matrix = [](double x, double y, double z) {
+    return Json::array({Json::array({1.0, 0.0, 0.0, 0.0}), Json::array({0.0, 1.0, 0.0, 0.0}),
+                        Json::array({0.0, 0.0, 1.0, 0.0}), Json::array({x, y, z, 1.0})});
+  };
+  Json doc = small_template();
+  doc["components_list"] = {"base_C0", "leg_L0"};
+  doc["components_dict"].erase("odd_C0");
+  doc["components_dict"].erase("tail_C0");
+  doc["components_dict"]["leg_L0"] = {
+      {"param_values", {{"comp_type", "leg_3jnt_01"}, {"comp_name", "leg"}, {"comp_side", "L"}, {"comp_index", 0},
+                        {"blend", 1}, {"maxstretch", 1.3}}},
+      {"tra", {{"root", matrix(0.2, 1.2, -0.6)}, {"knee", matrix(0.2, 0.8, -0.4)}, {"ankle", matrix(0.2, 0.5, -0.75)},
+               {"foot", matrix(0.2, 0.1, -0.7)}, {"eff", matrix(0.2, 0.0, -0.6)}}},
+      {"parent_fullName", "base_C0"},
+      {"parent_localName", "root"}};
+  Result<MgearImport> m = import_mgear_guides(doc.dump(), "quad.sgt");
+  ASSERT_TRUE(m.is_ok()) << m.status().message();
+  EXPECT_TRUE(m->unmapped_components().empty());
+  const rig::Component* leg = find_full(m->definition, "leg_L");
+  ASSERT_NE(leg, nullptr);
+  EXPECT_EQ(leg->type, "quadLeg");
+  ASSERT_EQ(leg->guides.size(), 4u);
+  const char* names[] = {"upper", "lower", "hock", "foot"};
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(leg->guides[i].name, names[i]);
+  ASSERT_NE(leg->param("defaultMode"), nullptr);
+  EXPECT_EQ(std::get<std::string>(leg->param("defaultMode")->value), "ik");
+  for (const rig::Diagnostic& d : rig::validate(m->definition)) ADD_FAILURE() << d.str();
+  auto scene = guide_skeleton_scene(*m, rig::default_registry());
+  ASSERT_TRUE(scene.is_ok()) << scene.status().message();
+  scene::Scene& s = **scene;
+  const graph::NodeId hock = s.graph().find(leg->guides[2].joint);
+  ASSERT_TRUE(hock.is_valid());
+  const math::Mat4 rest = s.world_matrix(hock);
+  EXPECT_LT((rest.topRightCorner<3, 1>() - Vec3(0.2, 0.5, -0.75)).norm(), 1e-9);
+  auto opened = rig::Build::open(s, m->definition, components());
+  ASSERT_TRUE(opened.is_ok()) << opened.status().message();
+  const Status built = (*opened)->build_all();
+  ASSERT_TRUE(built.is_ok()) << built.message();
+  EXPECT_LT((s.world_matrix(hock) - rest).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(MgearGuides, malformed_templates_are_refused_naming_the_component) {
   auto refused = [](const std::string& text, const std::string& expected) {
     Result<MgearImport> m = import_mgear_guides(text, "bad.sgt");

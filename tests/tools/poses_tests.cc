@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "rigel/math/rotation.h"
+#include "rigel/ops/ik/nodes.h"
 #include "rigel/rig/manager.h"
 #include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
@@ -283,6 +285,11 @@ TEST(Poses, save_list_and_remove_round_trip_in_diffable_files) {
   auto a = testing::built_rig();
   pose_character(*a);
   graph::Graph& g = a->graph();
+  // An infinite channel (a solver's maxStretch: no limit) is written as
+  // "inf" (JSON has no infinity) and read back as infinity.
+  ASSERT_TRUE(g.set_value(Plug{at(g, "hero:leg_L/ikSolver"), ops::ik::two_bone_attr::kMaxStretch, -1},
+                          Value(std::numeric_limits<double>::infinity()))
+                  .is_ok());
   auto saved = save_pose(g, {hero(g)}, "shot", library);
   ASSERT_TRUE(saved.is_ok()) << saved.status().message();
   EXPECT_EQ(saved->path, library / "shot.pose.json");
@@ -291,6 +298,7 @@ TEST(Poses, save_list_and_remove_round_trip_in_diffable_files) {
   EXPECT_NE(text.find("\n      \"rigId\": \"8e81973e-0bec-47b0-b898-d190f9ebdacc\",\n"), std::string::npos)
       << "one member per line";
   EXPECT_NE(text.find("\n        \"translate\": ["), std::string::npos) << "a vector on its line";
+  EXPECT_NE(text.find("\"maxStretch\": \"inf\""), std::string::npos) << "infinity as a string";
   // A selection given in any order gives the same file.
   const std::vector<NodeId> sel = {at(g, "hero:leg_L/ik"), at(g, "hero:arm_L/fk[1]"), at(g, "hero:arm_L/fk[0]")};
   ASSERT_TRUE(save_pose(g, sel, "sel", library).is_ok());

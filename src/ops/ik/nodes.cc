@@ -323,7 +323,55 @@ std::string unit_problem(const char* attr, const Vec3& v) {
   return std::string(attr) + ": not a unit vector (length " + number(v.norm()) + ")";
 }
 
-// ---- ikTwoBone ----
+// ---- ikTwoBone, ikThreeBone ----
+
+// Reads the two-bone solve's inputs (shared by both types) into `job`,
+// from the start joint at `start`. Returns what is wrong, or "".
+std::string read_two_bone(const ComputeContext& c, const Vec3& start, TwoBoneIkJob& job) {
+  namespace a = two_bone_attr;
+  job.target = translation_of(c.get<Mat4>(a::kTargetMatrix));
+  const bool use_pole_matrix = c.get<bool>(a::kUsePoleMatrix);
+  job.pole_vector =
+      use_pole_matrix ? Vec3(translation_of(c.get<Mat4>(a::kPoleMatrix)) - start) : c.get<Vec3>(a::kPoleVector);
+  job.pole_mode = static_cast<TwoBonePoleMode>(std::clamp<std::int64_t>(c.get<std::int64_t>(a::kPoleMode), 0, 1));
+  job.mid_axis = c.get<Vec3>(a::kMidAxis);
+  job.twist_angle = math::to_radians(c.get<double>(a::kTwist));
+  job.soft = c.get<double>(a::kSoft);
+  job.stretch = c.get<bool>(a::kStretch);
+  job.max_stretch = c.get<double>(a::kMaxStretch);
+  job.weight = c.get<double>(ik_attr::kWeight);
+  if (!detail::all_finite(job.target)) return "targetMatrix: the target position is not finite";
+  if (!detail::all_finite(job.pole_vector))
+    return use_pole_matrix ? "poleMatrix: the pole position is not finite" : "poleVector: not finite";
+  if (std::string problem = unit_problem("midAxis", job.mid_axis); !problem.empty()) return problem;
+  if (!std::isfinite(job.twist_angle)) return "twist: not finite";
+  if (!(job.soft >= 0.0 && job.soft <= 1.0)) return "soft: must be in [0, 1], got " + number(job.soft);
+  if (job.stretch && !(job.max_stretch >= 1.0))
+    return "maxStretch: must be at least 1 while stretch is on, got " + number(job.max_stretch);
+  return {};
+}
+
+// Takes the solved world matrices in s.world_out into the joints' channels.
+void write_world_out(ComputeContext& c, const ChainData& d, Scratch& s, const TwoBoneIkOutput& out, double blend) {
+  namespace a = two_bone_attr;
+  s.local_out.resize(d.count);
+  ChainWorldToLocalJob to_local;
+  to_local.world = s.world_out;
+  to_local.parent_world = d.parent;
+  to_local.local = s.local_out;
+  if (!to_local.run()) return write_fallback(c, d, "the solve gave a singular joint");
+  write_solved(c, d, s.local_out, blend);
+  c.output(a::kOutStretch) = out.stretch;
+  c.output(a::kReached) = out.reached;
+}
+
+// A world matrix with `linear` and `position`.
+Mat4 world_of(const math::Mat3& linear, const Vec3& position) {
+  Mat4 m = Mat4::Identity();
+  m.topLeftCorner<3, 3>() = linear;
+  m.topRightCorner<3, 1>() = position;
+  return m;
+}
 
 void compute_two_bone(ComputeContext& c) {
   namespace a = two_bone_attr;
@@ -340,31 +388,8 @@ void compute_two_bone(ComputeContext& c) {
     job.mid_world = &s.world[1];
     job.end_world = &s.world[2];
     job.output = &out;
-    job.target = translation_of(c.get<Mat4>(a::kTargetMatrix));
-    const bool use_pole_matrix = c.get<bool>(a::kUsePoleMatrix);
-    job.pole_vector = use_pole_matrix ? Vec3(translation_of(c.get<Mat4>(a::kPoleMatrix)) - translation_of(s.world[0]))
-                                      : c.get<Vec3>(a::kPoleVector);
-    job.pole_mode = static_cast<TwoBonePoleMode>(std::clamp<std::int64_t>(c.get<std::int64_t>(a::kPoleMode), 0, 1));
-    job.mid_axis = c.get<Vec3>(a::kMidAxis);
-    job.twist_angle = math::to_radians(c.get<double>(a::kTwist));
-    job.soft = c.get<double>(a::kSoft);
-    job.stretch = c.get<bool>(a::kStretch);
-    job.max_stretch = c.get<double>(a::kMaxStretch);
-    job.weight = c.get<double>(ik_attr::kWeight);
-    if (!detail::all_finite(job.target)) {
-      problem = "targetMatrix: the target position is not finite";
-    } else if (!detail::all_finite(job.pole_vector)) {
-      problem = use_pole_matrix ? "poleMatrix: the pole position is not finite" : "poleVector: not finite";
-    } else if (problem = unit_problem("midAxis", job.mid_axis); !problem.empty()) {
-    } else if (!std::isfinite(job.twist_angle)) {
-      problem = "twist: not finite";
-    } else if (!(job.soft >= 0.0 && job.soft <= 1.0)) {
-      problem = "soft: must be in [0, 1], got " + number(job.soft);
-    } else if (job.stretch && !(job.max_stretch >= 1.0)) {
-      problem = "maxStretch: must be at least 1 while stretch is on, got " + number(job.max_stretch);
-    } else if (!job.run()) {
-      problem = "the two-bone solve refused its inputs";  // a check above is missing
-    }
+    problem = read_two_bone(c, translation_of(s.world[0]), job);
+    if (problem.empty() && !job.run()) problem = "the two-bone solve refused its inputs";  // a check is missing
   }
   if (!problem.empty()) return write_fallback(c, d, std::move(problem));
 
@@ -375,27 +400,74 @@ void compute_two_bone(ComputeContext& c) {
   // keeps its bones rigid (applying the corrections in each joint's own
   // frame would miss by the parent's non-uniformity, ~1e-6 on joints read
   // from single-precision files).
-  {
-    const math::Mat3 r0 = out.start_turn.normalized().toRotationMatrix();
-    const math::Mat3 r01 = r0 * out.mid_turn.normalized().toRotationMatrix();
-    const Vec3 p0 = translation_of(s.world[0]), p1 = translation_of(s.world[1]), p2 = translation_of(s.world[2]);
-    s.world_out.assign(3, Mat4::Identity());
-    s.world_out[0].topLeftCorner<3, 3>() = r0 * s.world[0].topLeftCorner<3, 3>();
-    s.world_out[0].topRightCorner<3, 1>() = p0;
-    s.world_out[1].topLeftCorner<3, 3>() = r01 * s.world[1].topLeftCorner<3, 3>();
-    s.world_out[1].topRightCorner<3, 1>() = p0 + r0 * (p1 - p0) * out.stretch;
-    s.world_out[2].topLeftCorner<3, 3>() = r01 * s.world[2].topLeftCorner<3, 3>();
-    s.world_out[2].topRightCorner<3, 1>() = translation_of(s.world_out[1]) + r01 * (p2 - p1) * out.stretch;
+  const math::Mat3 r0 = out.start_turn.normalized().toRotationMatrix();
+  const math::Mat3 r01 = r0 * out.mid_turn.normalized().toRotationMatrix();
+  const Vec3 p0 = translation_of(s.world[0]), p1 = translation_of(s.world[1]), p2 = translation_of(s.world[2]);
+  s.world_out.resize(3);
+  s.world_out[0] = world_of(r0 * s.world[0].topLeftCorner<3, 3>(), p0);
+  s.world_out[1] = world_of(r01 * s.world[1].topLeftCorner<3, 3>(), p0 + r0 * (p1 - p0) * out.stretch);
+  s.world_out[2] = world_of(r01 * s.world[2].topLeftCorner<3, 3>(),
+                            translation_of(s.world_out[1]) + r01 * (p2 - p1) * out.stretch);
+  write_world_out(c, d, s, out, 1.0);  // the kernel applied the weight
+}
+
+// ikThreeBone (nodes.h): a two-bone solve on a chain of four joints.
+void compute_three_bone(ComputeContext& c) {
+  namespace a = two_bone_attr;
+  Scratch& s = scratch();
+  const ChainData d = chain_data(c);
+  c.output(a::kOutStretch) = 1.0;
+  c.output(a::kReached) = false;
+  std::string problem = read_chain(c, d, kIkThreeBoneType, 4, 4, s);
+  const bool pinned = c.get<std::int64_t>(three_bone_attr::kHockMode) == 1;
+  const Mat4 hock = c.get<Mat4>(three_bone_attr::kHockMatrix);
+
+  TwoBoneIkJob job;
+  TwoBoneIkOutput out;
+  Mat4 virtual_mid = Mat4::Identity();
+  const Vec3 p0 = problem.empty() ? translation_of(s.world[0]) : Vec3::Zero();
+  if (problem.empty()) {
+    const Vec3 p1 = translation_of(s.world[1]), p2 = translation_of(s.world[2]), p3 = translation_of(s.world[3]);
+    // spring: the first and third bones turn together (a pantograph), so
+    // the chain is a two-bone one of (upper + hock bone, lower) whose middle
+    // stands where the first and third bones meet, in the mid joint's frame.
+    virtual_mid = s.world[1];
+    virtual_mid.topRightCorner<3, 1>() = p0 + (p1 - p0) + (p3 - p2);
+    job.start_world = &s.world[0];
+    job.mid_world = pinned ? &s.world[1] : &virtual_mid;
+    job.end_world = pinned ? &s.world[2] : &s.world[3];
+    job.output = &out;
+    problem = read_two_bone(c, p0, job);
+    if (problem.empty() && pinned) {
+      if (std::string bad = matrix_problem(hock); !bad.empty())
+        problem = "hockMatrix: " + bad;
+      else
+        job.target = translation_of(hock);  // the hock joint reaches the hock matrix
+    }
+    const double weight = c.get<double>(ik_attr::kWeight);
+    if (problem.empty()) {
+      job.weight = 1.0;  // blended in the channels, as the hock's own turn is
+      if (!job.run()) problem = "the two-bone solve refused its inputs";  // a check is missing
+    }
+    if (problem.empty()) {
+      const math::Mat3 r0 = out.start_turn.normalized().toRotationMatrix();
+      const math::Mat3 r01 = r0 * out.mid_turn.normalized().toRotationMatrix();
+      const double st = out.stretch;
+      s.world_out.resize(4);
+      s.world_out[0] = world_of(r0 * s.world[0].topLeftCorner<3, 3>(), p0);
+      s.world_out[1] = world_of(r01 * s.world[1].topLeftCorner<3, 3>(), p0 + r0 * (p1 - p0) * st);
+      const Vec3 at_hock = translation_of(s.world_out[1]) + r01 * (p2 - p1) * st;
+      if (pinned) {
+        s.world_out[2] = world_of(hock.topLeftCorner<3, 3>(), at_hock);
+        s.world_out[3] = s.world_out[2] * math::affine_inverse(s.world[2]) * s.world[3];
+      } else {
+        s.world_out[2] = world_of(r0 * s.world[2].topLeftCorner<3, 3>(), at_hock);
+        s.world_out[3] = world_of(r0 * s.world[3].topLeftCorner<3, 3>(), at_hock + r0 * (p3 - p2) * st);
+      }
+      return write_world_out(c, d, s, out, weight);
+    }
   }
-  s.local_out.resize(3);
-  ChainWorldToLocalJob to_local;
-  to_local.world = s.world_out;
-  to_local.parent_world = d.parent;
-  to_local.local = s.local_out;
-  if (!to_local.run()) return write_fallback(c, d, "the two-bone solve gave a singular joint");
-  write_solved(c, d, s.local_out, 1.0);  // the kernel applied the weight
-  c.output(a::kOutStretch) = out.stretch;
-  c.output(a::kReached) = out.reached;
+  write_fallback(c, d, std::move(problem));
 }
 
 // ---- ikFabrik / ikCcd ----
@@ -608,6 +680,16 @@ Status register_ik_types(graph::Registry& registry) {
   two_bone.attrs.push_back(output("outStretch", kDoubleType));
   two_bone.attrs.push_back(output("reached", kBoolType));
 
+  graph::NodeTypeSpec three_bone;
+  three_bone.name = kIkThreeBoneType;
+  three_bone.description =
+      "Two-bone IK on a leg of three segments (upper, lower, hock, foot): the hock bone turns with the upper one "
+      "(spring) or takes the hock matrix's orientation (pinned)";
+  three_bone.compute = compute_three_bone;
+  three_bone.attrs = two_bone.attrs;
+  three_bone.attrs.push_back(enum_input("hockMode", {ValueType::kEnum, false}, std::int64_t{0}, {"spring", "pinned"}));
+  three_bone.attrs.push_back(input("hockMatrix", kMatrixType, Mat4(Mat4::Identity())));
+
   auto chain_spec = [](const char* name, const char* description, graph::ComputeFn compute) {
     graph::NodeTypeSpec spec;
     spec.name = name;
@@ -653,7 +735,7 @@ Status register_ik_types(graph::Registry& registry) {
   spline.attrs.push_back(output("chainLength", kDoubleType));
   spline.attrs.push_back(output("overran", kBoolType));
 
-  for (graph::NodeTypeSpec* spec : {&two_bone, &fabrik, &ccd, &spline}) {
+  for (graph::NodeTypeSpec* spec : {&two_bone, &three_bone, &fabrik, &ccd, &spline}) {
     if (Status s = registry.add(finish(std::move(*spec))); !s) return s;
   }
   return Status::ok();

@@ -45,11 +45,15 @@ struct FootNodes {
 };
 
 struct LimbNodes {
-  NodeId fk[3], ik, pole, solver, blend;
+  std::vector<NodeId> fk;  // 3 (limb) or 4 (quadLeg)
+  NodeId ik, pole, solver, blend;
+  NodeId hock;  // a pinned quadLeg's hock control (else invalid)
+  Mat4 hock_to_joint = Mat4::Identity();  // the offsetParentMatrix of its hockTarget group
+  int solved_end = 2;  // the joint the solver's two-bone chain ends at (a spring quadLeg: 3, the foot)
   // From each control to the joint it drives: identity, or the
   // offsetParentMatrix of its fkJoint / ikEnd group (an offset guide, or a
   // joint whose frame is not rigid: limbs.cc, control_at_guide).
-  Mat4 fk_to_joint[3] = {Mat4::Identity(), Mat4::Identity(), Mat4::Identity()};
+  std::vector<Mat4> fk_to_joint;
   std::optional<FootNodes> foot;  // a child foot component with a reverse foot
 };
 
@@ -61,11 +65,15 @@ Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
   const graph::Node* n = g.node(meta);
   if (!n || n->type().name() != kMetaComponentType)
     return error(ErrorCode::kInvalidArgument, "match: not a component of a built rig");
-  if (meta_string(g, meta, "metaType") != "limb")
+  const std::string type = meta_string(g, meta, "metaType");
+  if (type != "limb" && type != "quadLeg")
     return Status(ErrorCode::kInvalidArgument,
-                  "match: " + component_name(g, meta) + " has no FK/IK switch (limbs have one)")
+                  "match: " + component_name(g, meta) + " has no FK/IK switch (limbs and quadLegs have one)")
         .with_field("component");
   LimbNodes out;
+  const int count = type == "quadLeg" ? 4 : 3;
+  out.fk.resize(static_cast<std::size_t>(count));
+  out.fk_to_joint.assign(static_cast<std::size_t>(count), Mat4::Identity());
   auto find = [&](NodeId m, const char* role, int index, NodeId& into) -> Status {
     Result<NodeId> r = get_meta_connection(g, m, role, index);
     if (!r) return r.status().with_context("match " + component_name(g, m));
@@ -77,8 +85,8 @@ Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
       return Status(ErrorCode::kInvalidArgument,
                     "match: " + component_name(g, meta) + " has no IK side (its feature \"ik\" is off)")
           .with_field("component");
-  for (int i = 0; i < 3; ++i)
-    if (Status s = find(meta, "fk", i, out.fk[i]); !s) return s;
+  for (int i = 0; i < count; ++i)
+    if (Status s = find(meta, "fk", i, out.fk[static_cast<std::size_t>(i)]); !s) return s;
   for (auto [role, into] : {std::pair<const char*, NodeId*>{"ik", &out.ik}, {"pole", &out.pole},
                             {"ikSolver", &out.solver}, {"fkIkSwitch", &out.blend}})
     if (Status s = find(meta, role, 0, *into); !s) return s;
@@ -86,8 +94,20 @@ Result<LimbNodes> limb_nodes(const graph::Graph& g, NodeId meta) {
     const std::string* role = g.node(m)->tag_find(kTagRole);
     if (!role || *role != "fkJoint") continue;
     const std::string* index = g.node(m)->tag_find(kTagIndex);
-    if (index && (*index == "0" || *index == "1" || *index == "2"))
-      out.fk_to_joint[std::stoi(*index)] = std::get<Mat4>(g.node(m)->value(xform::kOffsetParentMatrix));
+    if (index && index->size() == 1 && (*index)[0] >= '0' && (*index)[0] < '0' + count)
+      out.fk_to_joint[static_cast<std::size_t>((*index)[0] - '0')] =
+          std::get<Mat4>(g.node(m)->value(xform::kOffsetParentMatrix));
+  }
+  if (type == "quadLeg") {
+    const bool pinned = std::get<std::int64_t>(g.node(out.solver)->value(ik::three_bone_attr::kHockMode)) == 1;
+    out.solved_end = pinned ? 2 : 3;
+    if (pinned) {
+      if (Status s = find(meta, "hock", 0, out.hock); !s) return s;
+      NodeId group;
+      if (Status s = find(meta, "hockTarget", 0, group); !s) return s;
+      out.hock_to_joint = std::get<Mat4>(g.node(group)->value(xform::kOffsetParentMatrix));
+    }
+    return out;  // a quadLeg's foot is its own fourth joint
   }
   for (NodeId child : meta_children(g, meta)) {
     if (meta_string(g, child, "metaType") != "foot") continue;
@@ -220,7 +240,8 @@ Result<FkIkMatch> plan_fk_ik_match(scene::Scene& scene, NodeId limb_meta, MatchS
   const bool toe = nodes.foot && nodes.foot->toe_fk.is_valid();
   FkIkMatch plan;
   plan.fk_ik = Plug{nodes.blend, sw::kFkIk, -1};
-  for (int i = 0; i < 3; ++i) plan.joints.push_back(driven_joint(g, nodes.blend, i));
+  const std::size_t count = nodes.fk.size();
+  for (std::size_t i = 0; i < count; ++i) plan.joints.push_back(driven_joint(g, nodes.blend, static_cast<int>(i)));
   if (toe) plan.joints.push_back(driven_joint(g, nodes.foot->blend, 0));
   const MatchSide from = set == MatchSide::kFk ? MatchSide::kIk : MatchSide::kFk;
   plan.joint_worlds = fk_ik_side_worlds(scene, limb_meta, from);
@@ -230,9 +251,10 @@ Result<FkIkMatch> plan_fk_ik_match(scene::Scene& scene, NodeId limb_meta, MatchS
                                                   std::to_string(plan.joints.size()));
   const std::vector<Mat4>& target = plan.joint_worlds;
   if (set == MatchSide::kFk) {
-    for (int i = 0; i < 3; ++i)
+    for (std::size_t i = 0; i < count; ++i)
       plan.controls.push_back({nodes.fk[i], target[i] * math::affine_inverse(nodes.fk_to_joint[i])});
-    if (toe) plan.controls.push_back({nodes.foot->toe_fk, target[3] * math::affine_inverse(nodes.foot->toe_to_joint)});
+    if (toe)
+      plan.controls.push_back({nodes.foot->toe_fk, target[count] * math::affine_inverse(nodes.foot->toe_to_joint)});
     return plan;
   }
   // The IK end as the switch and the solver take it hangs rigidly from the
@@ -242,7 +264,11 @@ Result<FkIkMatch> plan_fk_ik_match(scene::Scene& scene, NodeId limb_meta, MatchS
   const Mat4 end = use_end ? eval<Mat4>(g, nodes.blend, sw::kIkEndMatrix)
                            : eval<Mat4>(g, nodes.solver, ik::two_bone_attr::kTargetMatrix);
   const Mat4 q = math::affine_inverse(scene.world_matrix(nodes.ik)) * end;
-  plan.controls.push_back({nodes.ik, target[2] * math::affine_inverse(q)});
+  plan.controls.push_back({nodes.ik, target[count - 1] * math::affine_inverse(q)});
+  // A pinned quadLeg's hock group (under the hock control, under the ik
+  // control) is the hock bone's IK pose: the hock control goes where the
+  // group lands on the FK hock bone.
+  if (nodes.hock.is_valid()) plan.controls.push_back({nodes.hock, target[2] * math::affine_inverse(nodes.hock_to_joint)});
   // The pole. The two-bone solver turns the start joint so that its hinge
   // (midAxis in the middle joint's space), made perpendicular to
   // start-to-target, lies along pole x aim (poleVector mode) or along the
@@ -252,7 +278,10 @@ Result<FkIkMatch> plan_fk_ik_match(scene::Scene& scene, NodeId limb_meta, MatchS
   // joint's side of the line. (Placing it in the plane of the three joints
   // instead is off by the hinge's tilt from that plane, ~1e-6 on rigs built
   // from single-precision files.)
-  const Vec3 a = position_of(target[0]), m = position_of(target[1]), e = position_of(target[2]);
+  // The solver's chain: its middle's frame is joint 1's; a spring quadLeg's
+  // chain ends at the foot (ops/ik/nodes.h, ikThreeBone).
+  const Vec3 a = position_of(target[0]), m = position_of(target[1]);
+  const Vec3 e = position_of(target[static_cast<std::size_t>(nodes.solved_end)]);
   Vec3 aim = e - a;
   const Vec3 mid_axis = eval<Vec3>(g, nodes.solver, ik::two_bone_attr::kMidAxis);
   Vec3 hinge = target[1].topLeftCorner<3, 3>() * mid_axis;
@@ -269,7 +298,7 @@ Result<FkIkMatch> plan_fk_ik_match(scene::Scene& scene, NodeId limb_meta, MatchS
       const Vec3 across = plane_normal ? hinge : Vec3(aim.cross(hinge));
       const std::vector<Mat4> ik_worlds = switch_side(g, nodes.blend, MatchSide::kIk);
       const Mat4 pole_world = scene.world_matrix(nodes.pole);
-      const Vec3 ik_mid = ik_worlds.size() == 3 ? position_of(ik_worlds[1]) : m;
+      const Vec3 ik_mid = ik_worlds.size() == count ? position_of(ik_worlds[1]) : m;
       double distance = (position_of(pole_world) - ik_mid).norm();
       if (!(distance > 1e-9)) distance = (m - a).norm();
       const Vec3 foot = a + aim * aim.dot(m - a);  // the middle joint's foot on the line

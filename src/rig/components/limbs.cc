@@ -1,4 +1,4 @@
-// ikChain, limb and twist (components/limbs.h).
+// ikChain, limb, quadLeg and twist (components/limbs.h).
 #include "rigel/rig/components/limbs.h"
 
 #include <cmath>
@@ -10,6 +10,7 @@
 #include "rigel/math/transform.h"
 #include "rigel/ops/ik/nodes.h"
 #include "rigel/ops/util/blend.h"
+#include "rigel/ops/util/space.h"
 #include "rigel/ops/util/twist.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/meta.h"
@@ -403,6 +404,162 @@ class Limb : public ComponentClass {
   }
 };
 
+// ---- quadLeg ------------------------------------------------------------
+
+// The two-bone chain the ikThreeBone node solves (nodes.h): start, middle
+// and end positions. spring: the middle where the upper and hock bones
+// meet, the end at the foot; pinned: the knee and the hock joint.
+struct SolvedChain {
+  Vec3 start, mid, end;
+};
+
+SolvedChain solved_chain(BuildContext& ctx, const std::vector<NodeId>& joints, bool pinned) {
+  Vec3 p[4];
+  for (int i = 0; i < 4; ++i) p[i] = position_of(ctx.scene().world_matrix(joints[static_cast<std::size_t>(i)]));
+  if (pinned) return {p[0], p[1], p[2]};
+  return {p[0], p[0] + (p[1] - p[0]) + (p[3] - p[2]), p[3]};
+}
+
+// The pole control: on the solved chain's plane (so nothing turns at rest),
+// level with the knee, poleDistance off the start-end line on the bend side.
+Result<NodeId> make_quad_pole(BuildContext& ctx, const std::vector<NodeId>& joints, const SolvedChain& chain) {
+  const Vec3 front = ctx.param_string("kind") == "hind" ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ());
+  const Vec3 dir = bend_direction(chain.start, chain.mid, chain.end, front);
+  Vec3 knee = position_of(ctx.scene().world_matrix(joints[1]));
+  const Vec3 normal = (chain.end - chain.start).cross(dir);
+  if (normal.norm() > 1e-12) knee -= normal.normalized() * normal.normalized().dot(knee - chain.start);
+  Vec3 line = chain.end - chain.start;
+  if (line.norm() > 1e-12) line.normalize();
+  const Vec3 on_line = chain.start + line * line.dot(knee - chain.start);
+  Mat4 place = Mat4::Identity();
+  place.topRightCorner<3, 1>() = on_line + dir * ((knee - on_line).norm() + ctx.param_double("poleDistance"));
+  return ctx.create_control("pole", -1, 1, place, ctx.attach_node());
+}
+
+// The ikThreeBone solver (role ikSolver) toward the ik end, the pole and,
+// pinned, the hock group.
+Status make_three_bone(BuildContext& ctx, const std::vector<NodeId>& joints, bool pinned) {
+  const SolvedChain chain = solved_chain(ctx, joints, pinned);
+  Result<NodeId> pole = make_quad_pole(ctx, joints, chain);
+  if (!pole) return pole.status();
+  Vec3 hinge = (chain.mid - chain.start).cross(chain.end - chain.mid);
+  const Vec3 upper = chain.mid - chain.start;
+  if (hinge.norm() <= 1e-9 * upper.norm() * (chain.end - chain.mid).norm())
+    hinge = (position_of(ctx.scene().world_matrix(*pole)) - chain.start).cross(upper);
+  const math::Mat3 mid_linear = ctx.scene().world_matrix(joints[1]).topLeftCorner<3, 3>();
+  if (hinge.norm() < 1e-12 || !(std::abs(mid_linear.determinant()) > 1e-300))
+    return fail(ctx, "cannot find the leg's hinge (the chain is straight and the pole lies on it)");
+  Result<NodeId> space = make_ik_space(ctx, joints[0]);
+  if (!space) return space.status();
+  Result<NodeId> solver = make_solver(ctx, ik::kIkThreeBoneType, joints, *space);
+  if (!solver) return solver.status();
+  graph::Graph& g = ctx.graph();
+  namespace a = ik::two_bone_attr;
+  const NodeId target = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
+  Status s = g.set_value(plug(*solver, a::kMidAxis), Value(Vec3((mid_linear.inverse() * hinge.normalized()).normalized())));
+  if (s) s = g.connect(plug(target, xform::kWorldMatrix), plug(*solver, a::kTargetMatrix));
+  if (s) s = g.set_value(plug(*solver, a::kUsePoleMatrix), Value(true));
+  if (s) s = g.connect(plug(*pole, xform::kWorldMatrix), plug(*solver, a::kPoleMatrix));
+  if (s) s = g.set_value(plug(*solver, ik::three_bone_attr::kHockMode), Value(std::int64_t{pinned ? 1 : 0}));
+  if (s && pinned)
+    s = g.connect(plug(ctx.node("hockTarget"), xform::kWorldMatrix), plug(*solver, ik::three_bone_attr::kHockMatrix));
+  return s.is_ok() ? s : s.with_context(ctx.full_name() + " ikSolver");
+}
+
+class QuadLeg : public ComponentClass {
+ public:
+  std::string_view type() const override { return "quadLeg"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        Step{"fk", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               NodeId parent = ctx.attach_node();
+               for (int i = 0; i < 4; ++i) {
+                 Result<NodeId> c = control_at_guide(ctx, "fk", i, i, (*joints)[i], parent, "fkJoint");
+                 if (!c) return c.status();
+                 parent = node_at(ctx, "fk", i);
+               }
+               return Status::ok();
+             }},
+        Step{"ik", "ik", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               Result<NodeId> ik = control_at_guide(ctx, "ik", -1, 3, (*joints)[3], ctx.attach_node(), "ikEnd");
+               if (!ik) return ik.status();
+               const bool pinned = ctx.param_string("hockMode") == "pinned";
+               if (pinned) {
+                 // The hock control turns the hock bone about the foot; the
+                 // group under it, at the hock joint, is what the solver reads.
+                 const Mat4 foot = math::rigid_part(ctx.scene().world_matrix((*joints)[3]));
+                 Result<NodeId> hock = ctx.create_control("hock", -1, 2, foot, ctx.node("ik"));
+                 if (!hock) return hock.status();
+                 Result<NodeId> target =
+                     ctx.create_group("hockTarget", -1, ctx.scene().world_matrix((*joints)[2]), *hock);
+                 if (!target) return target.status();
+               }
+               return make_three_bone(ctx, *joints, pinned);
+             }},
+        Step{"stretch", "stretch", "",
+             [](BuildContext& ctx) -> Status {
+               const NodeId solver = ctx.node("ikSolver");
+               if (!solver.is_valid() || !ctx.param_bool("stretch")) return Status::ok();
+               Status s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kStretch), Value(true));
+               if (s)
+                 s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kMaxStretch),
+                                           Value(ctx.param_double("maxStretch")));
+               return s;
+             }},
+        Step{"switch", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               const NodeId solver = ctx.node("ikSolver");
+               const Vec3 top = position_of(ctx.scene().world_matrix((*joints)[0]));
+               const Vec3 foot = position_of(ctx.scene().world_matrix((*joints)[3]));
+               Mat4 place = Mat4::Identity();  // beside the foot, a fifth of the leg's height above it
+               place.topRightCorner<3, 1>() = foot + Vec3(0, 0.2 * std::abs(top.y() - foot.y()), 0);
+               Result<NodeId> control = ctx.create_control("switch", -1, 3, place, ctx.attach_node());
+               if (!control) return control.status();
+               const double fk_ik = solver.is_valid() && ctx.param_string("defaultMode") == "ik" ? 1.0 : 0.0;
+               std::vector<NodeId> fk;
+               for (int i = 0; i < 4; ++i) {
+                 const NodeId at_joint = node_at(ctx, "fkJoint", i);
+                 fk.push_back(at_joint.is_valid() ? at_joint : node_at(ctx, "fk", i));
+               }
+               const NodeId ik_end = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
+               return make_switch(ctx, *joints, fk, solver, ik_end, fk_ik).status();
+             }},
+        Step{"drive", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               return drive_joints(ctx, *joints, ctx.node("fkIkSwitch"));
+             }},
+        Step{"spaces", "ik", "",
+             [](BuildContext& ctx) -> Status {
+               const NodeId ik = ctx.node("ik");
+               if (!ik.is_valid()) return Status::ok();
+               const std::string spec = ctx.param_string("ikSpaces");
+               Status s = add_default_spaces(ctx, ik, "ik",
+                                             spec.empty() ? "world,global=global/main,hip=hip/main" : spec, !spec.empty());
+               if (!s) return s;
+               // The space the IK control starts in: the feet stay planted
+               // as the body moves (world where the rig lacks the space).
+               const ControlSpaces spaces = spaces_of(ctx.scene(), ik);
+               if (!spaces.node.is_valid()) return Status::ok();
+               Result<int> index = find_space(spaces, ctx.param_string("ikSpace"));
+               if (!index) index = find_space(spaces, "world");
+               if (!index) return index.status().with_context(ctx.full_name());
+               return ctx.graph().set_value(plug(spaces.node, ops::util::space_attr::kSpace),
+                                            Value(static_cast<double>(*index)));
+             }},
+    };
+  }
+};
+
 // ---- twist --------------------------------------------------------------
 
 class Twist : public ComponentClass {
@@ -470,6 +627,7 @@ class Twist : public ComponentClass {
 Status add_limb_components(ComponentFactory& factory) {
   if (Status s = factory.add(std::make_shared<IkChain>()); !s) return s;
   if (Status s = factory.add(std::make_shared<Limb>()); !s) return s;
+  if (Status s = factory.add(std::make_shared<QuadLeg>()); !s) return s;
   return factory.add(std::make_shared<Twist>());
 }
 

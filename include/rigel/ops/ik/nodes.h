@@ -100,6 +100,26 @@
 //   outTranslations[1..2] (mid, end: stretch); the end joint's rotation is
 //   left to the animator (as Maya's ikHandle).
 //
+// ikThreeBone: a leg of three segments and its foot, exactly 4 joints
+// (upper, lower, hock, foot: a quadruped's hind or front leg). Every
+// ikTwoBone attribute at the same index (two_bone_attr::), then:
+//   hockMode       enum     spring | pinned
+//   hockMatrix     matrix   pinned: the hock bone's world matrix (a group under
+//                           the hock control, at the hock joint's rest place)
+//   spring: the hock bone keeps its angle to the upper bone (turns with it, a
+//     pantograph, as a dog's or horse's cannon stays about parallel to the
+//     femur), so the chain is a two-bone one of bones (upper + hock) and
+//     lower whose middle stands where the two meet (in the lower joint's
+//     frame: midAxis is that chain's hinge there); the foot reaches
+//     targetMatrix's translation, exactly within reach.
+//   pinned: upper and lower are a two-bone chain whose end, the hock joint,
+//     reaches hockMatrix's translation; the hock bone takes hockMatrix's
+//     orientation; the foot keeps its rest place in the hock bone's frame.
+//     targetMatrix is not read. midAxis: the upper-lower hinge, as ikTwoBone's.
+//   weight blends the joints' channels from the rest pose (as ikSpline's).
+//   Failures: ikTwoBone's, and (pinned) hockMatrix not finite or not affine.
+//   The foot's rotation is left to its IK control (fkIkSwitch's ikEndMatrix).
+//
 // ikFabrik / ikCcd: a chain of 2 or more joints.
 //   targetMatrix    matrix     the end joint reaches its translation
 //   tolerance       double     world units, >= 0 (default 1e-6)
@@ -149,6 +169,7 @@
 namespace rigel::ops::ik {
 
 inline constexpr const char* kIkTwoBoneType = "ikTwoBone";
+inline constexpr const char* kIkThreeBoneType = "ikThreeBone";
 inline constexpr const char* kIkFabrikType = "ikFabrik";
 inline constexpr const char* kIkCcdType = "ikCcd";
 inline constexpr const char* kIkSplineType = "ikSpline";
@@ -189,6 +210,11 @@ enum : graph::AttrIndex {
   kCount
 };
 }  // namespace two_bone_attr
+
+// ikThreeBone: two_bone_attr's, then these.
+namespace three_bone_attr {
+enum : graph::AttrIndex { kHockMode = two_bone_attr::kCount, kHockMatrix, kCount };
+}  // namespace three_bone_attr
 
 // ikFabrik and ikCcd.
 namespace chain_attr {
