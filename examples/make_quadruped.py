@@ -6,7 +6,7 @@ examples/quadruped.rig.xml is built on.
     python3 make_quadruped.py > quadruped.rigel
 
 The skeleton: hips; a spine of three joints to the chest; neck, neck.001 and
-head; jaw and lips, eyes, ears; a tail of four joints; two hind legs (femur,
+head; jaw and lips, eyes and lids (at the eyes: their pivot), ears; a tail of four joints; two hind legs (femur,
 tibia, metatarsus, hoof: three segments with the hock between tibia and
 metatarsus) and two front legs (scapula, then humerus, radius, metacarpus,
 fhoof). The cart: cart_root on the ground, an axle with two wheels and two
@@ -42,6 +42,8 @@ CENTRE = {
 LEFT = {
     "lip.L": ("head", (0.07, 1.66, 1.36)),
     "eye.L": ("head", (0.11, 1.92, 1.15)),
+    "lid.T.L": ("head", (0.11, 1.92, 1.15)),
+    "lid.B.L": ("head", (0.11, 1.92, 1.15)),
     "ear.L": ("head", (0.07, 2.00, 1.02)),
     "ear.L.001": ("ear.L", (0.07, 2.18, 1.02)),
     "femur.L": ("hips", (0.18, 1.20, -0.60)),

@@ -127,6 +127,7 @@ PYBIND11_MODULE(_rigel, m) {
   wrap_rig_build(m);
   wrap_meta(m);
   wrap_build_graph(m);
+  wrap_component_types(m);
   wrap_serve(m);
   wrap_ephemeral(m);
   wrap_keys(m);

@@ -92,6 +92,7 @@ void wrap_rig_build(py::module_& m);
 void wrap_meta(py::module_& m);  // Scene's and Node's methods of the metadata network
 // Build graphs: graph files, build functions written in Python (wrap_build_graph.cc).
 void wrap_build_graph(py::module_& m);
+void wrap_component_types(py::module_& m);  // component types written in Python
 // rigel.Server: the server library in this process (wrap_serve.cc).
 void wrap_serve(py::module_& m);
 

@@ -28,6 +28,20 @@ ParamSpec p_enum(std::string name, std::string value, std::vector<std::string> c
   return ParamSpec{std::move(name), ParamType::kEnum, std::move(value), {}, {}, std::move(choices), std::move(help)};
 }
 
+// A call's own checks: a function id, and args that are a JSON object.
+std::vector<std::string> check_call(const Component& component) {
+  std::vector<std::string> problems;
+  const Param* fn = component.param("function");
+  if (!fn || !std::holds_alternative<std::string>(fn->value) || std::get<std::string>(fn->value).empty())
+    problems.emplace_back("a call needs the id of its build function (parameter 'function')");
+  const Param* args = component.param("args");
+  if (args && std::holds_alternative<std::string>(args->value)) {
+    const auto parsed = nlohmann::json::parse(std::get<std::string>(args->value), nullptr, false);
+    if (!parsed.is_object()) problems.emplace_back("parameter 'args' must be a JSON object");
+  }
+  return problems;
+}
+
 // Over 150 lines: a table, one entry per component type (parameters, guides,
 // controls, hooks, features), read as data; splitting it would only scatter it.
 std::vector<ComponentSchema> make_schemas() {
@@ -158,6 +172,22 @@ std::vector<ComponentSchema> make_schemas() {
   }
   {
     ComponentSchema c;
+    c.type = "springChain";
+    c.help = "A chain with secondary motion: FK controls set its goal pose, and its joints follow that pose on "
+             "damped springs stepped per frame (deterministic, bakeable).";
+    c.params = {p_double("stiffness", 100.0, 0.0, {}, "The springs' pull toward the goal pose, 1/s^2."),
+                p_double("damping", 10.0, 0.0, {}, "How fast the motion dies down, 1/s."),
+                p_double("gravity", 0.0, {}, {}, "Pull down the world's y axis, m/s^2 (9.81: earth's)."),
+                p_double("startFrame", 0.0, {}, {}, "The frame the chain rests on its goal pose at (and before)."),
+                p_double("weight", 1.0, 0.0, 1.0,
+                         "The fkIkSwitch's starting fkIk: 0 the FK pose, 1 the spring's (keyable on the switch).")};
+    c.guides = {2, -1, {}, "The joints, root first, each the child of the one before."};
+    c.controls = {{"fk", "circle", "green", 0.2, "One FK control per joint: the goal pose."}};
+    c.hooks = {"guide[i]"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
     c.type = "foot";
     c.help = "Reverse foot: heel, ball and toe roll, bank, heel/toe/ball twist and toe tap (a reverseFoot node the "
              "foot control stands for); takes over the IK end of a parent limb.";
@@ -280,6 +310,24 @@ std::vector<ComponentSchema> make_schemas() {
   }
   {
     ComponentSchema c;
+    c.type = "eyelid";
+    c.help = "Eyelids: upper and lower lid controls that follow the eye's turn by fractions and close in a "
+             "blink (keyable on the eyelid node).";
+    c.params = {p_double("upperFollow", 0.4, 0.0, 1.0, "How much of the eye's turn (about axis) the upper lid takes."),
+                p_double("lowerFollow", 0.2, 0.0, 1.0, "How much of it the lower lid takes."),
+                p_double("gap", 30.0, 0.0, 180.0, "The angle between the open lids, degrees: what a blink closes."),
+                p_double("blinkHeight", 0.3, 0.0, 1.0, "Where the lids meet: 0 at the lower lid, 1 at the upper."),
+                p_enum("axis", "x", {"x", "y", "z", "-x", "-y", "-z"},
+                       "The lids' hinge in the eye's parent's frame; turning about it closes the upper lid (x for a "
+                       "face looking along +z, as glTF's).")};
+    c.guides = {3, 3, {"eye", "upper", "lower"}, "The eye joint, the upper and the lower lid joints."};
+    c.controls = {{"lid", "circle", "lightBlue", 0.03, "One per lid, under a group that follows the eye and blinks."}};
+    c.hooks = {"upper", "lower"};
+    c.fixed_guides = 1;  // the eye guide only reads the eye
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
     c.type = "piston";
     c.help = "A piston: two joints that keep pointing at each other, each following a control.";
     c.guides = {2, 2, {"start", "end"}, "The two joints (the cylinder's and the rod's)."};
@@ -341,18 +389,7 @@ std::vector<ComponentSchema> make_schemas() {
                 p_string("args", "{}",
                          "Its inputs, a JSON object: values, {\"$component\": RIGID} or {\"$output\": [RIGID, NAME]}.")};
     c.guides = {0, 0, {}, "None."};
-    c.check = [](const Component& component) {
-      std::vector<std::string> problems;
-      const Param* fn = component.param("function");
-      if (!fn || !std::holds_alternative<std::string>(fn->value) || std::get<std::string>(fn->value).empty())
-        problems.push_back("a call needs the id of its build function (parameter 'function')");
-      const Param* args = component.param("args");
-      if (args && std::holds_alternative<std::string>(args->value)) {
-        const auto parsed = nlohmann::json::parse(std::get<std::string>(args->value), nullptr, false);
-        if (!parsed.is_object()) problems.push_back("parameter 'args' must be a JSON object");
-      }
-      return problems;
-    };
+    c.check = check_call;
     s.push_back(std::move(c));
   }
   return s;
@@ -360,8 +397,8 @@ std::vector<ComponentSchema> make_schemas() {
 
 }  // namespace
 
-const SchemaRegistry& builtin_schemas() {
-  static const SchemaRegistry registry = [] {
+SchemaRegistry& extensible_schemas() {
+  static SchemaRegistry registry = [] {
     SchemaRegistry r;
     for (ComponentSchema& s : make_schemas()) {
       Status st = r.add(std::move(s));
@@ -374,5 +411,7 @@ const SchemaRegistry& builtin_schemas() {
   }();
   return registry;
 }
+
+const SchemaRegistry& builtin_schemas() { return extensible_schemas(); }
 
 }  // namespace rigel::rig

@@ -80,19 +80,26 @@ Status SchemaRegistry::add(ComponentSchema schema) {
       (static_cast<int>(schema.guides.names.size()) != schema.guides.min ||
        schema.guides.min != schema.guides.max))
     return error(ErrorCode::kInvalidArgument, schema.type + ": fixed guide names need min == max == their count");
-  schemas_.push_back(std::move(schema));
+  schemas_.push_back(std::make_shared<const ComponentSchema>(std::move(schema)));
   return Status::ok();
 }
 
+bool SchemaRegistry::remove(std::string_view type) {
+  const auto it = std::find_if(schemas_.begin(), schemas_.end(), [&](const auto& s) { return s->type == type; });
+  if (it == schemas_.end()) return false;
+  schemas_.erase(it);
+  return true;
+}
+
 const ComponentSchema* SchemaRegistry::find(std::string_view type) const {
-  for (const ComponentSchema& s : schemas_)
-    if (s.type == type) return &s;
+  for (const auto& s : schemas_)
+    if (s->type == type) return s.get();
   return nullptr;
 }
 
 std::vector<std::string> SchemaRegistry::types() const {
   std::vector<std::string> out;
-  for (const ComponentSchema& s : schemas_) out.push_back(s.type);
+  for (const auto& s : schemas_) out.push_back(s->type);
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -418,9 +418,10 @@ class Importer {
     const std::int64_t mode = p.contains("mode") && p["mode"].is_number_integer() ? p["mode"].get<std::int64_t>() : 0;
     m.params.insert("mode");
     const std::vector<std::string> joints = chain(c, locs, parent_joint, r);
-    const bool ik = mode != 0;
-    m.component.type = ik ? "ikChain" : "fkChain";
-    const std::size_t guided = ik ? joints.size() : joints.size() - 1;
+    const bool spring = c.type == "chain_spring_01";  // every joint swings, the tip's bone too
+    const bool ik = !spring && mode != 0;
+    m.component.type = spring ? "springChain" : ik ? "ikChain" : "fkChain";
+    const std::size_t guided = ik || spring ? joints.size() : joints.size() - 1;
     for (std::size_t i = 0; i < guided; ++i) {
       m.component.guides.push_back(joint_guide(locs[i], joints[i]));
       m.hooks[locs[i]] = locs[i];
@@ -434,7 +435,6 @@ class Importer {
     } else {
       style(m.component, c, "fk", false, 0);
     }
-    if (c.type == "chain_spring_01") r.notes.push_back("the spring is not built: rigel has no spring chain yet");
     return m;
   }
 

@@ -13,6 +13,7 @@
 #include "rigel/io/scene_file.h"
 #include "rigel/math/rotation.h"
 #include "rigel/math/transform.h"
+#include "rigel/ops/util/eyelid.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/component.h"
 #include "rigel/scene/transform_types.h"
@@ -82,7 +83,9 @@ Definition everything() {
   Component piston = component("piston", "piston", {at_joint("thigh.L"), at_joint("shin.L")});
   Component squash = component("squash", "squash", {at_joint("upper_arm.R"), at_joint("forearm.R")});
   Component wheel = component("wheel", "wheel", {at_joint("foot.R")}, {param("radius", 0.25)});
-  return rig_with({arm, floating, meta, mouth(true), piston, squash, wheel});
+  Component lids = component("eyelid", "lids", {at_joint("eye.L"), at_joint("lid.T.L"), at_joint("lid.B.L")},
+                             {param("blinkHeight", 0.25)});
+  return rig_with({arm, floating, meta, mouth(true), piston, squash, wheel, lids});
 }
 
 Vec3 position(scene::Scene& s, NodeId id) { return s.world_matrix(id).topRightCorner<3, 1>(); }
@@ -275,6 +278,43 @@ TEST(RigLibrary, a_wheel_rolls_by_the_distance_it_travels_forward) {
   EXPECT_GT(std::abs(travel), 0.01);
   const Mat3 carried = rotation(s.world_matrix(s.graph().find("foot.R"))) * rotation(rest).transpose();
   EXPECT_LT((carried - Mat3(Eigen::AngleAxisd(travel / 0.25, axle))).cwiseAbs().maxCoeff(), kTurn);
+}
+
+// The lids turn about the eye in its parent's frame: a blink closes them
+// by the gap, meeting at blinkHeight; they follow the eye's pitch by their
+// fractions.
+TEST(RigLibrary, eyelids_blink_and_follow_the_eye) {
+  BuiltRig b = built_rig(everything());
+  ASSERT_TRUE(b.build);
+  scene::Scene& s = *b.scene;
+  graph::Graph& g = s.graph();
+  const NodeId node = at(s, "lib:lids/eyelid");
+  const Vec3 eye = position(s, "eye.L");
+  const Mat3 head = math::rigid_part(s.world_matrix(g.parent(g.find("eye.L")))).topLeftCorner<3, 3>();
+  const Vec3 axis = head * Vec3::UnitX();
+  const Vec3 upper = position(s, "lid.T.L"), lower = position(s, "lid.B.L");
+  auto turned = [&](const Vec3& p, double degrees) {
+    return Vec3(eye + Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis) * (p - eye));
+  };
+  namespace el = ops::util::eyelid_attr;
+  ASSERT_TRUE(g.set_value(Plug{node, el::kBlink, -1}, Value(1.0)).is_ok());
+  EXPECT_LT((position(s, "lid.T.L") - turned(upper, 30.0 * 0.75)).norm(), 1e-6) << "the upper lid comes down";
+  EXPECT_LT((position(s, "lid.B.L") - turned(lower, -30.0 * 0.25)).norm(), 1e-6) << "the lower lid comes up";
+  ASSERT_TRUE(g.set_value(Plug{node, el::kBlink, -1}, Value(0.0)).is_ok());
+  EXPECT_LT((position(s, "lid.T.L") - upper).norm(), 1e-9);
+  const NodeId eye_joint = g.find("eye.L");
+  if (xform::is_quaternion_mode(*g.node(eye_joint))) {
+    const math::Quat q = std::get<math::Quat>(g.evaluate(eye_joint, xform::kRotateQuaternion));
+    ASSERT_TRUE(g.set_value(Plug{eye_joint, xform::kRotateQuaternion, -1},
+                            Value(math::Quat(q * math::Quat(Eigen::AngleAxisd(0.2, Vec3::UnitX())))))
+                    .is_ok());
+  } else {
+    set(s, eye_joint, xform::kRotate, Vec3(12, 0, 0));
+  }
+  const double pitch = std::get<double>(g.evaluate(node, el::kPitch));
+  EXPECT_GT(std::abs(pitch), 1.0) << "the eye's turn about the lids' hinge";
+  EXPECT_LT((position(s, "lid.T.L") - turned(upper, 0.4 * pitch)).norm(), 1e-6);
+  EXPECT_LT((position(s, "lid.B.L") - turned(lower, 0.2 * pitch)).norm(), 1e-6);
 }
 
 TEST(RigLibrary, a_mouth_without_joints_fails_naming_the_component) {

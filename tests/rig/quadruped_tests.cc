@@ -14,7 +14,9 @@
 #include "rigel/io/scene_file.h"
 #include "rigel/math/rotation.h"
 #include "rigel/math/transform.h"
+#include "rigel/ops/anim/channel_keys.h"
 #include "rigel/ops/util/blend.h"
+#include "rigel/ops/util/spring.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/components/limbs.h"
 #include "rigel/rig/definition_io.h"
@@ -90,13 +92,19 @@ Component leg(const std::string& side, const std::string& hock_mode, bool stretc
   return c;
 }
 
-// global -> hip -> a spring hind leg (L) and a pinned one with stretch (R).
+Component tail() {
+  return testing::make_component("springChain", "tail",
+                                 {at_joint("tail"), at_joint("tail.001"), at_joint("tail.002"), at_joint("tail.003")});
+}
+
+// global -> hip -> a spring hind leg (L), a pinned one with stretch (R) and
+// a spring chain on the tail.
 Definition legs() {
   Definition d;
   d.name = "legs";
   Component global = testing::make_component("global", "global", {Guide{}});
   Component hip = testing::make_component("hip", "hip", {at_joint("hips")});
-  hip.children = {leg("L", "spring"), leg("R", "pinned", true)};
+  hip.children = {leg("L", "spring"), leg("R", "pinned", true), tail()};
   global.children = {hip};
   d.components = {global};
   return d;
@@ -208,6 +216,82 @@ TEST(QuadLeg, bad_guides_fail_naming_the_component) {
   ASSERT_FALSE(s.is_ok());
   EXPECT_NE(s.message().find("hindLeg_L (quadLeg): guide 3: 'tail' is not a child of 'metatarsus.L'"), std::string::npos)
       << s.message();
+}
+
+// ---- springChain -------------------------------------------------------------
+
+// The tail's tip at frames 0..last played in order, the tail's root
+// control keyed to swing 40 degrees by frame 12 and hold.
+std::vector<Mat4> play(Quad& q, int last) {
+  std::vector<Mat4> tips;
+  for (int f = 0; f <= last; ++f) {
+    q.scene->set_frame(f);
+    tips.push_back(q.scene->world_matrix(q.g().find("tail.003")));
+  }
+  return tips;
+}
+
+void key_swing(Quad& q) {
+  graph::Graph& g = q.g();
+  const NodeId root = q.at("tail/fk[0]");
+  for (const auto& [frame, angle] : {std::pair{0.0, 0.0}, std::pair{12.0, 40.0}})
+    ASSERT_TRUE(ops::anim::write_channel_key(g, root, xform::kRotate, Value(Vec3(0, angle, 0)), frame / g.fps(), true)
+                    .is_ok());
+}
+
+TEST(SpringChain, the_tail_lags_its_goal_settles_on_it_and_plays_the_same_every_time) {
+  Quad q;
+  build(q, legs());
+  ASSERT_TRUE(q.build);
+  key_swing(q);
+  const std::vector<Mat4> first = play(q, 120);
+  // The goal: the FK pose (the switch at 0).
+  auto goal_at = [&](int frame) {
+    q.scene->set_frame(frame);
+    q.set(q.at("tail/fkIkSwitch"), ops::util::fk_ik_attr::kFkIk, 0.0);
+    const Vec3 tip = q.p("tail.003");
+    q.set(q.at("tail/fkIkSwitch"), ops::util::fk_ik_attr::kFkIk, 1.0);
+    return tip;
+  };
+  EXPECT_GT((pos(first[12]) - goal_at(12)).norm(), 1e-2) << "the tip lags while the root swings";
+  EXPECT_LT((pos(first[120]) - goal_at(120)).norm(), 1e-6) << "and settles on its goal once it stops";
+  EXPECT_LT((pos(first[0]) - pos(q.rest.at("tail.003"))).norm(), 1e-12) << "at the start frame it rests";
+  // Played again, scrubbed back, or built again in another scene: the same values.
+  EXPECT_EQ(play(q, 120), first);
+  q.scene->set_frame(30);
+  EXPECT_EQ(q.scene->world_matrix(q.g().find("tail.003")), first[30]) << "scrubbing back to a played frame";
+  Quad again;
+  build(again, legs());
+  key_swing(again);
+  EXPECT_EQ(play(again, 120), first) << "deterministic";
+  // Bone lengths are kept while it swings.
+  q.scene->set_frame(14);
+  EXPECT_NEAR((q.p("tail.003") - q.p("tail.002")).norm(),
+              (pos(q.rest.at("tail.003")) - pos(q.rest.at("tail.002"))).norm(), 1e-9);
+}
+
+TEST(SpringChain, an_edited_key_is_played_with_the_new_value_and_bad_inputs_are_named) {
+  Quad q;
+  build(q, legs());
+  ASSERT_TRUE(q.build);
+  key_swing(q);
+  const std::vector<Mat4> first = play(q, 40);
+  ASSERT_TRUE(ops::anim::write_channel_key(q.g(), q.at("tail/fk[0]"), xform::kRotate, Value(Vec3(0, -30, 0)),
+                                           12.0 / q.g().fps(), true)
+                  .is_ok());
+  const std::vector<Mat4> edited = play(q, 40);
+  EXPECT_GT((pos(edited[20]) - pos(first[20])).norm(), 1e-2);
+  Quad fresh;
+  build(fresh, legs());
+  key_swing(fresh);
+  ASSERT_TRUE(ops::anim::write_channel_key(fresh.g(), fresh.at("tail/fk[0]"), xform::kRotate, Value(Vec3(0, -30, 0)),
+                                           12.0 / fresh.g().fps(), true)
+                  .is_ok());
+  EXPECT_EQ(play(fresh, 40), edited) << "the edit played as if keyed from the start";
+  const NodeId spring = q.at("tail/spring");
+  q.set(spring, ops::util::spring_attr::kDamping, -1.0);
+  EXPECT_EQ(std::get<std::string>(q.g().evaluate(spring, ops::util::spring_attr::kError)),
+            "damping: must be a number from 0");
 }
 
 // ---- the quadruped example -------------------------------------------------

@@ -23,6 +23,7 @@
 #include "rigel/ops/anim/nodes.h"
 #include "rigel/rig/build.h"
 #include "rigel/rig/manager.h"
+#include "rigel/rig/meta.h"
 #include "rigel/scene/transform_types.h"
 #include "rigel/tools/bake.h"
 
@@ -120,6 +121,40 @@ TEST(Bake, FkArmSurvivesTheRigsRemoval) {
     ASSERT_TRUE(src.has_value());
     EXPECT_NE(g.node(src->node)->type().name().rfind("animCurve", 0), 0u);
   }
+}
+
+// The quadruped's spring tail (examples/quadruped.rig.xml), its root keyed
+// to swing: baking the tail over 0..48 gives keys that play what the
+// playback gave (a spring is stepped frame by frame, as a bake samples),
+// with the rig removed too.
+TEST(Bake, ASpringChainBakesWhatItPlays) {
+  auto loaded = io::load_scene(fs::path(RIGEL_SOURCE_DIR) / "examples/quadruped.rigel", ephemeral::default_registry());
+  ASSERT_TRUE(loaded.is_ok()) << loaded.status().message();
+  scene::Scene& s = **loaded;
+  graph::Graph& g = s.graph();
+  auto added = rig::add_rig(s, fs::path(RIGEL_SOURCE_DIR) / "examples/quadruped.rig.xml", ephemeral::components());
+  ASSERT_TRUE(added.is_ok()) << added.status().message();
+  auto root = rig::resolve_address(g, "horse:tail/fk[0]");
+  ASSERT_TRUE(root.is_ok());
+  for (const auto& [frame, angle] : {std::pair{0.0, 0.0}, std::pair{10.0, 35.0}, std::pair{20.0, -20.0}})
+    ASSERT_TRUE(ops::anim::write_channel_key(g, *root, scene::xform::kRotate, graph::Value(math::Vec3(angle, angle, 0)),
+                                             frame / g.fps(), true)
+                    .is_ok());
+  const std::vector<NodeId> tail = {g.find("tail"), g.find("tail.001"), g.find("tail.002"), g.find("tail.003")};
+  std::vector<std::vector<math::Mat4>> played;
+  for (int f = 0; f <= 48; ++f) played.push_back(worlds(s, tail, f));
+  BakeOptions o;
+  o.first = 0;
+  o.last = 48;
+  o.nodes = tail;
+  ASSERT_TRUE(bake(s, o).is_ok());
+  for (int f = 0; f <= 48; ++f)
+    EXPECT_LT(worst(played[static_cast<std::size_t>(f)], worlds(s, tail, f)), 1e-9) << "baked, frame " << f;
+  auto build = rig::Build::reopen(s, "horse", ephemeral::components());
+  ASSERT_TRUE(build.is_ok());
+  ASSERT_TRUE((*build)->remove().is_ok());
+  for (int f = 48; f >= 0; f -= 6)
+    EXPECT_LT(worst(played[static_cast<std::size_t>(f)], worlds(s, tail, f)), 1e-9) << "rig removed, frame " << f;
 }
 
 // Every joint of an ephemeral rig posed by inverse-mode drags on keys:

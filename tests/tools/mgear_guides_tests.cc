@@ -189,14 +189,20 @@ TEST(MgearGuides, an_unknown_type_is_reported_and_its_children_hang_from_its_par
 }
 
 // mGear's leg_3jnt_01 (root, knee, ankle, foot, eff) is a quadLeg: its ankle
-// the hock, its foot the fetlock; it builds on its skeleton keeping the rest.
+// the hock, its foot the fetlock; chain_spring_01 a springChain with every
+// joint guided; both build on their skeleton keeping the rest.
 TEST(MgearGuides, a_three_joint_leg_is_a_quad_leg_that_builds_on_its_skeleton) {
   auto matrix = [](double x, double y, double z) {
     return Json::array({Json::array({1.0, 0.0, 0.0, 0.0}), Json::array({0.0, 1.0, 0.0, 0.0}),
                         Json::array({0.0, 0.0, 1.0, 0.0}), Json::array({x, y, z, 1.0})});
   };
   Json doc = small_template();
-  doc["components_list"] = {"base_C0", "leg_L0"};
+  doc["components_list"] = {"base_C0", "leg_L0", "hair_C0"};
+  doc["components_dict"]["hair_C0"] = {
+      {"param_values", {{"comp_type", "chain_spring_01"}, {"comp_name", "hair"}, {"comp_side", "C"}, {"comp_index", 0}}},
+      {"tra", {{"root", matrix(0, 1.5, 0)}, {"0_loc", matrix(0, 1.5, -0.2)}, {"1_loc", matrix(0, 1.4, -0.4)}}},
+      {"parent_fullName", "base_C0"},
+      {"parent_localName", "root"}};
   doc["components_dict"].erase("odd_C0");
   doc["components_dict"].erase("tail_C0");
   doc["components_dict"]["leg_L0"] = {
@@ -217,6 +223,10 @@ TEST(MgearGuides, a_three_joint_leg_is_a_quad_leg_that_builds_on_its_skeleton) {
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(leg->guides[i].name, names[i]);
   ASSERT_NE(leg->param("defaultMode"), nullptr);
   EXPECT_EQ(std::get<std::string>(leg->param("defaultMode")->value), "ik");
+  const rig::Component* hair = find_full(m->definition, "hair");
+  ASSERT_NE(hair, nullptr);
+  EXPECT_EQ(hair->type, "springChain");
+  EXPECT_EQ(hair->guides.size(), 3u) << "every joint, the tip's too";
   for (const rig::Diagnostic& d : rig::validate(m->definition)) ADD_FAILURE() << d.str();
   auto scene = guide_skeleton_scene(*m, rig::default_registry());
   ASSERT_TRUE(scene.is_ok()) << scene.status().message();

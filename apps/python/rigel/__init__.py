@@ -18,11 +18,13 @@ from ._rigel import __doc__ as _extension_doc  # noqa: F401
 from .pybuild import PyBuild  # noqa: F401
 from .plugins import (  # noqa: F401
     PluginError,
+    component_type,
     function,
     load_plugin,
     load_plugins,
     load_root_plugins,
     node_kind,
+    register_component_type,
     register_data_type,
     register_function,
     register_node_kind,

@@ -4,8 +4,9 @@ build functions, node kinds and data types, loaded from a folder (a project's or
 
 A plugin is a ``.py`` file whose ``register_plugin()`` registers
 functions with ``rigel.register_function``, node kinds with
-``rigel.register_node_kind`` and data types with
-``rigel.register_data_type``; while it runs, what it registers is marked
+``rigel.register_node_kind``, data types with
+``rigel.register_data_type`` and component types with
+``rigel.register_component_type``; while it runs, what it registers is marked
 with the file as its origin (so a second
 registration of an id names both files). A plugin that raises, or whose
 id is taken, is refused with its file named: ``PluginError``, and nothing
@@ -73,9 +74,32 @@ def node_kind(id, inputs=None, outputs=None, exits=("then",), repeats=(), nice_n
     return wrap
 
 
+def register_component_type(cls, origin=None):
+    """Registers a component type written in Python (see
+    _rigel.register_component_type, docs/PYTHON.md): a class declaring its
+    ``type``, ``params``, ``guides``, ``controls``, ``hooks``, ``features``
+    and ``steps``, with a ``step_NAME(build)`` method per step; inside a
+    plugin its origin is the plugin's file. Returns the class."""
+    if origin is None:
+        origin = _loading[-1] if _loading else ""
+    _rigel.register_component_type(cls, origin)
+    return cls
+
+
+def component_type(cls):
+    """Class decorator form of register_component_type."""
+    return register_component_type(cls)
+
+
+def _unregister(origin):
+    _rigel.unregister_functions(origin)
+    _rigel.unregister_component_types(origin)
+
+
 def _ids_of(origin):
     return {f["id"] for f in _rigel.build_functions() if f["origin"] == origin} | {
-        k["id"] for k in _rigel.node_kinds() if k["origin"] == origin}
+        k["id"] for k in _rigel.node_kinds() if k["origin"] == origin} | {
+        t["type"] for t in _rigel.registered_component_types() if t["origin"] == origin}
 
 
 def function(id, inputs=None, outputs=None, nice_name="", category="", help="", defaults=None, pure=False):
@@ -90,10 +114,10 @@ def function(id, inputs=None, outputs=None, nice_name="", category="", help="", 
 
 
 def load_plugin(path):
-    """Loads one plugin file; returns the ids of the functions and node kinds it registered."""
+    """Loads one plugin file; returns the ids of the functions, node kinds and component types it registered."""
     path = os.path.abspath(path)
     # A plugin loaded again replaces what it registered before.
-    _rigel.unregister_functions(path)
+    _unregister(path)
     name = "rigel_plugin_" + os.path.splitext(os.path.basename(path))[0]
     spec = importlib.util.spec_from_file_location(name, path)
     if spec is None or spec.loader is None:
@@ -107,10 +131,10 @@ def load_plugin(path):
             raise PluginError(path, "has no register_plugin() function")
         entry()
     except PluginError:
-        _rigel.unregister_functions(path)
+        _unregister(path)
         raise
     except Exception as e:  # noqa: BLE001 - any failure of the plugin's code is the plugin's
-        _rigel.unregister_functions(path)
+        _unregister(path)
         raise PluginError(path, f"{type(e).__name__}: {e}") from e
     finally:
         _loading.pop()

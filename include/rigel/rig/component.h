@@ -51,12 +51,13 @@ class ComponentFactory {
   explicit ComponentFactory(const SchemaRegistry& schemas = builtin_schemas()) : schemas_(&schemas) {}
   // Fails when the type has no schema or already has a class.
   Status add(std::shared_ptr<const ComponentClass> component_class);
+  // Its own class of `type`, else one registered at run time.
   const ComponentClass* find(std::string_view type) const;
   // Luna's metaType binding: the class that built a component, from its
   // metaComponent node (kNotFound / kUnsupported naming the metaType).
   Result<const ComponentClass*> class_of(const graph::Graph& graph, graph::NodeId meta) const;
   const SchemaRegistry& schemas() const { return *schemas_; }
-  std::vector<std::string> types() const;
+  std::vector<std::string> types() const;  // its own and the run-time ones, sorted
   void set_data_importer(DataImporter importer) { data_importer_ = std::move(importer); }
   const DataImporter& data_importer() const { return data_importer_; }
 
@@ -68,5 +69,21 @@ class ComponentFactory {
 
 // The rig layer's component classes (components/*.cc).
 const ComponentFactory& builtin_components();
+
+// Component types added at run time (a Python plugin's, apps/python): the
+// schema joins builtin_schemas() and the class is found by every
+// ComponentFactory (after its own classes), so definitions with the type
+// parse, validate, build, step, update and are removed as with a built-in
+// one. `origin` (the plugin's file) is named when another registration
+// wants the type: kAlreadyExists naming who has it (a built-in type:
+// "rigel"), and nothing is registered; kInvalidArgument for a schema that
+// does not hold (registry's add) or a class of another type. Register before
+// building: registration is not synchronised with builds on other threads.
+Status register_component_type(ComponentSchema schema, std::shared_ptr<const ComponentClass> component_class,
+                               std::string origin);
+// Removes the types registered from `origin`; how many.
+std::size_t unregister_component_types(std::string_view origin);
+// Types registered at run time, each with its origin, in registration order.
+std::vector<std::pair<std::string, std::string>> registered_component_types();
 
 }  // namespace rigel::rig

@@ -87,14 +87,23 @@ class SchemaRegistry {
   // Fails (kAlreadyExists) on a duplicate type, (kInvalidArgument) on a
   // default that does not fit its own spec.
   Status add(ComponentSchema schema);
+  // Removes a type (false when there is none). A schema found before stays
+  // valid only until its type is removed.
+  bool remove(std::string_view type);
+  // The schema of `type`; the pointer stays valid while the type is there.
   const ComponentSchema* find(std::string_view type) const;
   std::vector<std::string> types() const;  // sorted
  private:
-  std::vector<ComponentSchema> schemas_;
+  std::vector<std::shared_ptr<const ComponentSchema>> schemas_;
 };
 
-// Every component type rigel ships (src/rig/builtin_schemas.cc).
+// Every component type rigel ships (src/rig/builtin_schemas.cc), and those
+// added at run time by register_component_type (component.h: a Python
+// plugin's types).
 const SchemaRegistry& builtin_schemas();
+// The same registry, for register_component_type to add to; nothing else
+// changes it.
+SchemaRegistry& extensible_schemas();
 
 // Resolves a hook reference ("2", "END", "START", "MIDDLE", a hook name) of
 // a component with hooks `names`: the index, or nullopt.

@@ -9,9 +9,11 @@
 #include "rigel/math/transform.h"
 #include "rigel/math/types.h"
 #include "rigel/ops/util/blend.h"
+#include "rigel/ops/util/eyelid.h"
 #include "rigel/ops/util/finger.h"
 #include "rigel/ops/util/foot.h"
 #include "rigel/ops/util/space.h"
+#include "rigel/ops/util/spring.h"
 #include "rigel/ops/util/twist.h"
 
 namespace rigel::ops::util {
@@ -147,6 +149,8 @@ Status register_util_types(graph::Registry& registry) {
   if (Status s = register_finger_types(registry); !s) return s;
   if (Status s = register_foot_types(registry); !s) return s;
   if (Status s = register_space_types(registry); !s) return s;
+  if (Status s = register_spring_types(registry); !s) return s;
+  if (Status s = register_eyelid_types(registry); !s) return s;
   return register_twist_types(registry);
 }
 

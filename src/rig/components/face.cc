@@ -1,9 +1,13 @@
-// The face's component classes: mouth (jaw and lips following it).
+// The face's component classes: mouth (jaw and lips following it) and
+// eyelid (lids following the eye and blinking).
 #include "rigel/rig/components/face.h"
 
 #include <string>
 
+#include "rigel/math/transform.h"
 #include "rigel/ops/constraints/nodes.h"
+#include "rigel/ops/util/eyelid.h"
+#include "rigel/scene/transform_types.h"
 #include "rigel/rig/build_context.h"
 #include "rigel/rig/component.h"
 
@@ -88,8 +92,80 @@ class Mouth : public ComponentClass {
   }
 };
 
+// ---- eyelid -------------------------------------------------------------
+
+math::Vec3 axis_vector(const std::string& name) {
+  const double sign = name.starts_with('-') ? -1.0 : 1.0;
+  const char c = name.empty() ? 'x' : name.back();
+  return math::Vec3(c == 'x' ? sign : 0.0, c == 'y' ? sign : 0.0, c == 'z' ? sign : 0.0);
+}
+
+class Eyelid : public ComponentClass {
+ public:
+  std::string_view type() const override { return "eyelid"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        // Each lid: a follow group at the eye in the eye's parent's frame
+        // (turned by the eyelidBlink node) and a lid control under it.
+        Step{"controls", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<NodeId> eye = ctx.guide_joint(0);
+               if (!eye) return eye.status();
+               const NodeId head = ctx.graph().parent(*eye);
+               const Mat4 frame = head.is_valid() ? math::rigid_part(ctx.scene().world_matrix(head)) : Mat4(Mat4::Identity());
+               Mat4 place = frame;  // pivoting at the eye
+               place.topRightCorner<3, 1>() = ctx.scene().world_matrix(*eye).topRightCorner<3, 1>();
+               for (int lid = 0; lid < 2; ++lid) {
+                 Result<NodeId> group = ctx.create_group("lidFollow", lid, place, ctx.attach_node());
+                 if (!group) return group.status();
+                 Result<Mat4> world = ctx.guide_world(lid + 1);
+                 if (!world) return world.status();
+                 Result<NodeId> control = ctx.create_control("lid", lid, lid + 1, math::rigid_part(*world), *group);
+                 if (!control) return control.status();
+                 if (Status s = ctx.publish_hook(lid, *control); !s) return s;
+               }
+               return Status::ok();
+             }},
+        Step{"blink", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<NodeId> eye = ctx.guide_joint(0);
+               if (!eye) return eye.status();
+               graph::Graph& g = ctx.graph();
+               Result<NodeId> node = ctx.create(ops::util::kEyelidBlinkType, "eyelid");
+               if (!node) return node.status();
+               namespace a = ops::util::eyelid_attr;
+               namespace xform = scene::xform;
+               Status s = g.connect(graph::Plug{*eye, xform::kMatrix, -1}, graph::Plug{*node, a::kEyeMatrix, -1});
+               if (s) s = g.set_value(graph::Plug{*node, a::kEyeRestMatrix, -1}, g.evaluate(*eye, xform::kMatrix));
+               if (s) s = g.set_value(graph::Plug{*node, a::kAxis, -1}, graph::Value(axis_vector(ctx.param_string("axis"))));
+               const std::pair<graph::AttrIndex, const char*> params[] = {{a::kUpperFollow, "upperFollow"},
+                                                                          {a::kLowerFollow, "lowerFollow"},
+                                                                          {a::kBlinkHeight, "blinkHeight"},
+                                                                          {a::kGap, "gap"}};
+               for (const auto& [attr, name] : params)
+                 if (s) s = g.set_value(graph::Plug{*node, attr, -1}, graph::Value(ctx.param_double(name)));
+               if (s) s = g.connect(graph::Plug{*node, a::kUpperRotate, -1}, graph::Plug{ctx.node("lidFollow", 0), xform::kRotate, -1});
+               if (s) s = g.connect(graph::Plug{*node, a::kLowerRotate, -1}, graph::Plug{ctx.node("lidFollow", 1), xform::kRotate, -1});
+               return s.is_ok() ? s : s.with_context(ctx.full_name() + " eyelid");
+             }},
+        Step{"drive", "", "",
+             [](BuildContext& ctx) -> Status {
+               for (int lid = 0; lid < 2; ++lid) {
+                 Result<NodeId> joint = ctx.guide_joint(lid + 1);
+                 if (!joint) return joint.status();
+                 if (Status s = ctx.drive(ctx.node("lid", lid), *joint); !s) return s;
+               }
+               return Status::ok();
+             }},
+    };
+  }
+};
+
 }  // namespace
 
-Status add_face_components(ComponentFactory& factory) { return factory.add(std::make_shared<Mouth>()); }
+Status add_face_components(ComponentFactory& factory) {
+  if (Status s = factory.add(std::make_shared<Mouth>()); !s) return s;
+  return factory.add(std::make_shared<Eyelid>());
+}
 
 }  // namespace rigel::rig::components

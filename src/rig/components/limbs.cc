@@ -1,4 +1,4 @@
-// ikChain, limb, quadLeg and twist (components/limbs.h).
+// ikChain, limb, quadLeg, springChain and twist (components/limbs.h).
 #include "rigel/rig/components/limbs.h"
 
 #include <cmath>
@@ -11,6 +11,7 @@
 #include "rigel/ops/ik/nodes.h"
 #include "rigel/ops/util/blend.h"
 #include "rigel/ops/util/space.h"
+#include "rigel/ops/util/spring.h"
 #include "rigel/ops/util/twist.h"
 #include "rigel/rig/component.h"
 #include "rigel/rig/meta.h"
@@ -243,6 +244,55 @@ Status drive_joints(BuildContext& ctx, const std::vector<NodeId>& joints, NodeId
   return Status::ok();
 }
 
+// ---- steps limb and quadLeg share ------------------------------------------
+
+// `stretch` (feature stretch): the solver's stretch on, up to maxStretch.
+Status stretch_step(BuildContext& ctx) {
+  const NodeId solver = ctx.node("ikSolver");
+  if (!solver.is_valid() || !ctx.param_bool("stretch")) return Status::ok();
+  Status s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kStretch), Value(true));
+  if (s) s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kMaxStretch), Value(ctx.param_double("maxStretch")));
+  return s;
+}
+
+// `switch`: the switch control at `place` (guide `guide`) and the
+// fkIkSwitch over the chain's `count` FK and IK poses, starting in defaultMode.
+Status switch_step(BuildContext& ctx, int count, const Mat4& place, int guide) {
+  Result<std::vector<NodeId>> joints = chain_joints(ctx);
+  if (!joints) return joints.status();
+  const NodeId solver = ctx.node("ikSolver");
+  Result<NodeId> control = ctx.create_control("switch", -1, guide, place, ctx.attach_node());
+  if (!control) return control.status();
+  const double fk_ik = solver.is_valid() && ctx.param_string("defaultMode") == "ik" ? 1.0 : 0.0;
+  std::vector<NodeId> fk;
+  for (int i = 0; i < count; ++i) {
+    const NodeId at_joint = node_at(ctx, "fkJoint", i);
+    fk.push_back(at_joint.is_valid() ? at_joint : node_at(ctx, "fk", i));
+  }
+  const NodeId ik_end = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
+  return make_switch(ctx, *joints, fk, solver, ik_end, fk_ik).status();
+}
+
+// `drive`: the switch drives the joints.
+Status drive_step(BuildContext& ctx) {
+  Result<std::vector<NodeId>> joints = chain_joints(ctx);
+  if (!joints) return joints.status();
+  return drive_joints(ctx, *joints, ctx.node("fkIkSwitch"));
+}
+
+// `fk`: one FK control per guide, each under the one before.
+Status fk_step(BuildContext& ctx) {
+  Result<std::vector<NodeId>> joints = chain_joints(ctx);
+  if (!joints) return joints.status();
+  NodeId parent = ctx.attach_node();
+  for (int i = 0; i < ctx.guide_count(); ++i) {
+    Result<NodeId> c = control_at_guide(ctx, "fk", i, i, (*joints)[static_cast<std::size_t>(i)], parent, "fkJoint");
+    if (!c) return c.status();
+    parent = node_at(ctx, "fk", i);
+  }
+  return Status::ok();
+}
+
 // ---- ikChain ------------------------------------------------------------
 
 Result<std::string> chain_solver(BuildContext& ctx) {
@@ -321,18 +371,7 @@ class Limb : public ComponentClass {
   std::string_view type() const override { return "limb"; }
   std::vector<Step> steps(const Component&) const override {
     return {
-        Step{"fk", "", "",
-             [](BuildContext& ctx) -> Status {
-               Result<std::vector<NodeId>> joints = chain_joints(ctx);
-               if (!joints) return joints.status();
-               NodeId parent = ctx.attach_node();
-               for (int i = 0; i < 3; ++i) {
-                 Result<NodeId> c = control_at_guide(ctx, "fk", i, i, (*joints)[i], parent, "fkJoint");
-                 if (!c) return c.status();
-                 parent = node_at(ctx, "fk", i);
-               }
-               return Status::ok();
-             }},
+        Step{"fk", "", "", [](BuildContext& ctx) { return fk_step(ctx); }},
         Step{"ik", "ik", "",
              [](BuildContext& ctx) -> Status {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
@@ -351,21 +390,11 @@ class Limb : public ComponentClass {
                if (!pole) return pole.status();
                return make_two_bone(ctx, *joints, *target, *pole).status();
              }},
-        Step{"stretch", "stretch", "",
-             [](BuildContext& ctx) -> Status {
-               const NodeId solver = ctx.node("ikSolver");
-               if (!solver.is_valid() || !ctx.param_bool("stretch")) return Status::ok();
-               Status s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kStretch), Value(true));
-               if (s)
-                 s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kMaxStretch),
-                                           Value(ctx.param_double("maxStretch")));
-               return s;
-             }},
+        Step{"stretch", "stretch", "", [](BuildContext& ctx) { return stretch_step(ctx); }},
         Step{"switch", "", "",
              [](BuildContext& ctx) -> Status {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
                if (!joints) return joints.status();
-               const NodeId solver = ctx.node("ikSolver");
                // The switch control floats above the end joint by a fifth of the limb's reach.
                const Mat4 end = ctx.scene().world_matrix((*joints)[2]);
                const double reach = (position_of(ctx.scene().world_matrix((*joints)[1])) -
@@ -373,23 +402,9 @@ class Limb : public ComponentClass {
                                     (position_of(end) - position_of(ctx.scene().world_matrix((*joints)[1]))).norm();
                Mat4 place = Mat4::Identity();
                place.topRightCorner<3, 1>() = position_of(end) + Vec3(0, 0.2 * reach, 0);
-               Result<NodeId> control = ctx.create_control("switch", -1, 2, place, ctx.attach_node());
-               if (!control) return control.status();
-               const double fk_ik = solver.is_valid() && ctx.param_string("defaultMode") == "ik" ? 1.0 : 0.0;
-               std::vector<NodeId> fk;
-               for (int i = 0; i < 3; ++i) {
-                 const NodeId at_joint = node_at(ctx, "fkJoint", i);
-                 fk.push_back(at_joint.is_valid() ? at_joint : node_at(ctx, "fk", i));
-               }
-               const NodeId ik_end = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
-               return make_switch(ctx, *joints, fk, solver, ik_end, fk_ik).status();
+               return switch_step(ctx, 3, place, 2);
              }},
-        Step{"drive", "", "",
-             [](BuildContext& ctx) -> Status {
-               Result<std::vector<NodeId>> joints = chain_joints(ctx);
-               if (!joints) return joints.status();
-               return drive_joints(ctx, *joints, ctx.node("fkIkSwitch"));
-             }},
+        Step{"drive", "", "", [](BuildContext& ctx) { return drive_step(ctx); }},
         Step{"spaces", "ik", "",
              [](BuildContext& ctx) -> Status {
                const NodeId ik = ctx.node("ik");
@@ -471,18 +486,7 @@ class QuadLeg : public ComponentClass {
   std::string_view type() const override { return "quadLeg"; }
   std::vector<Step> steps(const Component&) const override {
     return {
-        Step{"fk", "", "",
-             [](BuildContext& ctx) -> Status {
-               Result<std::vector<NodeId>> joints = chain_joints(ctx);
-               if (!joints) return joints.status();
-               NodeId parent = ctx.attach_node();
-               for (int i = 0; i < 4; ++i) {
-                 Result<NodeId> c = control_at_guide(ctx, "fk", i, i, (*joints)[i], parent, "fkJoint");
-                 if (!c) return c.status();
-                 parent = node_at(ctx, "fk", i);
-               }
-               return Status::ok();
-             }},
+        Step{"fk", "", "", [](BuildContext& ctx) { return fk_step(ctx); }},
         Step{"ik", "ik", "",
              [](BuildContext& ctx) -> Status {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
@@ -502,42 +506,18 @@ class QuadLeg : public ComponentClass {
                }
                return make_three_bone(ctx, *joints, pinned);
              }},
-        Step{"stretch", "stretch", "",
-             [](BuildContext& ctx) -> Status {
-               const NodeId solver = ctx.node("ikSolver");
-               if (!solver.is_valid() || !ctx.param_bool("stretch")) return Status::ok();
-               Status s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kStretch), Value(true));
-               if (s)
-                 s = ctx.graph().set_value(plug(solver, ik::two_bone_attr::kMaxStretch),
-                                           Value(ctx.param_double("maxStretch")));
-               return s;
-             }},
+        Step{"stretch", "stretch", "", [](BuildContext& ctx) { return stretch_step(ctx); }},
         Step{"switch", "", "",
              [](BuildContext& ctx) -> Status {
                Result<std::vector<NodeId>> joints = chain_joints(ctx);
                if (!joints) return joints.status();
-               const NodeId solver = ctx.node("ikSolver");
                const Vec3 top = position_of(ctx.scene().world_matrix((*joints)[0]));
                const Vec3 foot = position_of(ctx.scene().world_matrix((*joints)[3]));
                Mat4 place = Mat4::Identity();  // beside the foot, a fifth of the leg's height above it
                place.topRightCorner<3, 1>() = foot + Vec3(0, 0.2 * std::abs(top.y() - foot.y()), 0);
-               Result<NodeId> control = ctx.create_control("switch", -1, 3, place, ctx.attach_node());
-               if (!control) return control.status();
-               const double fk_ik = solver.is_valid() && ctx.param_string("defaultMode") == "ik" ? 1.0 : 0.0;
-               std::vector<NodeId> fk;
-               for (int i = 0; i < 4; ++i) {
-                 const NodeId at_joint = node_at(ctx, "fkJoint", i);
-                 fk.push_back(at_joint.is_valid() ? at_joint : node_at(ctx, "fk", i));
-               }
-               const NodeId ik_end = ctx.node("ikEnd").is_valid() ? ctx.node("ikEnd") : ctx.node("ik");
-               return make_switch(ctx, *joints, fk, solver, ik_end, fk_ik).status();
+               return switch_step(ctx, 4, place, 3);
              }},
-        Step{"drive", "", "",
-             [](BuildContext& ctx) -> Status {
-               Result<std::vector<NodeId>> joints = chain_joints(ctx);
-               if (!joints) return joints.status();
-               return drive_joints(ctx, *joints, ctx.node("fkIkSwitch"));
-             }},
+        Step{"drive", "", "", [](BuildContext& ctx) { return drive_step(ctx); }},
         Step{"spaces", "ik", "",
              [](BuildContext& ctx) -> Status {
                const NodeId ik = ctx.node("ik");
@@ -556,6 +536,50 @@ class QuadLeg : public ComponentClass {
                return ctx.graph().set_value(plug(spaces.node, ops::util::space_attr::kSpace),
                                             Value(static_cast<double>(*index)));
              }},
+    };
+  }
+};
+
+// ---- springChain --------------------------------------------------------
+
+// FK controls whose pose is the goal of a springChain node (ops/util/
+// spring.h); an fkIkSwitch blends the FK pose (0) and the spring's (1).
+class SpringChain : public ComponentClass {
+ public:
+  std::string_view type() const override { return "springChain"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        Step{"fk", "", "", [](BuildContext& ctx) { return fk_step(ctx); }},
+        Step{"spring", "", "",
+             [](BuildContext& ctx) -> Status {
+               Result<std::vector<NodeId>> joints = chain_joints(ctx);
+               if (!joints) return joints.status();
+               graph::Graph& g = ctx.graph();
+               Result<NodeId> spring = ctx.create(ops::util::kSpringChainType, "spring");
+               if (!spring) return spring.status();
+               namespace a = ops::util::spring_attr;
+               std::vector<NodeId> fk;
+               Status s = Status::ok();
+               for (int i = 0; s && i < ctx.guide_count(); ++i) {
+                 const NodeId at_joint = node_at(ctx, "fkJoint", i);
+                 fk.push_back(at_joint.is_valid() ? at_joint : node_at(ctx, "fk", i));
+                 s = g.connect(plug(fk.back(), xform::kWorldMatrix), plug(*spring, a::kGoalMatrix, i));
+               }
+               const double fps = g.fps();
+               if (s) s = g.set_value(plug(*spring, a::kFps), Value(fps));
+               if (s) s = g.set_value(plug(*spring, a::kStartTime), Value(ctx.param_double("startFrame") / fps));
+               if (s) s = g.set_value(plug(*spring, a::kStiffness), Value(ctx.param_double("stiffness")));
+               if (s) s = g.set_value(plug(*spring, a::kDamping), Value(ctx.param_double("damping")));
+               if (s) s = g.set_value(plug(*spring, a::kGravity), Value(Vec3(0, -ctx.param_double("gravity"), 0)));
+               if (!s) return s.with_context(ctx.full_name() + " spring");
+               // The switch: FK (0) to the spring (1), at `weight`.
+               Result<NodeId> blend = make_switch(ctx, *joints, fk, NodeId{}, NodeId{}, ctx.param_double("weight"));
+               if (!blend) return blend.status();
+               for (int i = 0; s && i < ctx.guide_count(); ++i)
+                 s = g.connect(plug(*spring, a::kOutWorldMatrices, i), plug(*blend, sw::kIkMatrix, i));
+               return s.is_ok() ? s : s.with_context(ctx.full_name() + " fkIkSwitch");
+             }},
+        Step{"drive", "", "", [](BuildContext& ctx) { return drive_step(ctx); }},
     };
   }
 };
@@ -628,6 +652,7 @@ Status add_limb_components(ComponentFactory& factory) {
   if (Status s = factory.add(std::make_shared<IkChain>()); !s) return s;
   if (Status s = factory.add(std::make_shared<Limb>()); !s) return s;
   if (Status s = factory.add(std::make_shared<QuadLeg>()); !s) return s;
+  if (Status s = factory.add(std::make_shared<SpringChain>()); !s) return s;
   return factory.add(std::make_shared<Twist>());
 }
 

@@ -16,6 +16,17 @@
 //         lip[i]   control at the lip joint under lipFollow[i]; drives it.
 //                  Hooks "upperLip", "lowerLip": the lip controls.
 // The build fails, naming the component, when a guide names no joint.
+//
+// eyelid: guides the eye joint, the upper and the lower lid joints.
+//   lidFollow[0..1]  groups at the eye (the lids' pivot) in its parent's frame,
+//                    turned (rotate) by the eyelidBlink node (role eyelid,
+//                    ops/util/eyelid.h) reading the eye joint's local matrix:
+//                    each lid follows the eye's turn about `axis` by
+//                    upperFollow / lowerFollow, and `blink` (keyable on the
+//                    node) closes them by `gap` degrees, meeting at
+//                    blinkHeight.
+//   lid[0..1]        controls at the lid joints under them; drive them.
+//                    Hooks "upper", "lower".
 #include "rigel/base/status.h"
 
 namespace rigel::rig {
@@ -24,7 +35,7 @@ class ComponentFactory;
 
 namespace rigel::rig::components {
 
-// mouth.
+// mouth, eyelid.
 Status add_face_components(ComponentFactory& factory);
 
 }  // namespace rigel::rig::components

@@ -38,7 +38,7 @@ class ComponentFactory;
 
 namespace rigel::rig::components {
 
-// ikChain, limb, quadLeg, twist.
+// ikChain, limb, quadLeg, springChain, twist.
 Status add_limb_components(ComponentFactory& factory);
 
 // FK/IK matching of a built limb (src/rig/components/limb_match.cc;
