@@ -9,8 +9,10 @@ The skeleton: hips; a spine of three joints to the chest; neck, neck.001 and
 head; jaw and lips, eyes and lids (at the eyes: their pivot), ears; a tail of four joints; two hind legs (femur,
 tibia, metatarsus, hoof: three segments with the hock between tibia and
 metatarsus) and two front legs (scapula, then humerus, radius, metacarpus,
-fhoof). The cart: cart_root on the ground, an axle with two wheels and two
-shock absorbers (a cylinder on the axle, a rod on the cart body).
+fhoof; an elbowFix corrective joint beside the elbow). The cart: cart_root
+on the ground, an axle with two wheels, two shock absorbers (a cylinder on
+the axle, a rod on the cart body) and a sign on the cart: a quad mesh with
+a blendShape of two targets (lift, tilt).
 """
 import json
 import sys
@@ -53,6 +55,7 @@ LEFT = {
     "scapula.L": ("chest", (0.15, 1.45, 0.40)),
     "humerus.L": ("scapula.L", (0.20, 1.10, 0.55)),
     "radius.L": ("humerus.L", (0.20, 0.80, 0.40)),
+    "elbowFix.L": ("humerus.L", (0.20, 0.80, 0.40)),
     "metacarpus.L": ("radius.L", (0.20, 0.40, 0.47)),
     "fhoof.L": ("metacarpus.L", (0.20, 0.08, 0.50)),
     "wheel.L": ("axle", (0.75, 0.55, -2.40)),
@@ -81,10 +84,19 @@ def main():
         node["attrs"] = {"translate": translate}
         node["tags"] = {"side": side}
         nodes.append(node)
+    # The cart's sign: a quad (mesh space: the cart joint's) and its shapes.
+    base = [[-0.2, 0.2, 0.3], [0.2, 0.2, 0.3], [0.2, 0.5, 0.3], [-0.2, 0.5, 0.3]]
+    lift = [[0, 0, 0], [0, 0, 0], [0, 0.1, 0], [0, 0.1, 0]]
+    tilt = [[0, 0, 0], [0, 0, 0], [0, 0, 0.1], [0, 0, 0.1]]
+    nodes.append({"name": "sign", "type": "mesh", "uuid": str(uuid.uuid5(NAMESPACE, "sign")), "parent": "cart",
+                  "attrs": {"triangles": [0, 1, 2, 0, 2, 3]}})
+    nodes.append({"name": "sign_blendShape", "type": "blendShape", "uuid": str(uuid.uuid5(NAMESPACE, "sign_blendShape")),
+                  "attrs": {"basePoints": base, "targetDeltas": lift + tilt, "targetOffsets": [0, 4, 8],
+                            "targetNames": ["lift", "tilt"], "weights": [0.0, 0.0]}})
     # One node per line: diffable, and short.
     lines = ",\n  ".join(json.dumps(n) for n in nodes)
     sys.stdout.write('{"rigel": "scene", "version": 1, "fps": 24, "time": 0,\n "nodes": [\n  ' + lines +
-                     '\n ],\n "connections": []}\n')
+                     '\n ],\n "connections": [{"src": "sign_blendShape.outPoints", "dst": "sign.points"}]}\n')
 
 
 main()

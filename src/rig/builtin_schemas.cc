@@ -24,6 +24,9 @@ ParamSpec p_double(std::string name, double value, std::optional<double> min, st
 ParamSpec p_string(std::string name, std::string value, std::string help) {
   return ParamSpec{std::move(name), ParamType::kString, std::move(value), {}, {}, {}, std::move(help)};
 }
+ParamSpec p_vec3(std::string name, math::Vec3 value, std::string help) {
+  return ParamSpec{std::move(name), ParamType::kVec3, value, {}, {}, {}, std::move(help)};
+}
 ParamSpec p_enum(std::string name, std::string value, std::vector<std::string> choices, std::string help) {
   return ParamSpec{std::move(name), ParamType::kEnum, std::move(value), {}, {}, std::move(choices), std::move(help)};
 }
@@ -324,6 +327,37 @@ std::vector<ComponentSchema> make_schemas() {
     c.controls = {{"lid", "circle", "lightBlue", 0.03, "One per lid, under a group that follows the eye and blinks."}};
     c.hooks = {"upper", "lower"};
     c.fixed_guides = 1;  // the eye guide only reads the eye
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "blendShapeSliders";
+    c.help = "Slider controls driving a blendShape node's target weights (a face's or a corrective's shapes).";
+    c.params = {p_string("blendShape", "", "The blendShape node's name; empty: the scene's only one."),
+                p_string("targets", "", "The targets, by name or index, comma-separated; empty: every target."),
+                p_double("spacing", 0.05, 0.0, {}, "The distance between the sliders, m."),
+                p_double("min", 0.0, {}, {}, "The lowest weight a slider gives."),
+                p_double("max", 1.0, {}, {}, "The highest weight a slider gives.")};
+    c.guides = {1, 1, {"panel"}, "Where the slider column stands: a joint or values."};
+    c.controls = {{"slider", "square", "yellow", 0.02,
+                   "One per target, in a column below the panel; translateY adds to the weight."}};
+    c.hooks = {"panel"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
+    c.type = "corrective";
+    c.help = "A pose reader: how far a driver joint's axis swings takes a corrective joint to an offset and/or a "
+             "blend shape target's weight from 0 to 1.";
+    c.params = {p_enum("axis", "y", {"x", "y", "z"}, "The driver's axis whose swing is read (glTF from Blender: y)."),
+                p_double("startAngle", 0.0, 0.0, 180.0, "The swing (degrees) where the correction starts."),
+                p_double("endAngle", 90.0, 0.0, 180.0, "The swing (degrees) where it is whole."),
+                p_vec3("offset", math::Vec3(math::Vec3::Zero()), "The corrective joint's translate at the whole correction, added "
+                                                     "to its rest."),
+                p_string("blendShape", "", "The blendShape node of the target; empty: the scene's only one."),
+                p_string("target", "", "A blend shape target (name or index) weighted 0 to 1; empty: none.")};
+    c.guides = {1, 2, {}, "The driver joint, then the corrective joint (optional with a target)."};
+    c.fixed_guides = -1;  // no controls: the driver's pose is the control
     s.push_back(std::move(c));
   }
   {

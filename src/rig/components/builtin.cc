@@ -10,6 +10,7 @@
 #include "rigel/rig/components/face.h"
 #include "rigel/rig/components/hand.h"
 #include "rigel/rig/components/mechanical.h"
+#include "rigel/rig/components/shapes.h"
 
 namespace rigel::rig {
 
@@ -23,6 +24,7 @@ const ComponentFactory& builtin_components() {
     if (s) s = components::add_hand_component(f);
     if (s) s = components::add_face_components(f);
     if (s) s = components::add_mechanical_components(f);
+    if (s) s = components::add_shape_components(f);
     if (s) s = add_call_component(f);
     if (!s) {
       std::fprintf(stderr, "rigel: built-in component classes: %s\n", s.message().c_str());
