@@ -6,7 +6,7 @@ examples/quadruped.rig.xml is built on.
     python3 make_quadruped.py > quadruped.rigel
 
 The skeleton: hips; a spine of three joints to the chest; neck, neck.001 and
-head; jaw and lips, eyes and lids (at the eyes: their pivot), ears; a tail of four joints; two hind legs (femur,
+head; jaw and lips, eyes and lids (at the eyes: their pivot), brows, ears; a tail of four joints; two hind legs (femur,
 tibia, metatarsus, hoof: three segments with the hock between tibia and
 metatarsus) and two front legs (scapula, then humerus, radius, metacarpus,
 fhoof; an elbowFix corrective joint beside the elbow). The cart: cart_root
@@ -46,6 +46,8 @@ LEFT = {
     "eye.L": ("head", (0.11, 1.92, 1.15)),
     "lid.T.L": ("head", (0.11, 1.92, 1.15)),
     "lid.B.L": ("head", (0.11, 1.92, 1.15)),
+    "brow.L": ("head", (0.06, 1.99, 1.16)),
+    "brow.L.001": ("brow.L", (0.12, 1.99, 1.13)),
     "ear.L": ("head", (0.07, 2.00, 1.02)),
     "ear.L.001": ("ear.L", (0.07, 2.18, 1.02)),
     "femur.L": ("hips", (0.18, 1.20, -0.60)),

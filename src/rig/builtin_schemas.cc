@@ -313,6 +313,20 @@ std::vector<ComponentSchema> make_schemas() {
   }
   {
     ComponentSchema c;
+    c.type = "brows";
+    c.help = "Brows: a control per brow joint, all following a main control by a falloff from the inner brow "
+             "to the outer.";
+    c.params = {p_double("innerFollow", 1.0, 0.0, 1.0, "How much of the main control's motion the first (inner) brow takes."),
+                p_double("outerFollow", 0.5, 0.0, 1.0,
+                         "How much the last (outer) brow takes; those between, linearly between the two.")};
+    c.guides = {1, -1, {}, "The brow joints, inner first."};
+    c.controls = {{"main", "square", "yellow", 0.06, "Moves every brow by its share."},
+                  {"brow", "circle", "lightBlue", 0.015, "One per brow joint, under its follow group."}};
+    c.hooks = {"main"};
+    s.push_back(std::move(c));
+  }
+  {
+    ComponentSchema c;
     c.type = "eyelid";
     c.help = "Eyelids: upper and lower lid controls that follow the eye's turn by fractions and close in a "
              "blink (keyable on the eyelid node).";

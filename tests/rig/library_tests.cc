@@ -85,7 +85,9 @@ Definition everything() {
   Component wheel = component("wheel", "wheel", {at_joint("foot.R")}, {param("radius", 0.25)});
   Component lids = component("eyelid", "lids", {at_joint("eye.L"), at_joint("lid.T.L"), at_joint("lid.B.L")},
                              {param("blinkHeight", 0.25)});
-  return rig_with({arm, floating, meta, mouth(true), piston, squash, wheel, lids});
+  Component brows = component("brows", "brows", {at_joint("brow.T.L"), at_joint("brow.T.L.001"),
+                                                  at_joint("brow.T.L.002"), at_joint("brow.T.L.003")});
+  return rig_with({arm, floating, meta, mouth(true), piston, squash, wheel, lids, brows});
 }
 
 Vec3 position(scene::Scene& s, NodeId id) { return s.world_matrix(id).topRightCorner<3, 1>(); }
@@ -315,6 +317,32 @@ TEST(RigLibrary, eyelids_blink_and_follow_the_eye) {
   EXPECT_GT(std::abs(pitch), 1.0) << "the eye's turn about the lids' hinge";
   EXPECT_LT((position(s, "lid.T.L") - turned(upper, 0.4 * pitch)).norm(), 1e-6);
   EXPECT_LT((position(s, "lid.B.L") - turned(lower, 0.2 * pitch)).norm(), 1e-6);
+}
+
+// The main brow control moves each brow by its share: 1 at the inner brow,
+// 0.5 at the outer, linearly between; a brow control moves its own joint.
+TEST(RigLibrary, brows_follow_the_main_control_by_their_falloff) {
+  BuiltRig b = built_rig(everything());
+  ASSERT_TRUE(b.build);
+  scene::Scene& s = *b.scene;
+  const char* joints[] = {"brow.T.L", "brow.T.L.001", "brow.T.L.002", "brow.T.L.003"};
+  std::vector<Vec3> rest;
+  for (const char* j : joints) rest.push_back(position(s, j));
+  const NodeId main = at(s, "lib:brows/main");
+  const Vec3 delta(0, 0.012, 0.003);
+  const Mat4 place = s.world_matrix(main);
+  const Mat3 to_local = math::affine_inverse(place).topLeftCorner<3, 3>();
+  set(s, main, xform::kTranslate, Vec3(to_local * delta));
+  for (int g = 0; g < 4; ++g) {
+    const double share = 1.0 - 0.5 * g / 3.0;
+    EXPECT_LT((position(s, joints[g]) - (rest[static_cast<std::size_t>(g)] + delta * share)).norm(), 1e-6)
+        << joints[g] << " moves by " << share;
+  }
+  set(s, main, xform::kTranslate, Vec3(0, 0, 0));
+  const NodeId brow = at(s, "lib:brows/brow[2]");
+  set(s, brow, xform::kTranslate, Vec3(Vec3(0.004, 0, 0)));
+  EXPECT_GT((position(s, joints[2]) - rest[2]).norm(), 1e-3) << "a brow control moves its joint";
+  EXPECT_LT((position(s, joints[0]) - rest[0]).norm(), 1e-9) << "and no other";
 }
 
 TEST(RigLibrary, a_mouth_without_joints_fails_naming_the_component) {

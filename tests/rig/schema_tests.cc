@@ -8,7 +8,7 @@ namespace {
 
 TEST(RigSchema, every_shipped_component_type_is_registered) {
   const std::vector<std::string> expected = {
-      "blendShapeSliders", "call",    "control", "corrective", "ephemeral",   "eye",    "eyelid", "fkChain", "foot",
+      "blendShapeSliders", "brows", "call",    "control", "corrective", "ephemeral",   "eye",    "eyelid", "fkChain", "foot",
       "global",            "hand",    "hip",     "ikChain",    "limb",        "meta",   "mouth",  "neck",    "piston",
       "quadLeg",           "simple",  "spine",   "springChain", "squash",     "tail",   "twist",  "wheel"};
   EXPECT_EQ(builtin_schemas().types(), expected);

@@ -48,7 +48,7 @@ std::vector<std::string> messages(const Definition& d, const SchemaRegistry& s =
 TEST(Validate, an_invalid_file_lists_every_problem_at_its_element) {
   const std::vector<Diagnostic> errors = check_definition(data("invalid_semantic.rig.xml"));
   const std::vector<std::string> expected = {
-      "5:5: component 'wing' (wing, L): unknown component type 'wing' (types: blendShapeSliders, call, control, corrective, ephemeral, eye, eyelid, fkChain, "
+      "5:5: component 'wing' (wing, L): unknown component type 'wing' (types: blendShapeSliders, brows, call, control, corrective, ephemeral, eye, eyelid, fkChain, "
       "foot, global, hand, hip, ikChain, limb, meta, mouth, neck, piston, quadLeg, simple, spine, springChain, squash, tail, twist, wheel)",
       "6:5: component 'hip' (hip): no rigId (every component needs its own UUID v4)",
       "8:7: component 'arm' (limb, L): rigId 'not-a-uuid' is not a UUID v4 (32 hex digits, dashes optional, version 4)",

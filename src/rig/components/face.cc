@@ -1,5 +1,6 @@
 // The face's component classes: mouth (jaw and lips following it) and
-// eyelid (lids following the eye and blinking).
+// eyelid (lids following the eye and blinking) and brows (brow joints
+// following a main control by falloff).
 #include "rigel/rig/components/face.h"
 
 #include <string>
@@ -35,6 +36,19 @@ Status check_guides(BuildContext& ctx) {
   return Status::ok();
 }
 
+// The follow group `index` held between the attach point (weight 1 - f)
+// and `leader` (weight f), by a parentConstraint (translate and rotate).
+Status follow(BuildContext& ctx, std::string_view group_role, int index, NodeId leader, double f) {
+  ConstraintSpec spec;
+  spec.type = ops::constraints::kParentConstraintType;
+  spec.role = std::string(group_role) + "Constraint";
+  spec.space_role = std::string(group_role) + "Space";
+  spec.targets = {ctx.attach_node(), leader};
+  spec.weights = {1.0 - f, f};
+  spec.channels = {"translate", "rotate"};
+  return ctx.constrain(spec, ctx.node(group_role, index), index).status();
+}
+
 class Mouth : public ComponentClass {
  public:
   std::string_view type() const override { return "mouth"; }
@@ -62,18 +76,8 @@ class Mouth : public ComponentClass {
              }},
         Step{"follow", "", "",
              [](BuildContext& ctx) -> Status {
-               for (int g = 1; g < ctx.guide_count(); ++g) {
-                 const double f = follow_of(ctx, g);
-                 ConstraintSpec spec;
-                 spec.type = ops::constraints::kParentConstraintType;
-                 spec.role = "lipFollowConstraint";
-                 spec.space_role = "lipFollowSpace";
-                 spec.targets = {ctx.attach_node(), ctx.node("jaw")};
-                 spec.weights = {1.0 - f, f};
-                 spec.channels = {"translate", "rotate"};
-                 Result<NodeId> k = ctx.constrain(spec, ctx.node("lipFollow", g - 1), g - 1);
-                 if (!k) return k.status();
-               }
+               for (int g = 1; g < ctx.guide_count(); ++g)
+                 if (Status s = follow(ctx, "lipFollow", g - 1, ctx.node("jaw"), follow_of(ctx, g)); !s) return s;
                return Status::ok();
              }},
         Step{"drive", "", "",
@@ -161,10 +165,68 @@ class Eyelid : public ComponentClass {
   }
 };
 
+// ---- brows --------------------------------------------------------------
+
+class Brows : public ComponentClass {
+ public:
+  std::string_view type() const override { return "brows"; }
+  std::vector<Step> steps(const Component&) const override {
+    return {
+        // A main control at the brows' middle; per brow joint a follow
+        // group and a brow control under it.
+        Step{"controls", "", "",
+             [](BuildContext& ctx) -> Status {
+               math::Vec3 middle = math::Vec3::Zero();
+               std::vector<Mat4> places;
+               for (int g = 0; g < ctx.guide_count(); ++g) {
+                 Result<Mat4> world = ctx.guide_world(g);
+                 if (!world) return world.status();
+                 places.push_back(math::rigid_part(*world));
+                 middle += world->topRightCorner<3, 1>() / double(ctx.guide_count());
+               }
+               Mat4 main_place = places.front();
+               main_place.topRightCorner<3, 1>() = middle;
+               Result<NodeId> main = ctx.create_control("main", -1, 0, main_place, ctx.attach_node());
+               if (!main) return main.status();
+               if (Status s = ctx.publish_hook(0, *main); !s) return s;
+               for (int g = 0; g < ctx.guide_count(); ++g) {
+                 Result<NodeId> group = ctx.create_group("browFollow", g, places[g], ctx.attach_node());
+                 if (!group) return group.status();
+                 Result<NodeId> brow = ctx.create_control("brow", g, g, places[g], *group);
+                 if (!brow) return brow.status();
+               }
+               return Status::ok();
+             }},
+        // Brow g follows the main control by innerFollow .. outerFollow,
+        // linearly from the first guide (inner) to the last (outer).
+        Step{"follow", "", "",
+             [](BuildContext& ctx) -> Status {
+               const double inner = ctx.param_double("innerFollow"), outer = ctx.param_double("outerFollow");
+               const int n = ctx.guide_count();
+               for (int g = 0; g < n; ++g) {
+                 const double f = n == 1 ? inner : inner + (outer - inner) * double(g) / double(n - 1);
+                 if (Status s = follow(ctx, "browFollow", g, ctx.node("main"), f); !s) return s;
+               }
+               return Status::ok();
+             }},
+        Step{"drive", "", "",
+             [](BuildContext& ctx) -> Status {
+               for (int g = 0; g < ctx.guide_count(); ++g) {
+                 Result<NodeId> joint = ctx.guide_joint(g);
+                 if (!joint) return joint.status();
+                 if (Status s = ctx.drive(ctx.node("brow", g), *joint); !s) return s;
+               }
+               return Status::ok();
+             }},
+    };
+  }
+};
+
 }  // namespace
 
 Status add_face_components(ComponentFactory& factory) {
   if (Status s = factory.add(std::make_shared<Mouth>()); !s) return s;
+  if (Status s = factory.add(std::make_shared<Brows>()); !s) return s;
   return factory.add(std::make_shared<Eyelid>());
 }
 

@@ -27,6 +27,11 @@
 //                    blinkHeight.
 //   lid[0..1]        controls at the lid joints under them; drive them.
 //                    Hooks "upper", "lower".
+//
+// brows: guides the brow joints, inner first. A `main` control at their
+//   middle (hook "main"); per joint a browFollow group between the attach
+//   point and `main` (weights 1 - f, f; f from innerFollow to outerFollow,
+//   linearly) and a `brow` control under it driving the joint.
 #include "rigel/base/status.h"
 
 namespace rigel::rig {
@@ -35,7 +40,7 @@ class ComponentFactory;
 
 namespace rigel::rig::components {
 
-// mouth, eyelid.
+// mouth, eyelid, brows.
 Status add_face_components(ComponentFactory& factory);
 
 }  // namespace rigel::rig::components
