@@ -2,7 +2,7 @@
 // component (target at most 0.5 ms per component: the `perComponent`
 // counter, seconds), and mGear's biped guide template (38 components)
 // imported (read, mapped, its skeleton made) and then built on that
-// skeleton, per component likewise.
+// skeleton, per component likewise; the quadruped example likewise.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -13,7 +13,9 @@
 
 #include "rigel/ephemeral/component.h"
 #include "rigel/ephemeral/rig.h"
+#include "rigel/io/scene_file.h"
 #include "rigel/rig/build.h"
+#include "rigel/rig/definition_io.h"
 #include "rigel/tools/mgear_guides.h"
 
 namespace rigel::bench {
@@ -87,6 +89,38 @@ void BM_mgear_build_biped_on_its_skeleton(benchmark::State& state) {
   per_component(state, imported->definition.all_components().size());
 }
 BENCHMARK(BM_mgear_build_biped_on_its_skeleton)->Unit(benchmark::kMillisecond);
+
+// The quadruped example (examples/quadruped.rig.xml: quadLegs, springChain
+// tail, face, cart mechanics, correctives, sliders) built on its skeleton,
+// per component (the scene loaded afresh, untimed).
+void BM_rig_build_quadruped(benchmark::State& state) {
+  const fs::path examples = fs::path(RIGEL_SOURCE_DIR) / "examples";
+  rig::ParseResult parsed = rig::load_definition(examples / "quadruped.rig.xml");
+  if (!parsed.ok()) {
+    state.SkipWithError(parsed.errors.front().str().c_str());
+    return;
+  }
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto scene = io::load_scene(examples / "quadruped.rigel", ephemeral::default_registry());
+    if (!scene) {
+      state.SkipWithError(scene.status().message().c_str());
+      break;
+    }
+    state.ResumeTiming();
+    auto b = rig::Build::open(**scene, parsed.definition, ephemeral::components());
+    if (!b || !(*b)->build_all()) {
+      state.SkipWithError("build failed");
+      break;
+    }
+    benchmark::DoNotOptimize((*b)->position());
+    state.PauseTiming();
+    scene->reset();
+    state.ResumeTiming();
+  }
+  per_component(state, parsed.definition.all_components().size());
+}
+BENCHMARK(BM_rig_build_quadruped)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rigel::bench
