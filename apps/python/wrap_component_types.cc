@@ -269,10 +269,9 @@ void def_component_build(py::module_& m) {
           "param",
           [](const StepRef& r, const std::string& name) {
             rig::BuildContext& ctx = r.get();
-            if (const rig::Param* p = ctx.component().param(name)) return param_to_python(p->value);
-            const rig::ParamSpec* spec = ctx.schema().param(name);
-            if (!spec) raise(ErrorCode::kInvalidArgument, ctx.full_name() + ": no parameter '" + name + "'");
-            return param_to_python(spec->default_value);
+            const rig::ParamValue* value = ctx.param_value(name);
+            if (!value) raise(ErrorCode::kInvalidArgument, ctx.full_name() + ": no parameter '" + name + "'");
+            return param_to_python(*value);
           },
           py::arg("name"), "A parameter's value (the schema's default when the definition leaves it out).")
       .def(

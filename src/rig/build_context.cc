@@ -74,6 +74,17 @@ std::string BuildContext::param_string(std::string_view name) const {
                                                                      : std::string();
 }
 
+math::Vec3 BuildContext::param_vec3(std::string_view name) const {
+  const ParamValue* v = param_value(name);
+  return v && std::holds_alternative<math::Vec3>(*v) ? std::get<math::Vec3>(*v) : math::Vec3(math::Vec3::Zero());
+}
+
+const ParamValue* BuildContext::param_value(std::string_view name) const {
+  if (const Param* p = find_param(*component_, name)) return &p->value;
+  const ParamSpec* s = schema_->param(name);
+  return s ? &s->default_value : nullptr;
+}
+
 ControlStyle BuildContext::control_style(std::string_view role) const {
   ControlStyle out;
   out.role = std::string(role);

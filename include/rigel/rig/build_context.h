@@ -64,6 +64,10 @@ class BuildContext {
   std::int64_t param_int(std::string_view name) const;
   double param_double(std::string_view name) const;
   std::string param_string(std::string_view name) const;  // string and enum
+  math::Vec3 param_vec3(std::string_view name) const;
+  // Any parameter's value: the definition's, else the schema's default
+  // (nullptr for a name the type does not have).
+  const ParamValue* param_value(std::string_view name) const;
   // A control role's look: the definition's, else the schema's.
   ControlStyle control_style(std::string_view role) const;
 

@@ -373,6 +373,26 @@ Mat4 world_of(const math::Mat3& linear, const Vec3& position) {
   return m;
 }
 
+// The solver's world turns applied to the first two joints of the rest
+// chain in s.world (start_turn about the start joint, then mid_turn about
+// the mid joint, the bones stretched), written to s.world_out (sized
+// `count`), and where the third joint's position lands.
+struct Turns {
+  math::Mat3 r0, r01;
+  Vec3 third;
+};
+Turns solved_upper_lower(Scratch& s, const TwoBoneIkOutput& out, std::size_t count) {
+  Turns t;
+  t.r0 = out.start_turn.normalized().toRotationMatrix();
+  t.r01 = t.r0 * out.mid_turn.normalized().toRotationMatrix();
+  const Vec3 p0 = translation_of(s.world[0]), p1 = translation_of(s.world[1]), p2 = translation_of(s.world[2]);
+  s.world_out.resize(count);
+  s.world_out[0] = world_of(t.r0 * s.world[0].topLeftCorner<3, 3>(), p0);
+  s.world_out[1] = world_of(t.r01 * s.world[1].topLeftCorner<3, 3>(), p0 + t.r0 * (p1 - p0) * out.stretch);
+  t.third = translation_of(s.world_out[1]) + t.r01 * (p2 - p1) * out.stretch;
+  return t;
+}
+
 void compute_two_bone(ComputeContext& c) {
   namespace a = two_bone_attr;
   Scratch& s = scratch();
@@ -400,14 +420,8 @@ void compute_two_bone(ComputeContext& c) {
   // keeps its bones rigid (applying the corrections in each joint's own
   // frame would miss by the parent's non-uniformity, ~1e-6 on joints read
   // from single-precision files).
-  const math::Mat3 r0 = out.start_turn.normalized().toRotationMatrix();
-  const math::Mat3 r01 = r0 * out.mid_turn.normalized().toRotationMatrix();
-  const Vec3 p0 = translation_of(s.world[0]), p1 = translation_of(s.world[1]), p2 = translation_of(s.world[2]);
-  s.world_out.resize(3);
-  s.world_out[0] = world_of(r0 * s.world[0].topLeftCorner<3, 3>(), p0);
-  s.world_out[1] = world_of(r01 * s.world[1].topLeftCorner<3, 3>(), p0 + r0 * (p1 - p0) * out.stretch);
-  s.world_out[2] = world_of(r01 * s.world[2].topLeftCorner<3, 3>(),
-                            translation_of(s.world_out[1]) + r01 * (p2 - p1) * out.stretch);
+  const Turns t = solved_upper_lower(s, out, 3);
+  s.world_out[2] = world_of(t.r01 * s.world[2].topLeftCorner<3, 3>(), t.third);
   write_world_out(c, d, s, out, 1.0);  // the kernel applied the weight
 }
 
@@ -450,19 +464,13 @@ void compute_three_bone(ComputeContext& c) {
       if (!job.run()) problem = "the two-bone solve refused its inputs";  // a check is missing
     }
     if (problem.empty()) {
-      const math::Mat3 r0 = out.start_turn.normalized().toRotationMatrix();
-      const math::Mat3 r01 = r0 * out.mid_turn.normalized().toRotationMatrix();
-      const double st = out.stretch;
-      s.world_out.resize(4);
-      s.world_out[0] = world_of(r0 * s.world[0].topLeftCorner<3, 3>(), p0);
-      s.world_out[1] = world_of(r01 * s.world[1].topLeftCorner<3, 3>(), p0 + r0 * (p1 - p0) * st);
-      const Vec3 at_hock = translation_of(s.world_out[1]) + r01 * (p2 - p1) * st;
+      const Turns t = solved_upper_lower(s, out, 4);
       if (pinned) {
-        s.world_out[2] = world_of(hock.topLeftCorner<3, 3>(), at_hock);
+        s.world_out[2] = world_of(hock.topLeftCorner<3, 3>(), t.third);
         s.world_out[3] = s.world_out[2] * math::affine_inverse(s.world[2]) * s.world[3];
       } else {
-        s.world_out[2] = world_of(r0 * s.world[2].topLeftCorner<3, 3>(), at_hock);
-        s.world_out[3] = world_of(r0 * s.world[3].topLeftCorner<3, 3>(), at_hock + r0 * (p3 - p2) * st);
+        s.world_out[2] = world_of(t.r0 * s.world[2].topLeftCorner<3, 3>(), t.third);
+        s.world_out[3] = world_of(t.r0 * s.world[3].topLeftCorner<3, 3>(), t.third + t.r0 * (p3 - p2) * out.stretch);
       }
       return write_world_out(c, d, s, out, weight);
     }

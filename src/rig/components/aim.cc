@@ -9,6 +9,15 @@
 
 namespace rigel::rig::components {
 
+std::optional<math::Vec3> axis_named(std::string_view name) {
+  static const std::pair<std::string_view, math::Vec3> kAxes[] = {
+      {"x", math::Vec3::UnitX()},  {"y", math::Vec3::UnitY()},  {"z", math::Vec3::UnitZ()},
+      {"-x", -math::Vec3::UnitX()}, {"-y", -math::Vec3::UnitY()}, {"-z", -math::Vec3::UnitZ()}};
+  for (const auto& [n, v] : kAxes)
+    if (name == n) return v;
+  return std::nullopt;
+}
+
 math::Mat3 rotation_of(const math::Mat4& m) { return math::decompose(m).rotation.toRotationMatrix(); }
 
 Status aim_constraint(BuildContext& ctx, NodeId driven, NodeId target, const math::Vec3& aim, const math::Vec3& up,

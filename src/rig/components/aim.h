@@ -1,11 +1,18 @@
 #pragma once
 // What several component classes share (src/rig/components/, not a public
-// header): a transform's rotation without scale, and an aim constraint set
-// up on a node (eye, piston, squash).
+// header): axis parameters, a transform's rotation without scale, and an
+// aim constraint set up on a node (eye, piston, squash).
+#include <optional>
+#include <string_view>
+
 #include "rigel/math/types.h"
 #include "rigel/rig/build_context.h"
 
 namespace rigel::rig::components {
+
+// The unit axis an axis parameter names: "x", "y", "z", "-x", "-y", "-z";
+// nullopt for anything else.
+std::optional<math::Vec3> axis_named(std::string_view name);
 
 // The rotation of an affine matrix without scale (columns normalised, made
 // orthonormal).

@@ -457,11 +457,7 @@ class Tail : public ComponentClass {
 // ---- eye ---------------------------------------------------------------------
 
 Result<Vec3> axis_vector(BuildContext& ctx, const std::string& name) {
-  static const std::pair<const char*, Vec3> kAxes[] = {
-      {"x", Vec3::UnitX()}, {"y", Vec3::UnitY()}, {"z", Vec3::UnitZ()},
-      {"-x", -Vec3::UnitX()}, {"-y", -Vec3::UnitY()}, {"-z", -Vec3::UnitZ()}};
-  for (const auto& [n, v] : kAxes)
-    if (name == n) return v;
+  if (const std::optional<Vec3> axis = axis_named(name)) return *axis;
   return error(ErrorCode::kInvalidArgument, ctx.full_name() + ": aimAxis '" + name + "' is not one of x y z -x -y -z");
 }
 

@@ -3,6 +3,8 @@
 // following a main control by falloff).
 #include "rigel/rig/components/face.h"
 
+#include "aim.h"
+
 #include <string>
 
 #include "rigel/math/transform.h"
@@ -98,12 +100,6 @@ class Mouth : public ComponentClass {
 
 // ---- eyelid -------------------------------------------------------------
 
-math::Vec3 axis_vector(const std::string& name) {
-  const double sign = name.starts_with('-') ? -1.0 : 1.0;
-  const char c = name.empty() ? 'x' : name.back();
-  return math::Vec3(c == 'x' ? sign : 0.0, c == 'y' ? sign : 0.0, c == 'z' ? sign : 0.0);
-}
-
 class Eyelid : public ComponentClass {
  public:
   std::string_view type() const override { return "eyelid"; }
@@ -141,7 +137,7 @@ class Eyelid : public ComponentClass {
                namespace xform = scene::xform;
                Status s = g.connect(graph::Plug{*eye, xform::kMatrix, -1}, graph::Plug{*node, a::kEyeMatrix, -1});
                if (s) s = g.set_value(graph::Plug{*node, a::kEyeRestMatrix, -1}, g.evaluate(*eye, xform::kMatrix));
-               if (s) s = g.set_value(graph::Plug{*node, a::kAxis, -1}, graph::Value(axis_vector(ctx.param_string("axis"))));
+               if (s) s = g.set_value(graph::Plug{*node, a::kAxis, -1}, graph::Value(axis_named(ctx.param_string("axis")).value_or(math::Vec3(math::Vec3::UnitX()))));
                const std::pair<graph::AttrIndex, const char*> params[] = {{a::kUpperFollow, "upperFollow"},
                                                                           {a::kLowerFollow, "lowerFollow"},
                                                                           {a::kBlinkHeight, "blinkHeight"},

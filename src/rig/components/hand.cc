@@ -127,11 +127,7 @@ Result<Hand> read_hand(BuildContext& ctx) {
 
 Result<Vec3> axis_param(BuildContext& ctx) {
   const std::string name = ctx.param_string("bendAxis");
-  static const std::pair<const char*, Vec3> kAxes[] = {
-      {"x", Vec3::UnitX()}, {"y", Vec3::UnitY()}, {"z", Vec3::UnitZ()},
-      {"-x", -Vec3::UnitX()}, {"-y", -Vec3::UnitY()}, {"-z", -Vec3::UnitZ()}};
-  for (const auto& [n, v] : kAxes)
-    if (name == n) return v;
+  if (const std::optional<Vec3> axis = axis_named(name)) return *axis;
   return fail(ctx, "bendAxis '" + name + "' is not one of x y z -x -y -z");
 }
 

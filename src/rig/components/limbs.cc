@@ -273,6 +273,14 @@ Status switch_step(BuildContext& ctx, int count, const Mat4& place, int guide) {
   return make_switch(ctx, *joints, fk, solver, ik_end, fk_ik).status();
 }
 
+// `spaces` (feature ik): the ik control's spaces, `ikSpaces` or `fallback`.
+Status ik_spaces_step(BuildContext& ctx, const char* fallback) {
+  const NodeId ik = ctx.node("ik");
+  if (!ik.is_valid()) return Status::ok();
+  const std::string spec = ctx.param_string("ikSpaces");
+  return add_default_spaces(ctx, ik, "ik", spec.empty() ? fallback : spec, !spec.empty());
+}
+
 // `drive`: the switch drives the joints.
 Status drive_step(BuildContext& ctx) {
   Result<std::vector<NodeId>> joints = chain_joints(ctx);
@@ -407,13 +415,9 @@ class Limb : public ComponentClass {
         Step{"drive", "", "", [](BuildContext& ctx) { return drive_step(ctx); }},
         Step{"spaces", "ik", "",
              [](BuildContext& ctx) -> Status {
-               const NodeId ik = ctx.node("ik");
-               if (!ik.is_valid()) return Status::ok();
-               const std::string spec = ctx.param_string("ikSpaces");
-               const char* fallback = ctx.param_string("kind") == "leg"
-                                          ? "world,global=global/main,hip=hip/main"
-                                          : "world,global=global/main,chest=chest/main,head=neck/head";
-               return add_default_spaces(ctx, ik, "ik", spec.empty() ? fallback : spec, !spec.empty());
+               return ik_spaces_step(ctx, ctx.param_string("kind") == "leg"
+                                              ? "world,global=global/main,hip=hip/main"
+                                              : "world,global=global/main,chest=chest/main,head=neck/head");
              }},
     };
   }
@@ -521,11 +525,7 @@ class QuadLeg : public ComponentClass {
         Step{"spaces", "ik", "",
              [](BuildContext& ctx) -> Status {
                const NodeId ik = ctx.node("ik");
-               if (!ik.is_valid()) return Status::ok();
-               const std::string spec = ctx.param_string("ikSpaces");
-               Status s = add_default_spaces(ctx, ik, "ik",
-                                             spec.empty() ? "world,global=global/main,hip=hip/main" : spec, !spec.empty());
-               if (!s) return s;
+               if (Status s = ik_spaces_step(ctx, "world,global=global/main,hip=hip/main"); !s || !ik.is_valid()) return s;
                // The space the IK control starts in: the feet stay planted
                // as the body moves (world where the rig lacks the space).
                const ControlSpaces spaces = spaces_of(ctx.scene(), ik);

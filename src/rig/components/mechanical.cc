@@ -173,10 +173,8 @@ class Squash : public ComponentClass {
   }
 };
 
-Vec3 axis_of(const std::string& name) {
-  const Vec3 unit = name.back() == 'x' ? Vec3(Vec3::UnitX()) : name.back() == 'y' ? Vec3(Vec3::UnitY()) : Vec3(Vec3::UnitZ());
-  return name.front() == '-' ? Vec3(-unit) : unit;
-}
+// An axis parameter (its schema keeps it one of the six names; else z).
+Vec3 axis_of(const std::string& name) { return axis_named(name).value_or(Vec3(Vec3::UnitZ())); }
 
 class Wheel : public ComponentClass {
  public:

@@ -114,15 +114,6 @@ Result<std::vector<int>> targets_of(BuildContext& ctx, NodeId shape) {
   return out;
 }
 
-// The `offset` parameter (a vector), the schema's default when left out.
-Vec3 offset_param(const BuildContext& ctx) {
-  const Param* p = ctx.component().param("offset");
-  if (p && std::holds_alternative<Vec3>(p->value)) return std::get<Vec3>(p->value);
-  const ParamSpec* spec = ctx.schema().param("offset");
-  return spec && std::holds_alternative<Vec3>(spec->default_value) ? std::get<Vec3>(spec->default_value)
-                                                                     : Vec3(Vec3::Zero());
-}
-
 double weight_now(const graph::Graph& g, NodeId shape, int target) {
   const auto& w = std::get<std::vector<double>>(g.node(shape)->value(bs::kWeights));
   return static_cast<std::size_t>(target) < w.size() ? w[static_cast<std::size_t>(target)] : 0.0;
@@ -211,7 +202,7 @@ class Corrective : public ComponentClass {
                  Result<NodeId> joint = ctx.guide_joint(1);
                  if (!joint) return joint.status();
                  const Vec3 rest = std::get<Vec3>(g.evaluate(*joint, xform::kTranslate));
-                 const Vec3 offset = offset_param(ctx);
+                 const Vec3 offset = ctx.param_vec3("offset");
                  const char* roles[] = {"offsetX", "offsetY", "offsetZ"};
                  for (std::int8_t k = 0; k < 3; ++k) {
                    if (offset[k] == 0.0) continue;
